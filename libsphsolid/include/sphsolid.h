@@ -1,0 +1,393 @@
+/*
+ * sphsolid.h - SPH for elastic solids (public API of libsphsolid).
+ *
+ * The model is the one of Das & Cleary, "Uniaxial compression test and
+ * stress wave propagation modelling using SPH" (eqs 1-10), with the
+ * symmetric momentum equation of Gray, Monaghan & Swift (2001):
+ *
+ *   drho_a/dt = sum_b m_b v_ab . grad_a W_ab                      (eq. 3)
+ *   dv_a/dt   = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2) . grad_a W_ab + g
+ *   dS/dt     = 2 mu (eps_dot - tr(eps_dot)/3 I) + S Omega^T + Omega S   (eq. 6)
+ *   P         = c0^2 (rho - rho0),  c0^2 = K / rho0                 (eq. 9)
+ *
+ * integrated by Improved Euler (Heun).  SI units throughout.
+ *
+ * Conventions
+ *  - Every function returns an sph_status; SPH_OK is zero.  On failure the
+ *    handle keeps a message naming the bad value: sph_errmsg().
+ *  - The library never prints and never exits.
+ *  - Particle data are structures of arrays owned by the handle:
+ *    positions and velocities hold `dim` doubles per particle, the deviatoric
+ *    stress SPH_STRESS_COMPONENTS(dim) doubles per particle in the order
+ *    (xx, yy, zz, xy) in 2D and (xx, yy, zz, xy, xz, yz) in 3D.  In 2D the
+ *    model is plane strain: eps_dot_zz = 0 while S_zz evolves.
+ *  - Pointers returned by sph_field() stay valid until a body is added.
+ */
+#ifndef SPHSOLID_H
+#define SPHSOLID_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(SPHSOLID_BUILDING) && defined(__GNUC__)
+#define SPH_API __attribute__((visibility("default")))
+#else
+#define SPH_API
+#endif
+
+#define SPHSOLID_VERSION_MAJOR 0
+#define SPHSOLID_VERSION_MINOR 1
+#define SPHSOLID_VERSION_PATCH 0
+
+/* Number of stored deviatoric stress components per particle. */
+#define SPH_STRESS_COMPONENTS(dim) ((dim) == 2 ? 4 : 6)
+
+typedef enum sph_status {
+    SPH_OK = 0,
+    SPH_ERR_ARGUMENT = 1,   /* a bad value was passed; the message names it */
+    SPH_ERR_MEMORY = 2,     /* allocation failed */
+    SPH_ERR_STATE = 3,      /* call not valid in the current state */
+    SPH_ERR_IO = 4,         /* file could not be read or written */
+    SPH_ERR_NONFINITE = 5,  /* the run produced a non-finite value */
+    SPH_ERR_UNSUPPORTED = 6,/* feature not compiled in (e.g. HDF5) */
+    SPH_ERR_STOPPED = 7,    /* a progress callback asked the run to stop */
+    SPH_ERR_DOMAIN = 8      /* a particle left the domain */
+} sph_status;
+
+typedef struct sph_sim sph_sim;
+
+/* ---------------------------------------------------------------- handle */
+
+/* Create a simulation in `dimension` (2 or 3) dimensions.  On a bad
+ * dimension *sim still receives a handle that carries the message (like
+ * sqlite3_open); destroy it with sph_destroy().  *sim is NULL only when
+ * memory ran out. */
+SPH_API sph_status sph_create(int dimension, sph_sim **sim);
+SPH_API void sph_destroy(sph_sim *sim);
+
+/* Message for the last failed call on this handle ("" after success). */
+SPH_API const char *sph_errmsg(const sph_sim *sim);
+/* Static name of a status code. */
+SPH_API const char *sph_status_name(sph_status status);
+/* "0.1.0" and the compiled-in options, e.g. "0.1.0 openmp hdf5". */
+SPH_API const char *sph_version(void);
+
+SPH_API int sph_dimension(const sph_sim *sim);
+
+/* Number of OpenMP threads used by this handle (0 = OpenMP default).
+ * Results do not depend on it. */
+SPH_API sph_status sph_set_threads(sph_sim *sim, int threads);
+
+/* ------------------------------------------------------------- materials */
+
+/* Linear elastic material; any consistent pair defines it.  rho0 is the
+ * reference density [kg/m^3], moduli in Pa.  K > 0, mu >= 0,
+ * -1 < nu < 0.5.  *material receives the material index. */
+SPH_API sph_status sph_add_material_K_mu(sph_sim *sim, double bulk_modulus,
+                                 double shear_modulus, double rho0,
+                                 int *material);
+SPH_API sph_status sph_add_material_E_nu(sph_sim *sim, double youngs_modulus,
+                                 double poisson_ratio, double rho0,
+                                 int *material);
+SPH_API sph_status sph_add_material_K_nu(sph_sim *sim, double bulk_modulus,
+                                 double poisson_ratio, double rho0,
+                                 int *material);
+
+typedef struct sph_material_info {
+    double bulk_modulus;    /* K [Pa] */
+    double shear_modulus;   /* mu [Pa] */
+    double rho0;            /* reference density [kg/m^3] */
+    double poisson_ratio;   /* eq. (10) */
+    double youngs_modulus;  /* 9 K mu / (3 K + mu) */
+    double c0;              /* bulk sound speed sqrt(K/rho0) [m/s] */
+    double c_p;             /* plane/3D P-wave speed sqrt((K + 4mu/3)/rho0) */
+} sph_material_info;
+
+SPH_API sph_status sph_material_info_get(const sph_sim *sim, int material,
+                                 sph_material_info *info);
+
+/* ---------------------------------------------------------------- bodies */
+
+typedef enum sph_motion {
+    SPH_MOTION_FREE = 0,     /* integrated by the SPH equations */
+    SPH_MOTION_FIXED = 1,    /* does not move */
+    SPH_MOTION_VELOCITY = 2, /* moves at a prescribed constant velocity */
+    SPH_MOTION_FORCE = 3     /* rigid translation under a constant applied
+                                force plus the SPH forces on it */
+} sph_motion;
+
+/* A block of particles on a lattice over [lo, hi] (only the first `dim`
+ * entries are read).  Per axis n = round((hi - lo)/dx) particles with
+ * centres at lo + (i + 1/2) (hi - lo)/n.  The body's nominal spacing is dx.
+ * Fails if a particle would overlap (closer than dx/2 to) another body. */
+SPH_API sph_status sph_add_block(sph_sim *sim, const char *name, int material,
+                         const double lo[3], const double hi[3], double dx,
+                         int *body);
+
+/* A body from given particle centres (n * dim doubles) and volumes (n
+ * doubles, or NULL for spacing^dim each).  `spacing` is the body's nominal
+ * particle spacing. */
+SPH_API sph_status sph_add_particles(sph_sim *sim, const char *name, int material,
+                             size_t n, const double *positions,
+                             const double *volumes, double spacing,
+                             int *body);
+
+/* Prescribe a body's motion.  `vector` (dim entries) is the velocity for
+ * SPH_MOTION_VELOCITY, the applied total force [N per unit depth in 2D]
+ * for SPH_MOTION_FORCE, and is ignored (may be NULL) otherwise. */
+SPH_API sph_status sph_set_motion(sph_sim *sim, int body, sph_motion motion,
+                          const double *vector);
+
+/* Give every particle of a body the velocity `v` (dim entries). */
+SPH_API sph_status sph_set_body_velocity(sph_sim *sim, int body, const double *v);
+
+SPH_API size_t sph_particle_count(const sph_sim *sim);
+SPH_API int sph_body_count(const sph_sim *sim);
+
+typedef struct sph_body_info {
+    const char *name;
+    int material;
+    sph_motion motion;
+    size_t first;     /* particles [first, first + count) belong to it */
+    size_t count;
+    double spacing;
+} sph_body_info;
+
+SPH_API sph_status sph_body_info_get(const sph_sim *sim, int body,
+                             sph_body_info *info);
+/* Body index by name, or a SPH_ERR_ARGUMENT naming the unknown name. */
+SPH_API sph_status sph_body_find(const sph_sim *sim, const char *name, int *body);
+
+/* ----------------------------------------------------- domain and kernel */
+
+/* Bounding box of the simulation.  Periodic axes wrap; along other axes
+ * a particle leaving [lo, hi] stops the run with SPH_ERR_DOMAIN.  Without a
+ * domain the space is unbounded.  Must be set before bodies are added if
+ * bodies are checked against it, or any time before the first step. */
+SPH_API sph_status sph_set_domain(sph_sim *sim, const double lo[3], const double hi[3],
+                          const int periodic[3]);
+
+typedef enum sph_kernel {
+    SPH_KERNEL_CUBIC_SPLINE = 0, /* Monaghan (1992), support 2h (default) */
+    SPH_KERNEL_WENDLAND_C2 = 1   /* Wendland C2, support 2h */
+} sph_kernel;
+
+SPH_API sph_status sph_set_kernel(sph_sim *sim, sph_kernel kernel);
+/* Smoothing length as a multiple of the first body's spacing (default 1.2). */
+SPH_API sph_status sph_set_smoothing_ratio(sph_sim *sim, double h_over_dx);
+SPH_API double sph_smoothing_length(const sph_sim *sim);
+
+/* --------------------------------------------------------------- effects */
+
+/* Switch an effect on, with its parameters as "key=value" words.
+ *   "artificial_viscosity"  alpha=1 beta=0       Monaghan (1992)
+ *   "artificial_stress"     epsilon=0.3 n=4      Gray et al. (2001)
+ *   "gravity"               gx=0 gy=-9.81 gz=0   [m/s^2]
+ *   "damping"               rate=1000            dv/dt -= rate * v [1/s]
+ *   "xsph"                  epsilon=0.5          Monaghan (1989)
+ * Unknown effects or keys are errors; the message names them.
+ * Off (the default), an effect costs nothing in the pair loop. */
+SPH_API sph_status sph_effect(sph_sim *sim, const char *name, const char *parameters);
+SPH_API sph_status sph_effect_off(sph_sim *sim, const char *name);
+/* 1 if on, 0 if off, -1 if the name is unknown. */
+SPH_API int sph_effect_is_on(const sph_sim *sim, const char *name);
+/* Space-separated list of known effect names. */
+SPH_API const char *sph_effect_names(void);
+
+/* ------------------------------------------------------------ time steps */
+
+/* Largest stable step, h / max(c_p + |v|) over the particles. */
+SPH_API double sph_stable_dt(const sph_sim *sim);
+/* Default step 0.5 h / max(c0): the paper's 0.261 us at dx = 1 mm. */
+SPH_API double sph_default_dt(const sph_sim *sim);
+/* Set the step.  A step above sph_stable_dt() is refused unless
+ * `allow_unstable` is non-zero. */
+SPH_API sph_status sph_set_dt(sph_sim *sim, double dt, int allow_unstable);
+SPH_API double sph_dt(const sph_sim *sim);
+SPH_API double sph_time(const sph_sim *sim);
+SPH_API long sph_step_count(const sph_sim *sim);
+
+/* Called every `interval` steps during sph_run*() (and after the last);
+ * a non-zero return stops the run with SPH_ERR_STOPPED after a
+ * completed step. */
+typedef int (*sph_progress_fn)(const sph_sim *sim, void *user);
+SPH_API sph_status sph_set_progress(sph_sim *sim, long interval, sph_progress_fn fn,
+                            void *user);
+
+/* Advance by n Improved Euler steps. */
+SPH_API sph_status sph_run(sph_sim *sim, long steps);
+/* Advance until time t (the last step is shortened to land on t). */
+SPH_API sph_status sph_run_until(sph_sim *sim, double t);
+
+/* Where a run stopped on a non-finite value or a domain exit: step, global
+ * particle index, body and quantity name ("position", "velocity",
+ * "density", "deviatoric stress").  Returns SPH_ERR_STATE if the last run
+ * did not fail that way. */
+SPH_API sph_status sph_failure(const sph_sim *sim, long *step, long *particle,
+                       int *body, const char **quantity);
+
+/* ---------------------------------------------------------------- fields */
+
+typedef enum sph_field_id {
+    SPH_FIELD_POSITION = 0,          /* n x dim   (state, writable) */
+    SPH_FIELD_VELOCITY = 1,          /* n x dim   (state, writable) */
+    SPH_FIELD_DENSITY = 2,           /* n         (state, writable) */
+    SPH_FIELD_DEVIATORIC_STRESS = 3, /* n x ncomp (state, writable) */
+    SPH_FIELD_MASS = 4,              /* n         (writable) */
+    SPH_FIELD_PRESSURE = 5,          /* n         (derived) */
+    SPH_FIELD_VON_MISES = 6,         /* n         (derived) */
+    SPH_FIELD_STRESS = 7,            /* n x ncomp full Cauchy sigma (derived) */
+    SPH_FIELD_ACCELERATION = 8       /* n x dim   (derived, last rates) */
+} sph_field_id;
+
+/* Pointer to stored state (fields 0..4), with its shape. */
+SPH_API sph_status sph_field(sph_sim *sim, sph_field_id field, double **data,
+                     size_t *rows, size_t *cols);
+/* Copy any field (stored or derived) into `out` (rows*cols doubles). */
+SPH_API sph_status sph_field_copy(sph_sim *sim, sph_field_id field, double *out);
+/* Body index of each particle (n ints). */
+SPH_API sph_status sph_body_ids(const sph_sim *sim, int *out);
+
+/* von Mises stress of one full 3D Cauchy stress from deviatoric stress:
+ * sqrt(3/2 S:S). */
+SPH_API double sph_von_mises(int dimension, const double *S);
+
+typedef struct sph_energy_info {
+    double kinetic;         /* sum m v^2 / 2 */
+    double elastic;         /* sum m (u_vol(rho) + S:S/(4 mu rho)) */
+    double momentum[3];     /* sum m v */
+} sph_energy_info;
+
+/* Energy and momentum of the free bodies (or of all bodies if
+ * `all_bodies` is non-zero). */
+SPH_API sph_status sph_energy(sph_sim *sim, int all_bodies, sph_energy_info *info);
+
+/* ---------------------------------------------------------------- probes */
+
+/* Number of values one probe reports: von Mises, pressure, then the full
+ * Cauchy stress components in the order of the deviatoric stress. */
+#define SPH_PROBE_VALUES(dim) (2 + SPH_STRESS_COMPONENTS(dim))
+
+SPH_API sph_status sph_add_probe(sph_sim *sim, const char *name, const double *point,
+                         int *probe);
+SPH_API int sph_probe_count(const sph_sim *sim);
+SPH_API const char *sph_probe_name(const sph_sim *sim, int probe);
+/* Shepard-normalised kernel interpolation at the probe point:
+ *   A(p) = sum_b V_b A_b W(p - r_b) / sum_b V_b W(p - r_b),  V_b = m_b/rho_b.
+ * `values` receives SPH_PROBE_VALUES(dim) doubles. */
+SPH_API sph_status sph_probe_sample(sph_sim *sim, int probe, double *values);
+
+/* ---------------------------------------------------------------- output */
+
+/* Open an HDF5 output file (layout in docs/hdf5_layout.md).  Particle
+ * snapshots are written every `snapshot_interval` steps (0: none but the
+ * first) and probe samples every `probe_interval` steps (0: none).  The
+ * current state is written as frame 0 at once. */
+SPH_API sph_status sph_output_open(sph_sim *sim, const char *path,
+                           long snapshot_interval, long probe_interval);
+/* Write a snapshot of the current state now. */
+SPH_API sph_status sph_output_snapshot(sph_sim *sim);
+SPH_API sph_status sph_output_close(sph_sim *sim);
+
+/* Number of snapshot frames in a file written by sph_output_open(). */
+SPH_API sph_status sph_read_frame_count(sph_sim *sim, const char *path, long *frames);
+/* Load frame `frame` (negative counts from the end) of a file into the
+ * state of a simulation whose particles match it (same count and bodies):
+ * positions, velocities, density, deviatoric stress, time and step. */
+SPH_API sph_status sph_read_frame(sph_sim *sim, const char *path, long frame);
+
+/* Write everything needed to continue the run bit for bit (state, time,
+ * step, dt, motions).  Resume with sph_checkpoint_read() into a simulation
+ * built the same way. */
+SPH_API sph_status sph_checkpoint_write(sph_sim *sim, const char *path);
+SPH_API sph_status sph_checkpoint_read(sph_sim *sim, const char *path);
+
+/* ---------------------------------------------------------------- scenes */
+
+/* The paper's uniaxial compression test (Das & Cleary), 2D plane strain:
+ * specimen x in [-43, 43] mm, y in [0, 140] mm on a lattice of spacing dx
+ * (86 x 140 = 12,040 particles at dx = 1 mm); K = 12.2 GPa, mu = 2.67 GPa,
+ * rho0 = 2300 kg/m^3; a fixed plate below and a piston above, each
+ * ceil(2h/dx) layers (at least one kernel support) of the specimen's
+ * width and material, the piston moving down at `piston_speed` [m/s]
+ * (the paper: 1.5e-3); probes A (0, 70) mm, B (21.5, 103.5) mm,
+ * C (21.5, 70) mm.  With piston_speed = 0 and gravity_only non-zero the
+ * piston is left out and gravity (g = 9.81 m/s^2) loads the specimen
+ * resting on the plate (the paper's gravity case).  No dissipation is
+ * switched on: the caller chooses (docs: artificial_viscosity alpha=1 is
+ * the default for wave problems). */
+typedef struct sph_paper_scene {
+    int specimen, piston, plate;   /* body indices (piston -1 if none) */
+    int material;
+    int probe_A, probe_B, probe_C;
+} sph_paper_scene;
+
+SPH_API sph_status sph_build_paper_scene(sph_sim *sim, double dx,
+                                         double piston_speed, int gravity_only,
+                                         sph_paper_scene *scene);
+
+/* ------------------------------------------------- low-level rate engine */
+/*
+ * For codes that own their particles and neighbour lists (the LAMMPS
+ * plugin): evaluate the rates of particles [0, n_local) of arrays laid out as
+ * above, with neighbours drawn from [0, n_total).  Materials, kernel,
+ * smoothing length and effects are those of `sim`, which needs no bodies.
+ * The neighbour list is full (b in list(a) iff a in list(b)) and given
+ * either as CSR (offsets, n_local + 1 entries, and indices) or as one
+ * pointer and count per particle (lists, counts).
+ */
+typedef struct sph_particles {
+    size_t n_local;
+    size_t n_total;
+    const double *x;        /* n_total * dim */
+    const double *v;        /* n_total * dim */
+    const double *rho;      /* n_total */
+    const double *S;        /* n_total * ncomp */
+    const double *mass;     /* n_total */
+    const int *material;    /* n_total */
+} sph_particles;
+
+typedef struct sph_neighbours {
+    const size_t *offsets;
+    const int *indices;
+    const int *const *lists;
+    const int *counts;
+} sph_neighbours;
+
+typedef struct sph_rates {
+    double *dv_dt;          /* n_local * dim (gravity and damping included) */
+    double *drho_dt;        /* n_local */
+    double *dS_dt;          /* n_local * ncomp */
+    double *dx_dt;          /* n_local * dim, XSPH-corrected velocity, or NULL */
+} sph_rates;
+
+SPH_API sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *particles,
+                              const sph_neighbours *neighbours,
+                              sph_rates *rates);
+
+/* Improved Euler stages on external arrays of n particles (dim, ncomp
+ * from sim).  Stage 1 (predict): saves y_n into `saved` (v, rho, S:
+ * dim + 1 + ncomp doubles per particle) and sets y* = y_n + dt f(y_n).
+ * Stage 2 (correct): y_{n+1} = (y_n + y*)/2 + dt/2 f(y*), with
+ * x_{n+1} = x* + dt/2 (v* - v_n).  `integrate_motion[i]` is 0 for
+ * particles whose position and velocity are prescribed by the caller
+ * (their density and stress still evolve). */
+SPH_API sph_status sph_heun_predict(const sph_sim *sim, size_t n, double dt,
+                            double *x, double *v, double *rho, double *S,
+                            const sph_rates *rates,
+                            const unsigned char *integrate_motion,
+                            double *saved);
+SPH_API sph_status sph_heun_correct(const sph_sim *sim, size_t n, double dt,
+                            double *x, double *v, double *rho, double *S,
+                            const sph_rates *rates,
+                            const unsigned char *integrate_motion,
+                            const double *saved);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SPHSOLID_H */

@@ -1,0 +1,95 @@
+/*
+ * Effects a scene switches on: their parameters and their terms.
+ * Pair terms are called only from rate-loop variants compiled with the
+ * effect on; per-particle terms run in passes that exist only when on.
+ * The table of names and parameter parsing is in effects.c.
+ */
+#ifndef SPHSOLID_EFFECTS_H
+#define SPHSOLID_EFFECTS_H
+
+#include <math.h>
+
+#include "physics.h"
+
+typedef struct effects {
+    /* artificial_viscosity: Monaghan (1992) */
+    int viscosity;
+    double alpha, beta;
+    /* artificial_stress: Gray, Monaghan & Swift (2001) */
+    int artificial_stress;
+    double stress_epsilon, stress_exponent;
+    /* gravity */
+    int gravity;
+    double g[3];
+    /* damping: dv/dt -= rate v (quasi-static loading) */
+    int damping;
+    double damping_rate;
+    /* xsph: Monaghan (1989) */
+    int xsph;
+    double xsph_epsilon;
+    /* kernel_correction: Randles & Libersky (1996) / Bonet & Lok (1999)
+     * gradient correction of the velocity gradient */
+    int kernel_correction;
+} effects;
+
+/* Monaghan (1992) eqs (4.1)-(4.2): the artificial viscosity
+ *   Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab,  v_ab.r_ab < 0
+ *   mu_ab = h v_ab.r_ab / (r_ab^2 + 0.01 h^2)
+ * It acts as an extra pressure: T_ab -= Pi_ab I in the momentum sum. */
+static inline double viscosity_pair(double alpha, double beta, double h,
+                                    double v_dot_r, double r2,
+                                    double c_mean, double rho_mean)
+{
+    if (v_dot_r >= 0.0)
+        return 0.0;
+    const double mu = h * v_dot_r / (r2 + 0.01 * h * h);
+    return (-alpha * c_mean * mu + beta * mu * mu) / rho_mean;
+}
+
+/* Gray et al. (2001) eq. (22): the pair factor f_ab^n, f_ab = W_ab/W(dx). */
+static inline double artificial_stress_factor(double W_ab, double inv_W_dx,
+                                              double exponent)
+{
+    const double f = W_ab * inv_W_dx;
+    if (exponent == 4.0) {
+        const double f2 = f * f;
+        return f2 * f2;
+    }
+    return pow(f, exponent);
+}
+
+/* Gray et al. (2001) eqs (24)-(26): per-particle artificial stress R_a.
+ * In the principal frame of the in-plane stress, R'_ii = -epsilon
+ * sigma'_ii / rho^2 where sigma'_ii > 0 (tension), else 0; rotated back.
+ * R is in-plane compact storage. */
+void artificial_stress_tensor(int dim, const double *S, double P, double rho,
+                              double epsilon, double *R);
+
+/* Monaghan (1989): XSPH velocity correction contribution of b,
+ * epsilon (m_b / rho_ab) (v_b - v_a) W_ab. */
+static inline void xsph_pair(int dim, double epsilon, double m_b,
+                             double rho_mean, const double *v_ab, double W_ab,
+                             double *dx_dt)
+{
+    const double s = epsilon * m_b / rho_mean * W_ab;
+    for (int i = 0; i < dim; ++i)
+        dx_dt[i] -= s * v_ab[i];
+}
+
+/* Kernel-gradient correction matrix, Bonet & Lok (1999):
+ * M_a += V_b (r_b - r_a) (x) grad_a W_ab, a symmetric in-plane tensor
+ * since grad_a W_ab is parallel to r_ab. */
+static inline void correction_matrix_pair(int dim, double volume_b,
+                                          const double *r_ab,
+                                          const double *grad_W, double *M)
+{
+    for (int i = 0; i < dim; ++i)
+        for (int j = i; j < dim; ++j)
+            M[pair_tensor_index(dim, i, j)] -= volume_b * r_ab[i] * grad_W[j];
+}
+
+/* Replace L by L M^-1 (M in-plane compact).  Returns 0 if M is singular
+ * (an isolated particle), leaving L unchanged. */
+int correct_velocity_gradient(int dim, const double *M, double L[3][3]);
+
+#endif

@@ -1,0 +1,412 @@
+/*
+ * Time integration: Improved Euler (Heun), two rate evaluations per step,
+ *   y*      = y_n + dt f(y_n)
+ *   y_{n+1} = y_n + dt/2 (f(y_n) + f(y*)) = (y_n + y*)/2 + dt/2 f(y*)
+ * for positions, velocities, densities and deviatoric stresses.  Positions
+ * use x_{n+1} = x* + dt/2 (v* - v_n), which needs only v_n saved.
+ * Bodies with prescribed motion keep their velocity; their density and
+ * stress evolve like everyone else's.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim.h"
+
+/* ------------------------------------------------ stages on plain arrays */
+
+typedef struct saved_state {
+    double *v, *rho, *S, *u;    /* u: transport velocity, only with XSPH */
+} saved_state;
+
+static saved_state saved_layout(double *saved, size_t n, int dim, int ncomp, int with_u)
+{
+    saved_state s;
+    s.v = saved;
+    s.rho = saved + n * dim;
+    s.S = s.rho + n;
+    s.u = with_u ? s.S + n * ncomp : NULL;
+    return s;
+}
+
+static inline void predict_particle(int dim, int ncomp, double dt, size_t a,
+                                    double *x, double *v, double *rho, double *S,
+                                    const sph_rates *r, int integrate,
+                                    const saved_state *s)
+{
+    const double *u = (integrate && r->dx_dt) ? r->dx_dt + a * dim : v + a * dim;
+    for (int i = 0; i < dim; ++i) {
+        s->v[a * dim + i] = v[a * dim + i];
+        if (s->u)
+            s->u[a * dim + i] = u[i];
+        x[a * dim + i] += dt * u[i];
+        if (integrate)
+            v[a * dim + i] += dt * r->dv_dt[a * dim + i];
+    }
+    s->rho[a] = rho[a];
+    rho[a] += dt * r->drho_dt[a];
+    for (int c = 0; c < ncomp; ++c) {
+        s->S[a * ncomp + c] = S[a * ncomp + c];
+        S[a * ncomp + c] += dt * r->dS_dt[a * ncomp + c];
+    }
+}
+
+/* Returns the distance bound moved in this step (for the neighbour list),
+ * or NAN if a value went non-finite. */
+static inline double correct_particle(int dim, int ncomp, double dt, size_t a,
+                                      double *x, double *v, double *rho, double *S,
+                                      const sph_rates *r, int integrate,
+                                      const saved_state *s)
+{
+    const double *u_star = (integrate && r->dx_dt) ? r->dx_dt + a * dim : v + a * dim;
+    const double *u_n = s->u ? s->u + a * dim : s->v + a * dim;
+    double moved2 = 0.0, ok = 1.0;
+    for (int i = 0; i < dim; ++i) {
+        const double step = 0.5 * dt * (u_star[i] + u_n[i]);
+        moved2 += step * step;
+        x[a * dim + i] += 0.5 * dt * (u_star[i] - u_n[i]);
+        if (integrate)
+            v[a * dim + i] = 0.5 * (s->v[a * dim + i] + v[a * dim + i]) +
+                             0.5 * dt * r->dv_dt[a * dim + i];
+        ok *= isfinite(x[a * dim + i]) && isfinite(v[a * dim + i]);
+    }
+    rho[a] = 0.5 * (s->rho[a] + rho[a]) + 0.5 * dt * r->drho_dt[a];
+    ok *= isfinite(rho[a]) && rho[a] > 0.0;
+    for (int c = 0; c < ncomp; ++c) {
+        S[a * ncomp + c] = 0.5 * (s->S[a * ncomp + c] + S[a * ncomp + c]) +
+                           0.5 * dt * r->dS_dt[a * ncomp + c];
+        ok *= isfinite(S[a * ncomp + c]);
+    }
+    return ok ? sqrt(moved2) : NAN;
+}
+
+static sph_status check_stage_args(const sph_sim *sim, size_t n, double dt,
+                                   double *x, double *v, double *rho, double *S,
+                                   const sph_rates *r, const double *saved)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!(dt > 0.0) || !isfinite(dt))
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "dt=%g: must be finite and > 0", dt);
+    if (n > 0 && (!x || !v || !rho || !S || !r || !saved || !r->dv_dt || !r->drho_dt || !r->dS_dt))
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "Improved Euler stage: an array argument is NULL");
+    return SPH_OK;
+}
+
+sph_status sph_heun_predict(const sph_sim *sim, size_t n, double dt, double *x,
+                            double *v, double *rho, double *S, const sph_rates *r,
+                            const unsigned char *integrate_motion, double *saved)
+{
+    sph_status st = check_stage_args(sim, n, dt, x, v, rho, S, r, saved);
+    if (st)
+        return st;
+    const int dim = sim->dim, nc = sim->ncomp;
+    const saved_state s = saved_layout(saved, n, dim, nc, r->dx_dt != NULL);
+    const long nn = (long)n;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
+    for (long a = 0; a < nn; ++a)
+        predict_particle(dim, nc, dt, (size_t)a, x, v, rho, S, r,
+                         integrate_motion ? integrate_motion[a] : 1, &s);
+    return SPH_OK;
+}
+
+sph_status sph_heun_correct(const sph_sim *sim, size_t n, double dt, double *x,
+                            double *v, double *rho, double *S, const sph_rates *r,
+                            const unsigned char *integrate_motion, const double *saved)
+{
+    sph_status st = check_stage_args(sim, n, dt, x, v, rho, S, r, saved);
+    if (st)
+        return st;
+    const int dim = sim->dim, nc = sim->ncomp;
+    const saved_state s = saved_layout((double *)saved, n, dim, nc, r->dx_dt != NULL);
+    const long nn = (long)n;
+    long bad = nn;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad)
+    for (long a = 0; a < nn; ++a) {
+        const double moved = correct_particle(dim, nc, dt, (size_t)a, x, v, rho, S, r,
+                                              integrate_motion ? integrate_motion[a] : 1, &s);
+        if (isnan(moved) && a < bad)
+            bad = a;
+    }
+    if (bad < nn)
+        return sph_fail((sph_sim *)sim, SPH_ERR_NONFINITE,
+                        "Improved Euler correction produced a non-finite value (or non-positive density) at particle %ld",
+                        bad);
+    return SPH_OK;
+}
+
+/* ------------------------------------------------- the simulation's run */
+
+static int body_integrates(const body *b)
+{
+    return b->motion == SPH_MOTION_FREE || b->motion == SPH_MOTION_FORCE;
+}
+
+sph_status sim_prepare(sph_sim *sim)
+{
+    if (sim->failed == -1)
+        return sph_fail(sim, SPH_ERR_STATE, "this handle was created with an invalid dimension");
+    if (sim->n == 0)
+        return sph_fail(sim, SPH_ERR_STATE, "the simulation has no particles: add a body first");
+    if (!sim->dt_set)
+        sim->dt = sph_default_dt(sim);
+    const size_t n = sim->n;
+    const int dim = sim->dim, nc = sim->ncomp;
+    const size_t saved_per = (size_t)dim + 1 + nc + (sim->fx.xsph ? dim : 0);
+    double *saved = realloc(sim->saved, n * saved_per * sizeof(double));
+    double *dv = realloc(sim->dv_dt, n * dim * sizeof(double));
+    double *dr = realloc(sim->drho_dt, n * sizeof(double));
+    double *dS = realloc(sim->dS_dt, n * nc * sizeof(double));
+    if (saved) sim->saved = saved;
+    if (dv) sim->dv_dt = dv;
+    if (dr) sim->drho_dt = dr;
+    if (dS) sim->dS_dt = dS;
+    if (!saved || !dv || !dr || !dS)
+        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate integrator storage for %zu particles", n);
+    if (sim->fx.xsph) {
+        double *dx = realloc(sim->dx_dt, n * dim * sizeof(double));
+        if (!dx)
+            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate XSPH velocities for %zu particles", n);
+        sim->dx_dt = dx;
+    } else {
+        free(sim->dx_dt);
+        sim->dx_dt = NULL;
+    }
+    sim->nl.skin = 0.25 * sim->h;
+    const double rc = 2.0 * sim->h + sim->nl.skin;
+    for (int i = 0; i < dim; ++i)
+        if (sim->has_domain && sim->periodic[i] && sim->hi[i] - sim->lo[i] < 2.0 * rc)
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "periodic length along %c is %g m, shorter than twice the neighbour cutoff 2h + skin = %g m",
+                            "xyz"[i], sim->hi[i] - sim->lo[i], rc);
+    if (!sim->nl.valid || sim->nl.n != n) {
+        sph_status st = neighbour_build(sim);
+        if (st)
+            return st;
+    }
+    return SPH_OK;
+}
+
+static sph_status evaluate(sph_sim *sim)
+{
+    sph_neighbours nb = {sim->nl.offsets, sim->nl.indices, NULL, NULL};
+    rate_call call = {sim->n, sim->n, sim->x, sim->v, sim->rho, sim->S, sim->mass,
+                      sim->material_of, &nb, 1, sim->dv_dt, sim->drho_dt,
+                      sim->dS_dt, sim->fx.xsph ? sim->dx_dt : NULL};
+    sph_status st = rates_run(sim, &call);
+    if (st)
+        return st;
+    /* Prescribed motions: no acceleration; force-driven bodies translate
+     * rigidly under the applied force plus the SPH forces on them. */
+    const int dim = sim->dim;
+    for (int k = 0; k < sim->n_bodies; ++k) {
+        const body *b = &sim->bodies[k];
+        if (b->motion == SPH_MOTION_FIXED || b->motion == SPH_MOTION_VELOCITY) {
+            memset(sim->dv_dt + b->first * dim, 0, b->count * dim * sizeof(double));
+        } else if (b->motion == SPH_MOTION_FORCE) {
+            double F[3] = {b->vector[0], b->vector[1], b->vector[2]};
+            for (size_t a = b->first; a < b->first + b->count; ++a)
+                for (int i = 0; i < dim; ++i)
+                    F[i] += sim->mass[a] * sim->dv_dt[a * dim + i];
+            for (size_t a = b->first; a < b->first + b->count; ++a)
+                for (int i = 0; i < dim; ++i)
+                    sim->dv_dt[a * dim + i] = F[i] / b->total_mass;
+        }
+    }
+    return SPH_OK;
+}
+
+static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
+{
+    const int dim = sim->dim, nc = sim->ncomp;
+    const sph_rates r = {sim->dv_dt, sim->drho_dt, sim->dS_dt, sim->fx.xsph ? sim->dx_dt : NULL};
+    const saved_state s = saved_layout(sim->saved, sim->n, dim, nc, sim->fx.xsph);
+    double max_moved = 0.0;
+    long first_bad = -1;
+    for (int k = 0; k < sim->n_bodies; ++k) {
+        const body *b = &sim->bodies[k];
+        const int integrate = body_integrates(b);
+        const long lo = (long)b->first, hi = (long)(b->first + b->count);
+        if (!corrector) {
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
+            for (long a = lo; a < hi; ++a)
+                predict_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r, integrate, &s);
+        } else {
+            long bad = hi;
+            double m = 0.0;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad) reduction(max : m)
+            for (long a = lo; a < hi; ++a) {
+                const double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r, integrate, &s);
+                if (isnan(d)) {
+                    if (a < bad)
+                        bad = a;
+                } else if (d > m) {
+                    m = d;
+                }
+            }
+            if (bad < hi && first_bad < 0)
+                first_bad = bad;
+            if (m > max_moved)
+                max_moved = m;
+        }
+    }
+    *moved = max_moved;
+    if (first_bad >= 0) {
+        const size_t a = (size_t)first_bad;
+        const char *what = "deviatoric stress";
+        for (int i = 0; i < dim; ++i)
+            if (!isfinite(sim->x[a * dim + i]))
+                what = "position";
+        for (int i = 0; i < dim && what[0] == 'd'; ++i)
+            if (!isfinite(sim->v[a * dim + i]))
+                what = "velocity";
+        if (what[0] == 'd' && !(isfinite(sim->rho[a]) && sim->rho[a] > 0.0))
+            what = "density";
+        sim->failed = 1;
+        sim->fail_step = sim->step + 1;
+        sim->fail_particle = first_bad;
+        sim->fail_body = sim->body_of[a];
+        sim->fail_quantity = what;
+        return sph_fail(sim, SPH_ERR_NONFINITE,
+                        "step %ld (t = %.9g s): particle %ld of body '%s' has a %s %s",
+                        sim->fail_step, sim->t + dt, sim->fail_particle,
+                        sim->bodies[sim->fail_body].name,
+                        what[0] == 'd' && what[1] == 'e' && what[2] == 'n' ? "non-positive or non-finite" : "non-finite",
+                        what);
+    }
+    return SPH_OK;
+}
+
+static sph_status wrap_and_check_domain(sph_sim *sim)
+{
+    if (!sim->has_domain)
+        return SPH_OK;
+    const int dim = sim->dim;
+    for (size_t a = 0; a < sim->n; ++a)
+        for (int i = 0; i < dim; ++i) {
+            double *xi = &sim->x[a * dim + i];
+            if (sim->periodic[i]) {
+                const double L = sim->hi[i] - sim->lo[i];
+                if (*xi >= sim->hi[i])
+                    *xi -= L;
+                else if (*xi < sim->lo[i])
+                    *xi += L;
+            } else if (*xi < sim->lo[i] || *xi > sim->hi[i]) {
+                sim->failed = 1;
+                sim->fail_step = sim->step;
+                sim->fail_particle = (long)a;
+                sim->fail_body = sim->body_of[a];
+                sim->fail_quantity = "position";
+                return sph_fail(sim, SPH_ERR_DOMAIN,
+                                "step %ld (t = %.9g s): particle %zu of body '%s' left the domain along %c (%c=%g, domain [%g, %g])",
+                                sim->step, sim->t, a, sim->bodies[sim->body_of[a]].name,
+                                "xyz"[i], "xyz"[i], *xi, sim->lo[i], sim->hi[i]);
+            }
+        }
+    return SPH_OK;
+}
+
+static sph_status one_step(sph_sim *sim, double dt)
+{
+    double moved;
+    sph_status st;
+    if ((st = evaluate(sim)))
+        return st;
+    if ((st = stage(sim, dt, 0, &moved)))
+        return st;
+    if ((st = evaluate(sim)))
+        return st;
+    if ((st = stage(sim, dt, 1, &moved)))
+        return st;
+    sim->rates_valid = 0;
+    sim->t += dt;
+    sim->step++;
+    if ((st = wrap_and_check_domain(sim)))
+        return st;
+    sim->nl.displacement_bound += moved;
+    if (sim->nl.displacement_bound > 0.5 * sim->nl.skin)
+        if ((st = neighbour_build(sim)))
+            return st;
+    if (sim->out && (st = output_write_due(sim)))
+        return st;
+    return SPH_OK;
+}
+
+static sph_status run_steps(sph_sim *sim, long steps, double t_end)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    sph_status st = sim_prepare(sim);
+    if (st)
+        return st;
+    sim->failed = 0;
+    const double dt = sim->dt;
+    long done = 0;
+    for (;;) {
+        double h = dt;
+        if (steps >= 0) {
+            if (done >= steps)
+                break;
+        } else {
+            const double left = t_end - sim->t;
+            if (left <= 1e-12 * dt)
+                break;
+            if (left < dt * (1.0 + 1e-9))
+                h = left;
+        }
+        if ((st = one_step(sim, h)))
+            return st;
+        if (steps < 0 && h != dt)
+            sim->t = t_end;
+        ++done;
+        if (sim->progress && sim->progress_interval > 0 &&
+            sim->step % sim->progress_interval == 0 &&
+            sim->progress(sim, sim->progress_user))
+            return sph_fail(sim, SPH_ERR_STOPPED, "stopped by the progress callback at step %ld (t = %.9g s)",
+                            sim->step, sim->t);
+    }
+    return sph_ok(sim);
+}
+
+sph_status sph_run(sph_sim *sim, long steps)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (steps < 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "steps=%ld: must be >= 0", steps);
+    return run_steps(sim, steps, 0.0);
+}
+
+sph_status sph_run_until(sph_sim *sim, double t)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!isfinite(t) || t < sim->t)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "until t=%g s: must be finite and not before the current time %g s", t, sim->t);
+    return run_steps(sim, -1, t);
+}
+
+sph_status sph_set_progress(sph_sim *sim, long interval, sph_progress_fn fn, void *user)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (fn && interval <= 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "progress interval=%ld: must be > 0", interval);
+    sim->progress_interval = interval;
+    sim->progress = fn;
+    sim->progress_user = user;
+    return sph_ok(sim);
+}
+
+sph_status sph_failure(const sph_sim *sim, long *step, long *particle, int *body_id, const char **quantity)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (sim->failed != 1)
+        return SPH_ERR_STATE;
+    if (step) *step = sim->fail_step;
+    if (particle) *particle = sim->fail_particle;
+    if (body_id) *body_id = sim->fail_body;
+    if (quantity) *quantity = sim->fail_quantity;
+    return SPH_OK;
+}

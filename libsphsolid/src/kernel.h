@@ -1,0 +1,99 @@
+/*
+ * Smoothing kernels, support 2h.  Each returns W(q) and the gradient factor
+ * F(q) = (dW/dr) / r, both before the normalisation sigma_d / h^d (for W)
+ * and sigma_d / h^(d+2) (for F), so that
+ *
+ *   W_ab      = sigma_d / h^d       w(q)
+ *   grad_a W  = sigma_d / h^(d+2)   f(q) r_ab,     q = |r_ab| / h.
+ *
+ * Writing the gradient as f(q) r_ab avoids a division by r in the inner
+ * shell of the cubic spline and everywhere for Wendland C2.
+ */
+#ifndef SPHSOLID_KERNEL_H
+#define SPHSOLID_KERNEL_H
+
+#include <math.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* Cubic B-spline, Monaghan (1992) eq. (2.6):
+ *   w(q) = 1 - 3/2 q^2 + 3/4 q^3   for 0 <= q < 1
+ *        = 1/4 (2 - q)^3           for 1 <= q < 2
+ * sigma_d = 2/3, 10/(7 pi), 1/pi in 1, 2, 3 dimensions. */
+static inline double kernel_cubic_sigma(int dim)
+{
+    return dim == 1 ? 2.0 / 3.0 : dim == 2 ? 10.0 / (7.0 * M_PI) : 1.0 / M_PI;
+}
+
+static inline double kernel_cubic_w(double q)
+{
+    if (q < 1.0)
+        return 1.0 - 1.5 * q * q + 0.75 * q * q * q;
+    if (q < 2.0) {
+        const double t = 2.0 - q;
+        return 0.25 * t * t * t;
+    }
+    return 0.0;
+}
+
+/* f(q) = w'(q) / q. */
+static inline double kernel_cubic_f(double q)
+{
+    if (q < 1.0)
+        return -3.0 + 2.25 * q;
+    if (q < 2.0) {
+        const double t = 2.0 - q;
+        return -0.75 * t * t / q;
+    }
+    return 0.0;
+}
+
+/* Wendland C2 with support 2h (Wendland 1995; Dehnen & Aly 2012):
+ *   w(q) = (1 - q/2)^4 (2q + 1)  for 0 <= q < 2
+ * sigma_d = 7/(4 pi) in 2D, 21/(16 pi) in 3D (1D: 3/4 for the C2 form
+ * (1 - q/2)^3 (3q/2 + 1) is a different function; only 2D/3D here). */
+static inline double kernel_wendland_sigma(int dim)
+{
+    return dim == 2 ? 7.0 / (4.0 * M_PI) : 21.0 / (16.0 * M_PI);
+}
+
+static inline double kernel_wendland_w(double q)
+{
+    if (q < 2.0) {
+        const double t = 1.0 - 0.5 * q;
+        const double t2 = t * t;
+        return t2 * t2 * (2.0 * q + 1.0);
+    }
+    return 0.0;
+}
+
+/* w'(q) = -5 q (1 - q/2)^3, so f(q) = -5 (1 - q/2)^3. */
+static inline double kernel_wendland_f(double q)
+{
+    if (q < 2.0) {
+        const double t = 1.0 - 0.5 * q;
+        return -5.0 * t * t * t;
+    }
+    return 0.0;
+}
+
+/* Dispatch by kernel id (0 cubic spline, 1 Wendland C2); with a constant
+ * id the branch folds away. */
+static inline double kernel_w(int kernel, double q)
+{
+    return kernel == 0 ? kernel_cubic_w(q) : kernel_wendland_w(q);
+}
+
+static inline double kernel_f(int kernel, double q)
+{
+    return kernel == 0 ? kernel_cubic_f(q) : kernel_wendland_f(q);
+}
+
+static inline double kernel_sigma(int kernel, int dim)
+{
+    return kernel == 0 ? kernel_cubic_sigma(dim) : kernel_wendland_sigma(dim);
+}
+
+#endif

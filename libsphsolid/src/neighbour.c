@@ -1,0 +1,254 @@
+/*
+ * Neighbour search: a cell list with cells at least as wide as the cutoff
+ * 2h + skin, turned into a full neighbour list in CSR form (O(N)).  Each
+ * row is sorted by index so the order of the pair sums, and with it every
+ * rounding, does not depend on when the list was built or on the threads.
+ * The list is rebuilt when any particle may have moved more than skin/2.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim.h"
+
+typedef struct grid {
+    int dim;
+    double lo[3], width[3];
+    long ncell[3];
+    int periodic[3];
+    double box[3];
+    size_t *start;          /* ncells + 1 */
+    int *members;           /* particles sorted by cell */
+} grid;
+
+static long cell_coord(const grid *g, int axis, double x)
+{
+    long c = (long)floor((x - g->lo[axis]) / g->width[axis]);
+    if (g->periodic[axis]) {
+        c %= g->ncell[axis];
+        if (c < 0)
+            c += g->ncell[axis];
+    } else if (c < 0) {
+        c = 0;
+    } else if (c >= g->ncell[axis]) {
+        c = g->ncell[axis] - 1;
+    }
+    return c;
+}
+
+static size_t cell_of(const grid *g, const double *x)
+{
+    size_t key = 0;
+    for (int i = g->dim - 1; i >= 0; --i)
+        key = key * (size_t)g->ncell[i] + (size_t)cell_coord(g, i, x[i]);
+    return key;
+}
+
+/* Neighbouring cell coordinates along one axis, without repeats. */
+static int axis_neighbours(const grid *g, int axis, long c, long out[3])
+{
+    int n = 0;
+    for (long d = -1; d <= 1; ++d) {
+        long k = c + d;
+        if (g->periodic[axis]) {
+            k = (k % g->ncell[axis] + g->ncell[axis]) % g->ncell[axis];
+        } else if (k < 0 || k >= g->ncell[axis]) {
+            continue;
+        }
+        int seen = 0;
+        for (int j = 0; j < n; ++j)
+            seen |= out[j] == k;
+        if (!seen)
+            out[n++] = k;
+    }
+    return n;
+}
+
+static int compare_int(const void *a, const void *b)
+{
+    const int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* Visit the neighbours of particle a within rc; fill `out` if not NULL.
+ * Returns the count. */
+static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2,
+                   int *out)
+{
+    const int dim = sim->dim;
+    const double *xa = sim->x + a * (size_t)dim;
+    long c[3] = {0, 0, 0}, nbr[3][3];
+    int nn[3] = {1, 1, 1};
+    for (int i = 0; i < dim; ++i) {
+        c[i] = cell_coord(g, i, xa[i]);
+        nn[i] = axis_neighbours(g, i, c[i], nbr[i]);
+    }
+    for (int i = dim; i < 3; ++i)
+        nbr[i][0] = 0;
+    size_t count = 0;
+    for (int iz = 0; iz < nn[2]; ++iz)
+        for (int iy = 0; iy < nn[1]; ++iy)
+            for (int ix = 0; ix < nn[0]; ++ix) {
+                size_t key = (size_t)nbr[0][ix];
+                if (dim > 1)
+                    key += (size_t)g->ncell[0] * (size_t)nbr[1][iy];
+                if (dim > 2)
+                    key += (size_t)g->ncell[0] * (size_t)g->ncell[1] * (size_t)nbr[2][iz];
+                for (size_t m = g->start[key]; m < g->start[key + 1]; ++m) {
+                    const size_t b = (size_t)g->members[m];
+                    if (b == a)
+                        continue;
+                    const double *xb = sim->x + b * (size_t)dim;
+                    double r2 = 0.0;
+                    for (int i = 0; i < dim; ++i) {
+                        double d = xa[i] - xb[i];
+                        if (g->periodic[i]) {
+                            if (d > 0.5 * g->box[i])
+                                d -= g->box[i];
+                            else if (d < -0.5 * g->box[i])
+                                d += g->box[i];
+                        }
+                        r2 += d * d;
+                    }
+                    if (r2 < rc2) {
+                        if (out)
+                            out[count] = (int)b;
+                        ++count;
+                    }
+                }
+            }
+    if (out)
+        qsort(out, count, sizeof *out, compare_int);
+    return count;
+}
+
+sph_status neighbour_build(sph_sim *sim)
+{
+    neighbour_list *nl = &sim->nl;
+    const size_t n = sim->n;
+    const int dim = sim->dim;
+    const double rc = 2.0 * sim->h + nl->skin;
+    grid g;
+    memset(&g, 0, sizeof g);
+    g.dim = dim;
+
+    double lo[3], hi[3];
+    for (int i = 0; i < dim; ++i) {
+        lo[i] = INFINITY;
+        hi[i] = -INFINITY;
+    }
+    for (size_t a = 0; a < n; ++a)
+        for (int i = 0; i < dim; ++i) {
+            const double xi = sim->x[a * dim + i];
+            if (xi < lo[i]) lo[i] = xi;
+            if (xi > hi[i]) hi[i] = xi;
+        }
+    size_t ncells = 1;
+    for (int i = 0; i < dim; ++i) {
+        g.periodic[i] = sim->has_domain && sim->periodic[i];
+        if (g.periodic[i]) {
+            g.box[i] = sim->hi[i] - sim->lo[i];
+            g.lo[i] = sim->lo[i];
+            g.ncell[i] = (long)floor(g.box[i] / rc);
+            if (g.ncell[i] < 1)
+                g.ncell[i] = 1;
+            g.width[i] = g.box[i] / (double)g.ncell[i];
+        } else {
+            g.lo[i] = lo[i];
+            g.width[i] = rc;
+            g.ncell[i] = (long)floor((hi[i] - lo[i]) / rc) + 1;
+        }
+    }
+    /* Keep the grid at most about 2 cells per particle: widen the cells of a
+     * sparse cloud (particles flying apart) rather than allocate empty ones. */
+    for (;;) {
+        ncells = 1;
+        for (int i = 0; i < dim; ++i)
+            ncells *= (size_t)g.ncell[i];
+        if (ncells <= 2 * n + 64)
+            break;
+        int widened = 0;
+        for (int i = 0; i < dim; ++i)
+            if (!g.periodic[i] && g.ncell[i] > 1) {
+                g.width[i] *= 2.0;
+                g.ncell[i] = (long)floor((hi[i] - lo[i]) / g.width[i]) + 1;
+                widened = 1;
+            }
+        if (!widened)
+            break;
+    }
+
+    size_t *cell_index = malloc((n ? n : 1) * sizeof *cell_index);
+    g.start = calloc(ncells + 1, sizeof *g.start);
+    g.members = malloc((n ? n : 1) * sizeof *g.members);
+    size_t *counts = malloc((n + 1) * sizeof *counts);
+    if (!cell_index || !g.start || !g.members || !counts) {
+        free(cell_index); free(g.start); free(g.members); free(counts);
+        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate the cell list (%zu cells)", ncells);
+    }
+    for (size_t a = 0; a < n; ++a) {
+        cell_index[a] = cell_of(&g, sim->x + a * dim);
+        g.start[cell_index[a] + 1]++;
+    }
+    for (size_t c = 0; c < ncells; ++c)
+        g.start[c + 1] += g.start[c];
+    {
+        size_t *fill = malloc((ncells + 1) * sizeof *fill);
+        if (!fill) {
+            free(cell_index); free(g.start); free(g.members); free(counts);
+            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate the cell list (%zu cells)", ncells);
+        }
+        memcpy(fill, g.start, (ncells + 1) * sizeof *fill);
+        for (size_t a = 0; a < n; ++a)
+            g.members[fill[cell_index[a]]++] = (int)a;
+        free(fill);
+    }
+    free(cell_index);
+
+    const double rc2 = rc * rc;
+    const long nl_n = (long)n;
+    const int threads = sim_threads(sim);
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (long a = 0; a < nl_n; ++a)
+        counts[a] = scan(sim, &g, (size_t)a, rc2, NULL);
+
+    size_t *offsets = realloc(nl->offsets, (n + 1) * sizeof *offsets);
+    if (!offsets) {
+        free(g.start); free(g.members); free(counts);
+        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate neighbour offsets");
+    }
+    nl->offsets = offsets;
+    offsets[0] = 0;
+    for (size_t a = 0; a < n; ++a)
+        offsets[a + 1] = offsets[a] + counts[a];
+    free(counts);
+    const size_t total = offsets[n];
+    if (total > nl->capacity || !nl->indices) {
+        const size_t cap = total + total / 8 + 16;
+        int *idx = realloc(nl->indices, cap * sizeof *idx);
+        if (!idx) {
+            free(g.start); free(g.members);
+            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu neighbour entries", cap);
+        }
+        nl->indices = idx;
+        nl->capacity = cap;
+    }
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (long a = 0; a < nl_n; ++a)
+        scan(sim, &g, (size_t)a, rc2, nl->indices + offsets[a]);
+    free(g.start);
+    free(g.members);
+    nl->n = n;
+    nl->displacement_bound = 0.0;
+    nl->valid = 1;
+    return SPH_OK;
+}
+
+void neighbour_free(neighbour_list *nl)
+{
+    free(nl->offsets);
+    free(nl->indices);
+    memset(nl, 0, sizeof *nl);
+}

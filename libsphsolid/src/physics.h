@@ -1,0 +1,162 @@
+/*
+ * The elastic-solid SPH model: one small function per term.
+ *
+ * Storage of symmetric tensors:
+ *   - deviatoric stress S (full 3x3, plane strain keeps S_zz):
+ *       2D (xx, yy, zz, xy), 3D (xx, yy, zz, xy, xz, yz)
+ *   - in-plane pair tensors T (sigma/rho^2, artificial stress R):
+ *       2D (xx, yy, xy),     3D (xx, yy, zz, xy, xz, yz)
+ * Vectors hold `dim` entries.  The velocity gradient is a full 3x3 array
+ * L[i][j] = dv^i/dx^j whose out-of-plane entries stay zero in 2D.
+ */
+#ifndef SPHSOLID_PHYSICS_H
+#define SPHSOLID_PHYSICS_H
+
+#include <math.h>
+
+/* Number of in-plane symmetric components. */
+static inline int pair_tensor_components(int dim) { return dim == 2 ? 3 : 6; }
+
+/* Index of T^ij in the in-plane compact storage. */
+static inline int pair_tensor_index(int dim, int i, int j)
+{
+    if (i == j)
+        return i;
+    if (dim == 2)
+        return 2;
+    return i + j + 2; /* (0,1)->3, (0,2)->4, (1,2)->5 */
+}
+
+/* Index of S^ij in the deviatoric stress storage (i, j < 3). */
+static inline int stress_index(int dim, int i, int j)
+{
+    if (i == j)
+        return i;
+    if (dim == 2)
+        return 3; /* only xy is stored off the diagonal in 2D */
+    return i + j + 2;
+}
+
+/* Equation of state, paper eq. (9): P = c0^2 (rho - rho0). */
+static inline double eos_pressure(double c0_squared, double rho, double rho0)
+{
+    return c0_squared * (rho - rho0);
+}
+
+/* In-plane sigma/rho^2 with sigma = -P I + S (paper eq. 5), the per-particle
+ * factor of the symmetric momentum equation. */
+static inline void stress_over_rho2(int dim, const double *S, double P,
+                                    double rho, double *T)
+{
+    const double inv_rho2 = 1.0 / (rho * rho);
+    for (int i = 0; i < dim; ++i)
+        T[i] = (S[i] - P) * inv_rho2;
+    if (dim == 2) {
+        T[2] = S[3] * inv_rho2;
+    } else {
+        T[3] = S[3] * inv_rho2;
+        T[4] = S[4] * inv_rho2;
+        T[5] = S[5] * inv_rho2;
+    }
+}
+
+/* Continuity, paper eq. (3): contribution of b to drho_a/dt,
+ * m_b v_ab . grad_a W_ab. */
+static inline double continuity_pair(int dim, double m_b, const double *v_ab,
+                                     const double *grad_W)
+{
+    double s = 0.0;
+    for (int i = 0; i < dim; ++i)
+        s += v_ab[i] * grad_W[i];
+    return m_b * s;
+}
+
+/* Velocity gradient: (dv^i/dx^j)_a += (m_b/rho_b) (v_b^i - v_a^i)
+ * dW_ab/dx_a^j, with v_b - v_a = -v_ab. */
+static inline void velocity_gradient_pair(int dim, double volume_b,
+                                          const double *v_ab,
+                                          const double *grad_W, double L[3][3])
+{
+    for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j)
+            L[i][j] -= volume_b * v_ab[i] * grad_W[j];
+}
+
+/* Symmetric momentum equation, Gray, Monaghan & Swift (2001) eq. (29):
+ * dv_a/dt += m_b T_ab . grad_a W_ab with T_ab = sigma_a/rho_a^2 +
+ * sigma_b/rho_b^2 (+ effect terms), an in-plane symmetric tensor. */
+static inline void momentum_pair(int dim, double m_b, const double *T_ab,
+                                 const double *grad_W, double *dv_dt)
+{
+    for (int i = 0; i < dim; ++i) {
+        double s = 0.0;
+        for (int j = 0; j < dim; ++j)
+            s += T_ab[pair_tensor_index(dim, i, j)] * grad_W[j];
+        dv_dt[i] += m_b * s;
+    }
+}
+
+/* Deviatoric stress rate, paper eqs. (6)-(8) (Jaumann rate, Hooke):
+ *   dS/dt = 2 mu (eps_dot - tr(eps_dot)/3 I) + S Omega^T + Omega S
+ * with eps_dot = (L + L^T)/2 (eq. 7) and Omega = (L - L^T)/2 (eq. 8).
+ * In 2D (plane strain) eps_dot_zz = 0 and dS_zz/dt = -2 mu tr/3. */
+static inline void jaumann_stress_rate(int dim, double mu, const double L[3][3],
+                                       const double *S, double *dS_dt)
+{
+    double eps[3][3], omega[3][3], s[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            eps[i][j] = 0.5 * (L[i][j] + L[j][i]);
+            omega[i][j] = 0.5 * (L[i][j] - L[j][i]);
+            s[i][j] = (dim == 3 || (i < 2 && j < 2) || i == j)
+                          ? S[stress_index(dim, i, j)]
+                          : 0.0;
+        }
+    const double trace = eps[0][0] + eps[1][1] + eps[2][2];
+    const int ncomp = dim == 2 ? 4 : 6;
+    for (int c = 0; c < ncomp; ++c) {
+        int i, j;
+        if (c < 3) {
+            i = j = c;
+        } else if (dim == 2) {
+            i = 0; j = 1;
+        } else {
+            i = c == 5 ? 1 : 0;
+            j = c == 3 ? 1 : 2;
+        }
+        double rotation = 0.0;
+        for (int k = 0; k < 3; ++k)
+            rotation += s[i][k] * omega[j][k] + omega[i][k] * s[k][j];
+        dS_dt[c] = 2.0 * mu * (eps[i][j] - (i == j ? trace / 3.0 : 0.0)) + rotation;
+    }
+}
+
+/* S:S over the full 3x3 tensor. */
+static inline double stress_double_dot(int dim, const double *S)
+{
+    double s = S[0] * S[0] + S[1] * S[1] + S[2] * S[2] + 2.0 * S[3] * S[3];
+    if (dim == 3)
+        s += 2.0 * (S[4] * S[4] + S[5] * S[5]);
+    return s;
+}
+
+/* von Mises stress of the full 3D Cauchy stress: sqrt(3/2 S:S). */
+static inline double von_mises_stress(int dim, const double *S)
+{
+    return sqrt(1.5 * stress_double_dot(dim, S));
+}
+
+/* Elastic energy per unit mass: volumetric part integrating P/rho^2 along
+ * the equation of state, c0^2 (ln(rho/rho0) + rho0/rho - 1), plus the
+ * shear part S:S / (4 mu rho). */
+static inline double elastic_energy_per_mass(int dim, double c0_squared,
+                                             double rho0, double mu,
+                                             double rho, const double *S)
+{
+    double u = c0_squared * (log(rho / rho0) + rho0 / rho - 1.0);
+    if (mu > 0.0)
+        u += stress_double_dot(dim, S) / (4.0 * mu * rho);
+    return u;
+}
+
+#endif

@@ -1,0 +1,426 @@
+/*
+ * The rate engine: one evaluation of drho/dt, dv/dt and dS/dt for a set of
+ * particles.  All three rates depend only on the current state, so one pass
+ * over the pairs computes them together.
+ *
+ * Passes, each over particles (OpenMP only here):
+ *   1. per particle: volume m/rho, sigma/rho^2 and, if on, the artificial
+ *      stress R (over local and ghost particles);
+ *   2. if kernel_correction is on: the correction matrix M;
+ *   3. the pair loop: continuity, velocity gradient, momentum, and the pair
+ *      terms of the effects that are on, then the Jaumann stress rate;
+ *   4. if xsph is on: the XSPH velocity;
+ *   5. if gravity or damping is on: body forces.
+ * The pair loop is compiled in one variant per (dimension, kernel,
+ * periodicity, viscosity, artificial stress), so an effect that is off has
+ * no branch in it.  Each particle gathers from its full neighbour list in
+ * a fixed order, so results do not depend on the number of threads.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "kernel.h"
+#include "sim.h"
+
+typedef struct engine {
+    int dim, ncomp, nsym, stride, threads;
+    size_t n_local, n_total;
+    const double *x, *v, *rho, *S, *mass;
+    const int *material_of;
+    const material *materials;
+    const size_t *offsets;
+    const int *indices;
+    const int *const *lists;
+    const int *counts;
+    const double *pair_data;    /* stride doubles: volume, sigma/rho^2 */
+    const double *R;            /* nsym per particle, or NULL */
+    const double *M;            /* nsym per particle, or NULL */
+    double h, inv_h, support2, w_norm, f_norm;
+    double box[3], half_box[3];
+    int periodic_axis[3];
+    effects fx;
+    double inv_W_dx;
+    double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
+} engine;
+
+int sim_threads(const sph_sim *sim)
+{
+#ifdef _OPENMP
+    return sim->threads > 0 ? sim->threads : omp_get_max_threads();
+#else
+    (void)sim;
+    return 1;
+#endif
+}
+
+static inline void neighbours_of(const engine *e, size_t a, const int **list,
+                                 int *count)
+{
+    if (e->offsets) {
+        *list = e->indices + e->offsets[a];
+        *count = (int)(e->offsets[a + 1] - e->offsets[a]);
+    } else {
+        *list = e->lists[a];
+        *count = e->counts[a];
+    }
+}
+
+/* r_ab = x_a - x_b, with the minimum image along periodic axes. */
+static inline double separation(const engine *e, const double *xa, size_t b,
+                                const int dim, const int periodic, double *r_ab)
+{
+    const double *xb = e->x + b * (size_t)dim;
+    double r2 = 0.0;
+    for (int i = 0; i < dim; ++i) {
+        double d = xa[i] - xb[i];
+        if (periodic && e->periodic_axis[i]) {
+            if (d > e->half_box[i])
+                d -= e->box[i];
+            else if (d < -e->half_box[i])
+                d += e->box[i];
+        }
+        r_ab[i] = d;
+        r2 += d * d;
+    }
+    return r2;
+}
+
+#if defined(__GNUC__)
+#define ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define ALWAYS_INLINE inline
+#endif
+
+/* Pass 3 for one particle. */
+static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
+                                         const int dim, const int kernel,
+                                         const int periodic,
+                                         const int viscosity,
+                                         const int art_stress)
+{
+    const int nsym = dim == 2 ? 3 : 6;
+    const int stride = nsym + 1;
+    const double *xa = e->x + a * (size_t)dim;
+    const double *va = e->v + a * (size_t)dim;
+    const double *Pa = e->pair_data + a * (size_t)stride;
+    const double rho_a = e->rho[a];
+    const double c_a = viscosity ? e->materials[e->material_of[a]].c0 : 0.0;
+    const double *Ra = art_stress ? e->R + a * (size_t)nsym : NULL;
+
+    double L[3][3] = {{0.0}};
+    double dv[3] = {0.0, 0.0, 0.0};
+    double drho = 0.0;
+
+    const int *list;
+    int count;
+    neighbours_of(e, a, &list, &count);
+    for (int k = 0; k < count; ++k) {
+        const size_t b = (size_t)list[k];
+        double r_ab[3], v_ab[3], grad_W[3], T[6];
+        const double r2 = separation(e, xa, b, dim, periodic, r_ab);
+        if (r2 >= e->support2)
+            continue;
+        const double q = sqrt(r2) * e->inv_h;
+        const double F = kernel_f(kernel, q) * e->f_norm;
+        const double *vb = e->v + b * (size_t)dim;
+        for (int i = 0; i < dim; ++i) {
+            grad_W[i] = F * r_ab[i];
+            v_ab[i] = va[i] - vb[i];
+        }
+        const double m_b = e->mass[b];
+        const double *Pb = e->pair_data + b * (size_t)stride;
+
+        drho += continuity_pair(dim, m_b, v_ab, grad_W);
+        velocity_gradient_pair(dim, Pb[0], v_ab, grad_W, L);
+
+        for (int c = 0; c < nsym; ++c)
+            T[c] = Pa[1 + c] + Pb[1 + c];
+        if (viscosity) {
+            double v_dot_r = 0.0;
+            for (int i = 0; i < dim; ++i)
+                v_dot_r += v_ab[i] * r_ab[i];
+            const double c_b = e->materials[e->material_of[b]].c0;
+            const double Pi = viscosity_pair(e->fx.alpha, e->fx.beta, e->h,
+                                             v_dot_r, r2, 0.5 * (c_a + c_b),
+                                             0.5 * (rho_a + e->rho[b]));
+            for (int i = 0; i < dim; ++i)
+                T[i] -= Pi;
+        }
+        if (art_stress) {
+            const double W = kernel_w(kernel, q) * e->w_norm;
+            const double fn = artificial_stress_factor(W, e->inv_W_dx,
+                                                       e->fx.stress_exponent);
+            const double *Rb = e->R + b * (size_t)nsym;
+            for (int c = 0; c < nsym; ++c)
+                T[c] += (Ra[c] + Rb[c]) * fn;
+        }
+        momentum_pair(dim, m_b, T, grad_W, dv);
+    }
+
+    e->drho_dt[a] = drho;
+    if (e->M)
+        correct_velocity_gradient(dim, e->M + a * (size_t)nsym, L);
+    const int ncomp = dim == 2 ? 4 : 6;
+    jaumann_stress_rate(dim, e->materials[e->material_of[a]].mu, L,
+                        e->S + a * (size_t)ncomp, e->dS_dt + a * (size_t)ncomp);
+    for (int i = 0; i < dim; ++i)
+        e->dv_dt[a * (size_t)dim + i] = dv[i];
+}
+
+/* One function per variant of the pair loop. */
+#define RATE_VARIANT(DIM, KERNEL, PERIODIC, VISC, STRESS)                     \
+    static void rates_##DIM##_##KERNEL##_##PERIODIC##_##VISC##_##STRESS(       \
+        const engine *e)                                                       \
+    {                                                                          \
+        const long n = (long)e->n_local;                                       \
+        _Pragma("omp parallel for schedule(static) num_threads(e->threads)")   \
+        for (long a = 0; a < n; ++a)                                           \
+            particle_rates(e, (size_t)a, DIM, KERNEL, PERIODIC, VISC, STRESS); \
+    }
+#define RATE_VARIANTS_STRESS(DIM, KERNEL, PERIODIC, VISC)                      \
+    RATE_VARIANT(DIM, KERNEL, PERIODIC, VISC, 0)                               \
+    RATE_VARIANT(DIM, KERNEL, PERIODIC, VISC, 1)
+#define RATE_VARIANTS_VISC(DIM, KERNEL, PERIODIC)                              \
+    RATE_VARIANTS_STRESS(DIM, KERNEL, PERIODIC, 0)                             \
+    RATE_VARIANTS_STRESS(DIM, KERNEL, PERIODIC, 1)
+#define RATE_VARIANTS_PERIODIC(DIM, KERNEL)                                    \
+    RATE_VARIANTS_VISC(DIM, KERNEL, 0)                                         \
+    RATE_VARIANTS_VISC(DIM, KERNEL, 1)
+RATE_VARIANTS_PERIODIC(2, 0)
+RATE_VARIANTS_PERIODIC(2, 1)
+RATE_VARIANTS_PERIODIC(3, 0)
+RATE_VARIANTS_PERIODIC(3, 1)
+
+typedef void (*rate_variant)(const engine *);
+#define V(D, K, P) {{rates_##D##_##K##_##P##_0_0, rates_##D##_##K##_##P##_0_1}, \
+                    {rates_##D##_##K##_##P##_1_0, rates_##D##_##K##_##P##_1_1}}
+static const rate_variant variants[2][2][2][2][2] = {
+    {{V(2, 0, 0), V(2, 0, 1)}, {V(2, 1, 0), V(2, 1, 1)}},
+    {{V(3, 0, 0), V(3, 0, 1)}, {V(3, 1, 0), V(3, 1, 1)}},
+};
+#undef V
+
+/* Pass 1: per-particle factors of the pair terms. */
+static void pass_pair_data(const engine *e, double *pair_data, double *R)
+{
+    const int dim = e->dim, nsym = e->nsym, ncomp = e->ncomp;
+    const long n = (long)e->n_total;
+#pragma omp parallel for schedule(static) num_threads(e->threads)
+    for (long a = 0; a < n; ++a) {
+        const material *m = &e->materials[e->material_of[a]];
+        const double rho = e->rho[a];
+        const double P = eos_pressure(m->c0_squared, rho, m->rho0);
+        const double *S = e->S + (size_t)a * ncomp;
+        double *pd = pair_data + (size_t)a * (nsym + 1);
+        pd[0] = e->mass[a] / rho;
+        stress_over_rho2(dim, S, P, rho, pd + 1);
+        if (R)
+            artificial_stress_tensor(dim, S, P, rho, e->fx.stress_epsilon,
+                                     R + (size_t)a * nsym);
+    }
+}
+
+/* Pass 2: kernel-gradient correction matrices. */
+static void pass_correction(const engine *e, int kernel, double *M)
+{
+    const int dim = e->dim, nsym = e->nsym;
+    const long n = (long)e->n_local;
+#pragma omp parallel for schedule(static) num_threads(e->threads)
+    for (long a = 0; a < n; ++a) {
+        double *Ma = M + (size_t)a * nsym;
+        for (int c = 0; c < nsym; ++c)
+            Ma[c] = 0.0;
+        const double *xa = e->x + (size_t)a * dim;
+        const int *list;
+        int count;
+        neighbours_of(e, (size_t)a, &list, &count);
+        for (int k = 0; k < count; ++k) {
+            const size_t b = (size_t)list[k];
+            double r_ab[3], grad_W[3];
+            const double r2 = separation(e, xa, b, dim, 1, r_ab);
+            if (r2 >= e->support2)
+                continue;
+            const double F = kernel_f(kernel, sqrt(r2) * e->inv_h) * e->f_norm;
+            for (int i = 0; i < dim; ++i)
+                grad_W[i] = F * r_ab[i];
+            correction_matrix_pair(dim, e->pair_data[b * (size_t)(nsym + 1)],
+                                   r_ab, grad_W, Ma);
+        }
+    }
+}
+
+/* Pass 4: XSPH velocity. */
+static void pass_xsph(const engine *e, int kernel)
+{
+    const int dim = e->dim;
+    const long n = (long)e->n_local;
+#pragma omp parallel for schedule(static) num_threads(e->threads)
+    for (long a = 0; a < n; ++a) {
+        const double *xa = e->x + (size_t)a * dim;
+        const double *va = e->v + (size_t)a * dim;
+        double u[3] = {0.0, 0.0, 0.0};
+        const int *list;
+        int count;
+        neighbours_of(e, (size_t)a, &list, &count);
+        for (int k = 0; k < count; ++k) {
+            const size_t b = (size_t)list[k];
+            double r_ab[3], v_ab[3];
+            const double r2 = separation(e, xa, b, dim, 1, r_ab);
+            if (r2 >= e->support2)
+                continue;
+            const double W = kernel_w(kernel, sqrt(r2) * e->inv_h) * e->w_norm;
+            for (int i = 0; i < dim; ++i)
+                v_ab[i] = va[i] - e->v[b * (size_t)dim + i];
+            xsph_pair(dim, e->fx.xsph_epsilon, e->mass[b],
+                      0.5 * (e->rho[a] + e->rho[b]), v_ab, W, u);
+        }
+        for (int i = 0; i < dim; ++i)
+            e->dx_dt[(size_t)a * dim + i] = va[i] + u[i];
+    }
+}
+
+/* Pass 5: gravity and damping. */
+static void pass_body_forces(const engine *e)
+{
+    const int dim = e->dim;
+    const long n = (long)e->n_local;
+    const int gravity = e->fx.gravity, damping = e->fx.damping;
+#pragma omp parallel for schedule(static) num_threads(e->threads)
+    for (long a = 0; a < n; ++a)
+        for (int i = 0; i < dim; ++i) {
+            double acc = e->dv_dt[(size_t)a * dim + i];
+            if (gravity)
+                acc += e->fx.g[i];
+            if (damping)
+                acc -= e->fx.damping_rate * e->v[(size_t)a * dim + i];
+            e->dv_dt[(size_t)a * dim + i] = acc;
+        }
+}
+
+static sph_status grow_scratch(sph_sim *sim, size_t n)
+{
+    if (n <= sim->scratch_n && (!sim->fx.artificial_stress || sim->stress_R) &&
+        (!sim->fx.kernel_correction || sim->correction))
+        return SPH_OK;
+    const size_t cap = n > sim->scratch_n ? n : sim->scratch_n;
+    double *pd = realloc(sim->pair_data, cap * (size_t)(sim->nsym + 1) * sizeof(double));
+    if (!pd)
+        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate rate scratch for %zu particles", cap);
+    sim->pair_data = pd;
+    if (sim->fx.artificial_stress) {
+        double *R = realloc(sim->stress_R, cap * (size_t)sim->nsym * sizeof(double));
+        if (!R)
+            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate artificial stress for %zu particles", cap);
+        sim->stress_R = R;
+    }
+    if (sim->fx.kernel_correction) {
+        double *M = realloc(sim->correction, cap * (size_t)sim->nsym * sizeof(double));
+        if (!M)
+            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate correction matrices for %zu particles", cap);
+        sim->correction = M;
+    }
+    sim->scratch_n = cap;
+    return SPH_OK;
+}
+
+sph_status rates_run(sph_sim *sim, const rate_call *call)
+{
+    if (sim->h <= 0.0)
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "smoothing length is not set: add a body or call sph_set_smoothing_ratio after one");
+    sph_status st = grow_scratch(sim, call->n_total);
+    if (st)
+        return st;
+
+    engine e;
+    memset(&e, 0, sizeof e);
+    e.dim = sim->dim;
+    e.ncomp = sim->ncomp;
+    e.nsym = sim->nsym;
+    e.stride = sim->nsym + 1;
+    e.threads = sim_threads(sim);
+    e.n_local = call->n_local;
+    e.n_total = call->n_total;
+    e.x = call->x;
+    e.v = call->v;
+    e.rho = call->rho;
+    e.S = call->S;
+    e.mass = call->mass;
+    e.material_of = call->material;
+    e.materials = sim->materials;
+    e.offsets = call->neighbours->offsets;
+    e.indices = call->neighbours->indices;
+    e.lists = call->neighbours->lists;
+    e.counts = call->neighbours->counts;
+    e.h = sim->h;
+    e.inv_h = 1.0 / sim->h;
+    e.support2 = 4.0 * sim->h * sim->h;
+    const double sigma = kernel_sigma(sim->kernel, sim->dim);
+    e.w_norm = sigma / pow(sim->h, sim->dim);
+    e.f_norm = sigma / pow(sim->h, sim->dim + 2);
+    e.fx = sim->fx;
+    e.inv_W_dx = 1.0 / (kernel_w(sim->kernel, sim->dx_ref / sim->h) * e.w_norm);
+    int periodic = 0;
+    for (int i = 0; i < sim->dim; ++i) {
+        e.periodic_axis[i] = call->periodic && sim->periodic[i];
+        e.box[i] = sim->hi[i] - sim->lo[i];
+        e.half_box[i] = 0.5 * e.box[i];
+        periodic |= e.periodic_axis[i];
+    }
+    e.dv_dt = call->dv_dt;
+    e.drho_dt = call->drho_dt;
+    e.dS_dt = call->dS_dt;
+    e.dx_dt = call->dx_dt;
+
+    pass_pair_data(&e, sim->pair_data, sim->fx.artificial_stress ? sim->stress_R : NULL);
+    e.pair_data = sim->pair_data;
+    e.R = sim->fx.artificial_stress ? sim->stress_R : NULL;
+    if (sim->fx.kernel_correction) {
+        pass_correction(&e, sim->kernel, sim->correction);
+        e.M = sim->correction;
+    }
+    variants[sim->dim - 2][sim->kernel][periodic][sim->fx.viscosity != 0]
+            [sim->fx.artificial_stress != 0](&e);
+    if (sim->fx.xsph && e.dx_dt)
+        pass_xsph(&e, sim->kernel);
+    if (sim->fx.gravity || sim->fx.damping)
+        pass_body_forces(&e);
+    return SPH_OK;
+}
+
+sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p,
+                              const sph_neighbours *nb, sph_rates *rates)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!p || !nb || !rates)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: particles, neighbours and rates must not be NULL");
+    if (p->n_local > p->n_total)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: n_local=%zu exceeds n_total=%zu",
+                        p->n_local, p->n_total);
+    if (p->n_total > 0 && (!p->x || !p->v || !p->rho || !p->S || !p->mass || !p->material))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: a particle array (x, v, rho, S, mass, material) is NULL");
+    if (p->n_local > 0 && (!rates->dv_dt || !rates->drho_dt || !rates->dS_dt))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: a rate array (dv_dt, drho_dt, dS_dt) is NULL");
+    if (!((nb->offsets && nb->indices) || (nb->lists && nb->counts)) && p->n_local > 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: give neighbours as offsets+indices or lists+counts");
+    if (sim->fx.xsph && !rates->dx_dt && p->n_local > 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: effect xsph is on but rates->dx_dt is NULL");
+    for (size_t i = 0; i < p->n_total; ++i) {
+        if (p->material[i] < 0 || p->material[i] >= sim->n_materials)
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: particle %zu has material %d, but %d materials are defined",
+                            i, p->material[i], sim->n_materials);
+        if (!(p->rho[i] > 0.0))
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: particle %zu has density rho=%g (must be > 0)", i, p->rho[i]);
+    }
+    rate_call call = {p->n_local, p->n_total, p->x, p->v, p->rho, p->S, p->mass,
+                      p->material, nb, 0, rates->dv_dt, rates->drho_dt,
+                      rates->dS_dt, rates->dx_dt};
+    sph_status st = rates_run(sim, &call);
+    return st ? st : sph_ok(sim);
+}

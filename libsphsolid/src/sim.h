@@ -1,0 +1,145 @@
+/* Internal state of a simulation handle. */
+#ifndef SPHSOLID_SIM_H
+#define SPHSOLID_SIM_H
+
+#include <stddef.h>
+
+#include "effects.h"
+#include "sphsolid.h"
+
+#define SPH_ERRMSG_SIZE 512
+#define SPH_NAME_SIZE 64
+
+typedef struct material {
+    double K, mu, rho0;
+    double c0_squared, c0, c_p;
+} material;
+
+typedef struct body {
+    char name[SPH_NAME_SIZE];
+    int material;
+    sph_motion motion;
+    double vector[3];       /* velocity or applied force */
+    size_t first, count;
+    double spacing;
+    double total_mass;
+} body;
+
+typedef struct probe {
+    char name[SPH_NAME_SIZE];
+    double point[3];
+} probe;
+
+/* Full neighbour list in CSR form, each row sorted by index, holding every
+ * pair closer than 2h + skin when built. */
+typedef struct neighbour_list {
+    size_t *offsets;        /* n + 1 */
+    int *indices;
+    size_t capacity;        /* of indices */
+    size_t n;               /* particles when built */
+    double skin;
+    double displacement_bound; /* upper bound of any displacement since built */
+    int valid;
+} neighbour_list;
+
+struct output_file;
+
+struct sph_sim {
+    int dim, ncomp, nsym;
+    int threads;
+    char errmsg[SPH_ERRMSG_SIZE];
+
+    /* model */
+    int kernel;
+    double h_over_dx;
+    double h;               /* 0 until the first body fixes it */
+    double dx_ref;          /* first body's spacing */
+    material *materials;
+    int n_materials;
+    effects fx;
+    int has_domain;
+    double lo[3], hi[3];
+    int periodic[3];
+
+    /* bodies and particles */
+    body *bodies;
+    int n_bodies;
+    probe *probes;
+    int n_probes;
+    size_t n, capacity;
+    double *x, *v, *rho, *S, *mass;
+    int *material_of;       /* per particle */
+    int *body_of;           /* per particle */
+
+    /* integration */
+    double dt, t;
+    int dt_set;
+    long step;
+    double *saved;          /* Heun y_n: v, rho, S (and xsph velocity) */
+    double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
+    int rates_valid;
+    neighbour_list nl;
+
+    /* scratch of the rate engine, sized to scratch_n particles */
+    size_t scratch_n;
+    double *pair_data;      /* per particle: volume, then sigma/rho^2 */
+    double *stress_R;       /* artificial stress, when on */
+    double *correction;     /* kernel-gradient correction M, when on */
+
+    /* failure report */
+    int failed;
+    long fail_step, fail_particle;
+    int fail_body;
+    const char *fail_quantity;
+
+    /* progress */
+    long progress_interval;
+    sph_progress_fn progress;
+    void *progress_user;
+
+    struct output_file *out;
+};
+
+/* error.c */
+sph_status sph_fail(sph_sim *sim, sph_status status, const char *fmt, ...)
+#ifdef __GNUC__
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+sph_status sph_ok(sph_sim *sim);
+
+/* neighbour.c */
+sph_status neighbour_build(sph_sim *sim);
+void neighbour_free(neighbour_list *nl);
+
+/* rates.c */
+typedef struct rate_call {
+    size_t n_local, n_total;
+    const double *x, *v, *rho, *S, *mass;
+    const int *material;
+    const sph_neighbours *neighbours;
+    int periodic;           /* apply minimum image with sim's domain */
+    double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
+} rate_call;
+
+sph_status rates_run(sph_sim *sim, const rate_call *call);
+int sim_threads(const sph_sim *sim);
+
+/* scene.c */
+double sim_support(const sph_sim *sim);
+sph_status sim_prepare(sph_sim *sim);
+
+/* effects.c */
+sph_status effects_set(sph_sim *sim, const char *name, const char *parameters);
+sph_status effects_off(sph_sim *sim, const char *name);
+int effects_is_on(const effects *fx, const char *name);
+void effects_describe(const effects *fx, char *buf, size_t size);
+
+/* probe.c */
+void probe_sample_point(sph_sim *sim, const double *point, double *values);
+
+/* io_hdf5.c */
+sph_status output_write_due(sph_sim *sim);
+void output_free(sph_sim *sim);
+
+#endif
