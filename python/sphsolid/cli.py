@@ -1,0 +1,184 @@
+"""The ``sphsolid`` command: the paper's scenes and file inspection.
+
+    sphsolid piston  [--dx 1mm] [--until 0.3ms] [--backend c|lammps] [--out DIR]
+    sphsolid gravity [--dx 2mm] [--until 60ms] [--damping 2000] [--out DIR]
+    sphsolid info FILE.h5
+
+Lengths and times take an optional unit: ``--dx 2mm``, ``--until 0.3ms``
+(plain numbers are metres and seconds).
+"""
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+import time as wallclock
+from pathlib import Path
+
+__all__ = ["main"]
+
+_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "s": 1.0,
+          "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "": 1.0}
+
+
+def quantity(text: str) -> float:
+    """'2mm' -> 0.002, '0.3ms' -> 3e-4, '1e-3' -> 0.001."""
+    match = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([a-zµ]*)\s*", text)
+    if not match or match.group(2) not in _UNITS:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: expected a number with an optional unit "
+            f"(m, mm, um, s, ms, us)")
+    try:
+        return float(match.group(1)) * _UNITS[match.group(2)]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: not a number") from None
+
+
+def _times(text: str) -> list[float]:
+    return [quantity(part) for part in text.split(",") if part.strip()]
+
+
+def _common(parser, dx, until, frames):
+    parser.add_argument("--dx", type=quantity, default=dx,
+                        help=f"particle spacing (default {dx * 1e3:g}mm)")
+    parser.add_argument("--until", type=quantity, default=until,
+                        help=f"end time (default {until * 1e3:g}ms)")
+    parser.add_argument("--out", type=Path, default=Path("."),
+                        help="output directory (default: current)")
+    parser.add_argument("--backend", choices=("c", "lammps"), default="c",
+                        help="c: libsphsolid (default); lammps: the plugin")
+    parser.add_argument("--threads", type=int, default=None,
+                        help="OpenMP threads (default: OpenMP's)")
+    parser.add_argument("--dt", type=quantity, default=None,
+                        help="time step (default 0.5 h/c0)")
+    parser.add_argument("--times", type=_times, default=None,
+                        help="comma-separated times of the von Mises maps "
+                             f"(default {frames} evenly to --until)")
+    parser.add_argument("--probe-interval", type=int, default=10,
+                        help="steps between probe samples (default 10)")
+    parser.add_argument("--viscosity", type=float, default=1.0,
+                        metavar="ALPHA",
+                        help="Monaghan artificial viscosity alpha (beta=0);"
+                             " 0 switches it off (default 1)")
+    parser.add_argument("--progress", action=argparse.BooleanOptionalAction,
+                        default=None, help="progress bar (default: on a "
+                        "terminal for long runs)")
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="sphsolid", description="SPH for elastic solids: the paper's "
+        "uniaxial piston and gravity scenes, and HDF5 file inspection.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    piston = sub.add_parser("piston", help="the paper's uniaxial piston test")
+    _common(piston, 1e-3, 0.3e-3, 4)
+    piston.add_argument("--speed", type=float, default=1.5e-3,
+                        help="piston speed [m/s] (default 1.5e-3)")
+    gravity = sub.add_parser("gravity", help="the specimen settling under "
+                             "gravity on the plate")
+    _common(gravity, 2e-3, 20e-3, 3)
+    gravity.add_argument("--damping", type=float, default=None,
+                         help="damping rate [1/s] (default: the scene's)")
+    gravity.add_argument("--g", type=float, default=9.81,
+                         help="gravitational acceleration [m/s^2]")
+    info = sub.add_parser("info", help="describe an HDF5 output file")
+    info.add_argument("file", type=Path)
+    return parser
+
+
+def _run_scene(args, scene, name: str) -> int:
+    from . import ImprovedEuler, Probes, scenes
+    from .figures import probe_curves, von_mises_map
+    from .trajectory import Trajectory
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    if args.backend == "lammps":
+        from .lammps import Lammps
+        scene.calc = Lammps(threads=args.threads)
+    elif args.threads is not None:
+        from .calculators import CLibrary
+        scene.calc = CLibrary(threads=args.threads)
+    probes = Probes(scene, scenes.PAPER_PROBES)
+    dyn = ImprovedEuler(scene, dt=args.dt, progress=args.progress)
+    h5 = args.out / f"{name}.h5"
+    times = args.times or [args.until * (i + 1) / args._frames
+                           for i in range(args._frames)]
+    times = sorted(t for t in times if 0 < t <= args.until)
+    counts = scene.body_counts()
+    print(f"{name}: dx = {args.dx * 1e3:g} mm, "
+          + ", ".join(f"{k} {v}" for k, v in counts.items())
+          + f" particles, dt = {dyn.dt * 1e6:.4g} us, until "
+          f"{args.until * 1e3:g} ms ({args.backend} backend)")
+    traj = Trajectory(h5, "w", scene, probe_interval=args.probe_interval)
+    dyn.attach(probes, interval=args.probe_interval)
+    start = wallclock.perf_counter()
+    interrupted = False
+    try:
+        for t in times + [args.until]:
+            if t > dyn.time:
+                dyn.run(until=t)
+                if t in times:
+                    traj.write()
+    except KeyboardInterrupt as stop:
+        interrupted = True
+        print(f"\n{stop}", file=sys.stderr)
+    finally:
+        traj.close()
+    wall = wallclock.perf_counter() - start
+    print(f"{dyn.nsteps} steps to t = {dyn.time * 1e3:.6g} ms in {wall:.2f} s"
+          f" ({len(scene) * dyn.nsteps / max(wall, 1e-9) / 1e6:.3g} M "
+          "particle-steps/s)")
+    csv = args.out / f"{name}_probes.csv"
+    probes.write_csv(csv)
+    outputs = [h5, traj.xdmf_path, csv]
+    if len(probes.times):
+        outputs.append(probe_curves(
+            probes.times, {n: probes[n]["von_mises"] for n in probes.names},
+            args.out / f"{name}_probes.png",
+            title=f"{name}: von Mises stress at probes, dx = "
+                  f"{args.dx * 1e3:g} mm"))
+    with Trajectory(h5) as reader:
+        frames = [frame for frame in reader if frame.time > 0]
+        if frames:
+            specimen = reader.body_names.index("specimen")
+            outputs.append(von_mises_map(
+                frames, args.out / f"{name}_von_mises.png",
+                mask=lambda f: f.body_ids == specimen,
+                title=f"{name}: von Mises stress, dx = {args.dx * 1e3:g} mm"))
+    for path in outputs:
+        print(f"wrote {path}")
+    return 130 if interrupted else 0
+
+
+def _info(args) -> int:
+    from .trajectory import Trajectory
+    with Trajectory(args.file) as traj:
+        print(traj.describe())
+    return 0
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
+    try:
+        if args.command == "info":
+            return _info(args)
+        from . import scenes
+        viscosity = ({"alpha": args.viscosity, "beta": 0.0}
+                     if args.viscosity > 0 else None)
+        if args.command == "piston":
+            args._frames = 4
+            scene = scenes.uniaxial_piston(args.dx, velocity=args.speed,
+                                           viscosity=viscosity)
+        else:
+            args._frames = 3
+            kwargs = {} if args.damping is None else {"damping": args.damping}
+            scene = scenes.gravity(args.dx, g=args.g, viscosity=viscosity,
+                                   **kwargs)
+        return _run_scene(args, scene, args.command)
+    except (ValueError, OSError) as error:
+        print(f"sphsolid: error: {error}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

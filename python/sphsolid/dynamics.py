@@ -1,0 +1,250 @@
+"""Dynamics: advance a scene in time with observers on a schedule (ASE's
+``Dynamics`` shape: ``attach(function, interval)`` then ``run(...)``)."""
+from __future__ import annotations
+
+import math
+import signal
+import threading
+from typing import Callable
+
+from ._lib import StoppedError, SimulationError
+
+__all__ = ["ImprovedEuler"]
+
+
+class _Observer:
+    __slots__ = ("function", "interval", "args", "kwargs", "last_step")
+
+    def __init__(self, function, interval, args, kwargs):
+        self.function = function
+        self.interval = interval
+        self.args = args
+        self.kwargs = kwargs
+        self.last_step = None
+
+    def next_step(self, step: int) -> int:
+        return (step // self.interval + 1) * self.interval
+
+
+class ImprovedEuler:
+    """Improved Euler (Heun) time stepping of a scene, done by its calculator.
+
+    Two rate evaluations per step: ``y* = y_n + dt f(y_n)``,
+    ``y_{n+1} = y_n + dt/2 (f(y_n) + f(y*))`` (in the C library).
+
+    Parameters
+    ----------
+    scene : Scene
+        Its calculator (``scene.calc``, default the C library) does the
+        steps.
+    dt : float, optional
+        Time step [s]. Default: the library's 0.5 h / c0 (0.261 us for the
+        paper's scene at dx = 1 mm).
+    allow_unstable : bool
+        Accept a ``dt`` above the stability limit h / max(c_p + |v|).
+    progress : bool or None
+        Show a tqdm progress bar: True always, False never, None (default)
+        for runs of at least ``progress_threshold`` steps on a terminal.
+    progress_threshold : int
+        Steps from which a run counts as long.
+
+    Examples
+    --------
+    >>> dyn = ImprovedEuler(scene)
+    >>> dyn.attach(probes, interval=10)
+    >>> dyn.attach(trajectory, interval=1000)
+    >>> dyn.run(until=1e-3)
+    """
+
+    def __init__(self, scene, dt: float | None = None,
+                 allow_unstable: bool = False, progress: bool | None = None,
+                 progress_threshold: int = 2000):
+        self.scene = scene
+        self.calc = scene.calc
+        if dt is None:
+            dt = self.calc.default_dt()
+        self.calc.set_dt(dt, allow_unstable)
+        self.observers: list[_Observer] = []
+        self.progress = progress
+        self.progress_threshold = progress_threshold
+        self._interrupted = False
+
+    # ------------------------------------------------------------ state
+    @property
+    def dt(self) -> float:
+        """Time step [s]."""
+        return self.calc.dt
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self.calc.time
+
+    @property
+    def nsteps(self) -> int:
+        """Steps taken so far (the scene's step count)."""
+        return self.calc.step
+
+    # -------------------------------------------------------- observers
+    def attach(self, function: Callable, interval: int = 1, *args,
+               **kwargs) -> None:
+        """Call ``function(*args, **kwargs)`` every ``interval`` steps.
+
+        It is called when the step count is a multiple of ``interval``,
+        including at the start of a run (step 0), once per step. An object
+        with a ``write`` method (a Trajectory) has it called.
+        """
+        if (not isinstance(interval, int) or isinstance(interval, bool)
+                or interval < 1):
+            raise ValueError(f"interval must be a positive integer number of "
+                             f"steps, got {interval!r}")
+        if not callable(function):
+            write = getattr(function, "write", None)
+            if not callable(write):
+                raise ValueError(f"observer must be callable, got "
+                                 f"{function!r}")
+            function = write
+        self.observers.append(_Observer(function, interval, args, kwargs))
+
+    def _call_observers(self) -> None:
+        step = self.calc.step
+        due = [o for o in self.observers
+               if step % o.interval == 0 and o.last_step != step]
+        if not due:
+            return
+        self.calc.sync()
+        for observer in due:
+            observer.last_step = step
+            observer.function(*observer.args, **observer.kwargs)
+
+    def _flush_observers(self) -> None:
+        seen = set()
+        for observer in self.observers:
+            target = getattr(observer.function, "__self__", observer.function)
+            flush = getattr(target, "flush", None)
+            if callable(flush) and id(target) not in seen:
+                seen.add(id(target))
+                flush()
+
+    def _next_event(self, step: int) -> float:
+        if not self.observers:
+            return math.inf
+        return min(o.next_step(step) for o in self.observers)
+
+    # -------------------------------------------------------------- run
+    def run(self, steps: int | None = None, until: float | None = None) -> int:
+        """Advance by ``steps`` steps or until time ``until`` [s].
+
+        ``run(until=t)`` ends exactly at ``t`` (the library shortens the
+        last step). Ctrl-C stops after a completed step: observers with a
+        ``flush`` method (trajectories) are flushed and KeyboardInterrupt
+        is raised. A non-finite value raises
+        :class:`sphsolid.SimulationError` naming step, particle and
+        quantity, after flushing too.
+
+        Returns
+        -------
+        int
+            Steps taken by this call.
+        """
+        if (steps is None) == (until is None):
+            raise ValueError("give exactly one of steps= or until=")
+        calc = self.calc
+        start = calc.step
+        dt = calc.dt
+        if steps is not None:
+            if (not isinstance(steps, int) or isinstance(steps, bool)
+                    or steps < 0):
+                raise ValueError(f"steps must be a non-negative integer, got "
+                                 f"{steps!r}")
+            total = steps
+        else:
+            try:
+                until = float(until)
+            except (TypeError, ValueError):
+                raise ValueError(f"until must be a time [s], got "
+                                 f"{until!r}") from None
+            if not math.isfinite(until) or until < calc.time:
+                raise ValueError(f"until must be a finite time not before the "
+                                 f"current time {calc.time!r} s, got "
+                                 f"{until!r}")
+            total = max(0, math.ceil((until - calc.time) / dt - 1e-9))
+        bar = self._progress_bar(total)
+        last = [start]
+
+        def progress(step: int) -> bool:
+            if bar is not None:
+                bar.update(step - last[0])
+                last[0] = step
+            return self._interrupted
+
+        self._interrupted = False
+        previous = self._install_sigint()
+        try:
+            self._call_observers()
+            if steps is not None:
+                target = start + steps
+                while calc.step < target and not self._interrupted:
+                    stop = min(self._next_event(calc.step), target)
+                    calc.advance(int(stop - calc.step), progress)
+                    self._call_observers()
+            else:
+                while calc.time < until and not self._interrupted:
+                    # whole steps up to the next observer, leaving the final
+                    # (possibly shortened) step to the library's run_until
+                    whole = math.ceil((until - calc.time) / dt - 1e-9) - 1
+                    event = self._next_event(calc.step) - calc.step
+                    chunk = min(event, whole)
+                    if chunk >= 1:
+                        calc.advance(int(chunk), progress)
+                    else:
+                        calc.advance_until(until, progress)
+                    self._call_observers()
+            if self._interrupted:
+                raise StoppedError("interrupted")
+        except StoppedError:
+            if bar is not None:
+                bar.close()
+                bar = None
+            self._flush_observers()
+            if self._interrupted:
+                raise KeyboardInterrupt(
+                    f"run stopped by Ctrl-C at step {calc.step}, "
+                    f"t = {calc.time:.6g} s; output flushed") from None
+            raise
+        except SimulationError:
+            self._flush_observers()
+            raise
+        finally:
+            if bar is not None:
+                bar.update(calc.step - last[0])
+                bar.close()
+            self._restore_sigint(previous)
+        return calc.step - start
+
+    def _progress_bar(self, total: int):
+        show = self.progress
+        if show is False or (show is None and total < self.progress_threshold):
+            return None
+        from tqdm import tqdm
+        return tqdm(total=total, unit="step", dynamic_ncols=True,
+                    disable=None if show is None else False)
+
+    def _install_sigint(self):
+        if threading.current_thread() is not threading.main_thread():
+            return None
+
+        def handler(signum, frame):
+            if self._interrupted:  # a second Ctrl-C does not wait
+                raise KeyboardInterrupt
+            self._interrupted = True
+
+        try:
+            return signal.signal(signal.SIGINT, handler)
+        except ValueError:
+            return None
+
+    @staticmethod
+    def _restore_sigint(previous) -> None:
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)

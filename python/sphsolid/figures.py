@@ -1,0 +1,171 @@
+"""Figures like the paper's: von Mises field maps and probe time series.
+
+Both write PNG files with units on the axes. They take data, not a scene:
+frames from a :class:`~sphsolid.Trajectory` (or anything with
+``positions``, ``von_mises`` and ``time``) and probe series from
+:class:`~sphsolid.Probes` or a trajectory file.
+"""
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import numpy as np
+
+__all__ = ["von_mises_map", "probe_curves", "stress_unit", "time_unit"]
+
+_STRESS_UNITS = (("MPa", 1e6), ("kPa", 1e3), ("Pa", 1.0))
+_TIME_UNITS = (("s", 1.0), ("ms", 1e-3), ("µs", 1e-6))
+
+
+def stress_unit(max_value: float) -> tuple[str, float]:
+    """A readable stress unit for values up to ``max_value`` [Pa]."""
+    for name, scale in _STRESS_UNITS:
+        if max_value >= scale:
+            return name, scale
+    return "Pa", 1.0
+
+
+def time_unit(max_time: float) -> tuple[str, float]:
+    """A readable time unit for times up to ``max_time`` [s]."""
+    for name, scale in _TIME_UNITS:
+        if max_time >= scale:
+            return name, scale
+    return "µs", 1e-6
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _spacing(frame, positions: np.ndarray) -> float:
+    """Particle spacing [m]: the frame's own, else sqrt(area / count)."""
+    spacing = getattr(frame, "spacing", None)
+    if spacing:
+        return float(spacing)
+    extent = np.ptp(positions[:, :2], axis=0)
+    return float(np.sqrt(max(extent[0] * extent[1], 1e-300) / len(positions)))
+
+
+def von_mises_map(frames, path, mask=None, vmax: float | None = None,
+                  title: str | None = None, columns: int | None = None):
+    """von Mises stress field maps (like the paper's Figs 2-4 and 12).
+
+    Parameters
+    ----------
+    frames : frame or sequence of frames
+        Each with ``positions`` [m] (n, 2 or 3; x and y are drawn),
+        ``von_mises`` [Pa] (n,), ``time`` [s] and optionally ``spacing``
+        [m] (the size of the square drawn per particle).
+    path : str or Path
+        PNG file to write.
+    mask : callable(frame) -> bool array, optional
+        Particles to draw (e.g. only the specimen); default all.
+    vmax : float, optional
+        Top of the colour scale [Pa]; default the largest value shown.
+    title : str, optional
+
+    Returns
+    -------
+    pathlib.Path
+    """
+    from pathlib import Path
+    plt = _pyplot()
+    from matplotlib.patches import Rectangle
+    from matplotlib.collections import PatchCollection
+    if not isinstance(frames, (list, tuple)):
+        frames = [frames]
+    if not frames:
+        raise ValueError("von_mises_map: frames is empty")
+    selected = []
+    for frame in frames:
+        keep = (np.ones(len(frame.von_mises), bool) if mask is None
+                else np.asarray(mask(frame), bool))
+        selected.append((frame, frame.positions[keep], frame.von_mises[keep]))
+    top = vmax if vmax is not None else max(
+        float(np.max(v)) if len(v) else 0.0 for _, _, v in selected)
+    unit, scale = stress_unit(top)
+    n = len(frames)
+    columns = columns or min(n, 4)
+    rows = -(-n // columns)
+    fig, axes = plt.subplots(rows, columns, squeeze=False,
+                             figsize=(3.2 * columns + 1.0, 4.6 * rows),
+                             constrained_layout=True)
+    norm = plt.Normalize(0.0, top / scale if top > 0 else 1.0)
+    mappable = None
+    for ax, (frame, x, vm) in zip(axes.ravel(), selected):
+        spacing = _spacing(frame, x) * 1e3
+        squares = [Rectangle((px * 1e3 - spacing / 2, py * 1e3 - spacing / 2),
+                             spacing, spacing) for px, py in x[:, :2]]
+        patches = PatchCollection(squares, cmap="jet", norm=norm,
+                                  linewidths=0)
+        patches.set_array(vm / scale)
+        ax.add_collection(patches)
+        mappable = patches
+        ax.set_xlim(x[:, 0].min() * 1e3 - spacing / 2,
+                    x[:, 0].max() * 1e3 + spacing / 2)
+        ax.set_ylim(x[:, 1].min() * 1e3 - spacing / 2,
+                    x[:, 1].max() * 1e3 + spacing / 2)
+        ax.set_aspect("equal")
+        tname, tscale = time_unit(frame.time)
+        ax.set_title(f"t = {frame.time / tscale:.4g} {tname}")
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+    for ax in axes.ravel()[n:]:
+        ax.set_visible(False)
+    fig.colorbar(mappable, ax=axes.ravel().tolist(), shrink=0.8,
+                 label=f"von Mises stress [{unit}]")
+    if title:
+        fig.suptitle(title)
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def probe_curves(times: Sequence[float],
+                 series: Mapping[str, Sequence[float]], path,
+                 quantity: str = "von Mises stress",
+                 title: str | None = None):
+    """Probe time series (like the paper's Figs 6-9) as a PNG.
+
+    Parameters
+    ----------
+    times : array [s]
+    series : mapping of label to array [Pa], each as long as ``times``
+    path : str or Path
+    quantity : str
+        Label of the y axis (its unit is added).
+
+    Returns
+    -------
+    pathlib.Path
+    """
+    from pathlib import Path
+    plt = _pyplot()
+    times = np.asarray(times, dtype=float)
+    if not series:
+        raise ValueError("probe_curves: no series given")
+    for label, values in series.items():
+        if len(values) != len(times):
+            raise ValueError(f"probe_curves: series {label!r} has "
+                             f"{len(values)} values for {len(times)} times")
+    top = max((float(np.max(np.abs(v))) for v in series.values() if len(v)),
+              default=0.0)
+    unit, scale = stress_unit(top)
+    tname, tscale = time_unit(times.max() if len(times) else 0.0)
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
+    for label, values in series.items():
+        ax.plot(times / tscale, np.asarray(values) / scale, label=label)
+    ax.set_xlabel(f"time [{tname}]")
+    ax.set_ylabel(f"{quantity} [{unit}]")
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    if title:
+        ax.set_title(title)
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

@@ -1,0 +1,152 @@
+"""Linear elastic materials."""
+from __future__ import annotations
+
+import ctypes
+import math
+from dataclasses import dataclass, field
+
+from . import _lib
+from ._lib import lib
+
+__all__ = ["Material"]
+
+
+def _number(name: str, value) -> float:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"Material: {name} must be a number, got "
+                         f"{value!r}") from None
+    if not math.isfinite(number):
+        raise ValueError(f"Material: {name} must be finite, got {value!r}")
+    return number
+
+
+@dataclass(frozen=True)
+class Material:
+    """A linear elastic material, from any consistent pair of constants.
+
+    Give ``rho0`` and exactly one of the pairs (K, mu), (E, nu) or (K, nu)::
+
+        rock = Material(K=12.2e9, mu=2.67e9, rho0=2300)
+        steel = Material(E=200e9, nu=0.3, rho0=7850)
+
+    The other constants (Poisson ratio by eq. (10) of the paper, Young's
+    modulus, sound speeds) are computed by libsphsolid, not here.
+
+    Parameters
+    ----------
+    rho0 : float
+        Reference density [kg/m^3], > 0.
+    K : float, optional
+        Bulk modulus [Pa], > 0.
+    mu : float, optional
+        Shear modulus [Pa], >= 0.
+    E : float, optional
+        Young's modulus [Pa], > 0.
+    nu : float, optional
+        Poisson ratio [-], -1 < nu < 0.5.
+    name : str, optional
+        A label for reports.
+
+    Attributes
+    ----------
+    K, mu, E, nu, rho0 : float
+        All five constants [Pa, Pa, Pa, -, kg/m^3].
+    c0 : float
+        Bulk sound speed sqrt(K/rho0) [m/s] (sets the default time step).
+    c_p : float
+        P-wave speed sqrt((K + 4 mu/3)/rho0) [m/s].
+    """
+
+    rho0: float
+    K: float | None = None
+    mu: float | None = None
+    E: float | None = None
+    nu: float | None = None
+    name: str = ""
+    c0: float = field(init=False, default=0.0)
+    c_p: float = field(init=False, default=0.0)
+    pair: str = field(init=False, default="")
+
+    def __post_init__(self):
+        given = {k: getattr(self, k) for k in ("K", "mu", "E", "nu")
+                 if getattr(self, k) is not None}
+        pairs = {frozenset(("K", "mu")): "K_mu", frozenset(("E", "nu")): "E_nu",
+                 frozenset(("K", "nu")): "K_nu"}
+        pair = pairs.get(frozenset(given))
+        if pair is None:
+            raise ValueError(
+                "Material: give rho0 and exactly one pair of (K, mu), (E, nu)"
+                f" or (K, nu); got {sorted(given) or 'none'}")
+        rho0 = _number("rho0", self.rho0)
+        if rho0 <= 0:
+            raise ValueError(f"Material: rho0 must be > 0 kg/m^3, got {rho0!r}")
+        values = {k: _number(k, v) for k, v in given.items()}
+        if "K" in values and values["K"] <= 0:
+            raise ValueError(f"Material: bulk modulus K must be > 0 Pa, got "
+                             f"{values['K']!r}")
+        if "mu" in values and values["mu"] < 0:
+            raise ValueError(f"Material: shear modulus mu must be >= 0 Pa, "
+                             f"got {values['mu']!r}")
+        if "E" in values and values["E"] <= 0:
+            raise ValueError(f"Material: Young's modulus E must be > 0 Pa, "
+                             f"got {values['E']!r}")
+        if "nu" in values and not -1.0 < values["nu"] < 0.5:
+            raise ValueError(f"Material: Poisson ratio nu must be in "
+                             f"(-1, 0.5), got {values['nu']!r}")
+        info = _library_info(pair, values, rho0)
+        set_ = object.__setattr__
+        set_(self, "pair", pair)
+        set_(self, "rho0", rho0)
+        set_(self, "K", info.bulk_modulus)
+        set_(self, "mu", info.shear_modulus)
+        set_(self, "E", info.youngs_modulus)
+        set_(self, "nu", info.poisson_ratio)
+        set_(self, "c0", info.c0)
+        set_(self, "c_p", info.c_p)
+        set_(self, "_given", values)
+
+    def add_to(self, handle) -> int:
+        """Register this material in a library handle; returns its index.
+
+        The pair the user gave is passed to the matching
+        ``sph_add_material_*`` so the library does the conversion.
+        """
+        index = ctypes.c_int()
+        given = self._given
+        if self.pair == "K_mu":
+            status = lib.sph_add_material_K_mu(handle, given["K"], given["mu"],
+                                               self.rho0, ctypes.byref(index))
+        elif self.pair == "E_nu":
+            status = lib.sph_add_material_E_nu(handle, given["E"], given["nu"],
+                                               self.rho0, ctypes.byref(index))
+        else:
+            status = lib.sph_add_material_K_nu(handle, given["K"], given["nu"],
+                                               self.rho0, ctypes.byref(index))
+        _lib.check(status, handle, "Material")
+        return index.value
+
+    def __repr__(self):
+        label = f"{self.name!r}, " if self.name else ""
+        return (f"Material({label}K={self.K:.4g} Pa, mu={self.mu:.4g} Pa, "
+                f"E={self.E:.4g} Pa, nu={self.nu:.4g}, rho0={self.rho0:g} "
+                f"kg/m^3)")
+
+
+def _library_info(pair, values, rho0) -> _lib.MaterialInfo:
+    """Let libsphsolid validate and convert the constants."""
+    handle = _lib.new_handle(2)
+    try:
+        material = Material.__new__(Material)
+        object.__setattr__(material, "pair", pair)
+        object.__setattr__(material, "rho0", rho0)
+        object.__setattr__(material, "_given", values)
+        index = Material.add_to(material, handle)
+        info = _lib.MaterialInfo()
+        _lib.check(lib.sph_material_info_get(handle, index,
+                                             ctypes.byref(info)),
+                   handle, "Material")
+        return info
+    finally:
+        lib.sph_destroy(handle)

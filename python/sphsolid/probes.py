@@ -1,0 +1,146 @@
+"""Probes: stress at fixed points as time series.
+
+The values are the library's Shepard-normalised kernel interpolation at the
+point (``sph_probe_sample``): von Mises stress, pressure and the full Cauchy
+stress components.
+"""
+from __future__ import annotations
+
+import csv
+import ctypes
+import math
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from . import _lib
+from ._lib import lib
+
+__all__ = ["Probes", "PAPER_PROBES", "value_names"]
+
+#: The paper's monitoring points A, B, C [m] (its Figure 5).
+PAPER_PROBES = {"A": (0.0, 0.070), "B": (0.0215, 0.1035),
+                "C": (0.0215, 0.070)}
+
+
+def value_names(dimension: int) -> list[str]:
+    """Names of the values a probe reports, in the library's order."""
+    stress = (["sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy"]
+              if dimension == 2 else
+              ["sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy", "sigma_xz",
+               "sigma_yz"])
+    return ["von_mises", "pressure"] + stress
+
+
+class Probes:
+    """Points where the stress is sampled, and the series recorded there.
+
+    Attach it to a dynamics object to record a sample on a schedule::
+
+        probes = Probes(scene, PAPER_PROBES)
+        dyn.attach(probes, interval=10)
+        ...
+        probes.times, probes["A"]["von_mises"]
+
+    Probes registered here are also written by a :class:`Trajectory`
+    opened afterwards with ``probe_interval``.
+
+    Parameters
+    ----------
+    scene : Scene
+    points : mapping of name to point [m], optional
+    """
+
+    def __init__(self, scene, points: Mapping[str, Sequence[float]] = None):
+        self.scene = scene
+        self.names: list[str] = []
+        self._index: dict[str, int] = {}
+        self.values = value_names(scene.dimension)
+        self._times: list[float] = []
+        self._steps: list[int] = []
+        self._samples: list[np.ndarray] = []
+        for name, point in (points or {}).items():
+            self.add(name, point)
+
+    def add(self, name: str, point: Sequence[float]) -> None:
+        """Add a probe at ``point`` [m]."""
+        if not isinstance(name, str) or not name:
+            raise ValueError(f"probe name must be a non-empty string, got "
+                             f"{name!r}")
+        if name in self._index:
+            raise ValueError(f"probe name {name!r} is already used")
+        if self._samples:
+            raise RuntimeError("cannot add a probe after samples were taken")
+        dim = self.scene.dimension
+        coords = _lib.as_doubles(point, dim, f"probe {name!r} point")
+        if not all(math.isfinite(c) for c in coords):
+            raise ValueError(f"probe {name!r} point must be finite, got "
+                             f"{point!r}")
+        index = ctypes.c_int()
+        _lib.check(lib.sph_add_probe(self.scene.handle, name.encode(), coords,
+                                     ctypes.byref(index)),
+                   self.scene.handle, f"probe {name!r}")
+        self._index[name] = index.value
+        self.names.append(name)
+
+    def sample(self) -> dict[str, dict[str, float]]:
+        """Values at every probe now: {name: {value name: value [Pa]}}."""
+        array = self._sample_array()
+        return {name: dict(zip(self.values, array[i]))
+                for i, name in enumerate(self.names)}
+
+    def _sample_array(self) -> np.ndarray:
+        handle = self.scene.handle
+        out = np.empty((len(self.names), len(self.values)))
+        buffer = (ctypes.c_double * len(self.values))()
+        for row, name in enumerate(self.names):
+            _lib.check(lib.sph_probe_sample(handle, self._index[name], buffer),
+                       handle, f"probe {name!r}")
+            out[row] = buffer[:]
+        return out
+
+    def record(self) -> None:
+        """Append a sample at the current time to the series."""
+        self.scene.calc.sync()
+        self._times.append(self.scene.time)
+        self._steps.append(self.scene.step)
+        self._samples.append(self._sample_array())
+
+    __call__ = record
+
+    @property
+    def times(self) -> np.ndarray:
+        """Times of the recorded samples [s]."""
+        return np.array(self._times)
+
+    @property
+    def steps(self) -> np.ndarray:
+        return np.array(self._steps, dtype=int)
+
+    def series(self, name: str) -> dict[str, np.ndarray]:
+        """Recorded series of one probe: {value name: array [Pa]}."""
+        if name not in self._index:
+            raise KeyError(f"no probe {name!r}; probes: {self.names}")
+        row = self.names.index(name)
+        data = (np.array([s[row] for s in self._samples])
+                if self._samples else np.empty((0, len(self.values))))
+        return {value: data[:, k] for k, value in enumerate(self.values)}
+
+    def __getitem__(self, name: str) -> dict[str, np.ndarray]:
+        return self.series(name)
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+    def write_csv(self, path) -> None:
+        """Write the series as CSV: time [s], step, then
+        ``<probe>_<value>`` [Pa] columns."""
+        with open(path, "w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(["time_s", "step"] + [
+                f"{name}_{value}_Pa" for name in self.names
+                for value in self.values])
+            for t, step, sample in zip(self._times, self._steps,
+                                       self._samples):
+                writer.writerow([repr(t), step] +
+                                [repr(v) for v in sample.ravel()])

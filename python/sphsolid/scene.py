@@ -1,0 +1,451 @@
+"""The Scene: bodies of particles, the effects they call for, and the arrays.
+
+A :class:`Scene` owns one libsphsolid simulation handle. Bodies are added to
+the library as soon as they are added to the scene (so overlapping bodies or
+particles outside the domain fail at once, with the library's message), and
+the particle arrays are numpy views of the library's own storage.
+"""
+from __future__ import annotations
+
+import ctypes
+import math
+from typing import Iterable, Mapping, Sequence
+
+import numpy as np
+
+from . import _lib
+from ._lib import lib
+from .build import Body, Free
+
+__all__ = ["Scene", "DEFAULT_SMOOTHING_RATIO"]
+
+#: h / dx used when a scene does not say otherwise (SPEC: h = 1.2 dx)
+DEFAULT_SMOOTHING_RATIO = 1.2
+
+
+class _Buffer:
+    """Exposes library memory to numpy and keeps the scene alive."""
+
+    def __init__(self, owner, address, shape, writeable):
+        self.owner = owner
+        self.__array_interface__ = {
+            "shape": shape, "typestr": "<f8", "version": 3,
+            "data": (address, not writeable)}
+
+
+def _format_value(key, value):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"effect parameter {key} must be a number, got "
+                         f"{value!r}")
+    if not math.isfinite(value):
+        raise ValueError(f"effect parameter {key} must be finite, got "
+                         f"{value!r}")
+    return f"{key}={float(value)!r}"
+
+
+class Scene:
+    """Bodies of particles plus the effects the scene calls for.
+
+    Parameters
+    ----------
+    dimension : int
+        2 (plane strain) or 3.
+    bodies : iterable of Body
+        Added in order (see :meth:`add`).
+    effects : mapping of str to mapping, optional
+        Effects to switch on, by name, with their parameters, e.g.
+        ``{"artificial_viscosity": {"alpha": 1.0, "beta": 0.0},
+        "gravity": {"gy": -9.81}}``. Known names: see
+        :func:`sphsolid.effect_names`; an unknown name is a ValueError.
+    domain : (lo, hi), optional
+        Bounding box [m]. A particle leaving it along a non-periodic axis
+        stops the run. Without it space is unbounded.
+    periodic : sequence of bool, optional
+        Periodic axes (needs ``domain``).
+    smoothing_ratio : float, optional
+        h / dx, with dx the first body's spacing (default 1.2).
+    kernel : {"cubic_spline", "wendland_c2"}
+        Default "cubic_spline" (Monaghan 1992).
+
+    Notes
+    -----
+    Before a scene is frozen (by a dynamics object, a calculator or
+    :meth:`freeze`) the array properties return read-only copies, because
+    adding a body moves the library's storage. After it, they are writable
+    numpy views of the library's data (state fields) and bodies can no
+    longer be added.
+    """
+
+    def __init__(self, dimension: int = 2, bodies: Iterable[Body] = (),
+                 effects: Mapping[str, Mapping[str, float]] | None = None,
+                 domain: tuple | None = None,
+                 periodic: Sequence[bool] | None = None,
+                 smoothing_ratio: float | None = None,
+                 kernel: str = "cubic_spline"):
+        if dimension not in (2, 3) or isinstance(dimension, bool):
+            raise ValueError(f"dimension must be 2 or 3, got {dimension!r}")
+        self._handle = None
+        self._handle = _lib.new_handle(dimension)
+        self.dimension = dimension
+        self.ncomp = _lib.stress_components(dimension)
+        self.bodies: list[Body] = []
+        self._materials: dict[int, tuple] = {}
+        self._frozen = False
+        self._views: dict[int, np.ndarray] = {}
+        self._calc = None
+        self._effects: dict[str, dict] = {}
+        self.domain = None
+        self.periodic = (False,) * dimension
+        if kernel not in _lib.KERNELS:
+            raise ValueError(f"kernel must be one of {sorted(_lib.KERNELS)}, "
+                             f"got {kernel!r}")
+        self.kernel = kernel
+        self._check(lib.sph_set_kernel(self._handle, _lib.KERNELS[kernel]),
+                    "kernel")
+        self.smoothing_ratio = DEFAULT_SMOOTHING_RATIO
+        if smoothing_ratio is not None:
+            self.set_smoothing_ratio(smoothing_ratio)
+        if domain is not None or periodic is not None:
+            if domain is None:
+                raise ValueError("periodic needs a domain=(lo, hi)")
+            self.set_domain(domain[0], domain[1], periodic)
+        for name, parameters in (effects or {}).items():
+            self.effect(name, **dict(parameters or {}))
+        for body in bodies:
+            self.add(body)
+
+    # ---------------------------------------------------------- plumbing
+    def _check(self, status, what=""):
+        _lib.check(status, self._handle, what)
+
+    def __del__(self):
+        handle, self._handle = getattr(self, "_handle", None), None
+        if handle:
+            lib.sph_destroy(handle)
+
+    @property
+    def handle(self):
+        """The ``sph_sim *`` handle (a ctypes c_void_p)."""
+        return self._handle
+
+    # ---------------------------------------------------- model settings
+    def set_smoothing_ratio(self, ratio: float) -> None:
+        """Set h / dx (dx: the first body's spacing)."""
+        try:
+            value = float(ratio)
+        except (TypeError, ValueError):
+            raise ValueError(f"smoothing_ratio must be a number, got "
+                             f"{ratio!r}") from None
+        if not (math.isfinite(value) and value > 0):
+            raise ValueError(f"smoothing_ratio must be > 0, got {ratio!r}")
+        self._check(lib.sph_set_smoothing_ratio(self._handle, value),
+                    "smoothing_ratio")
+        self.smoothing_ratio = value
+
+    def set_domain(self, lo: Sequence[float], hi: Sequence[float],
+                   periodic: Sequence[bool] | None = None) -> None:
+        """Bounding box [m] and periodic axes (set it before adding bodies
+        for them to be checked against it)."""
+        dim = self.dimension
+        lo_d = list(_lib.as_doubles(lo, dim, "domain lo"))
+        hi_d = list(_lib.as_doubles(hi, dim, "domain hi"))
+        lo3 = (ctypes.c_double * 3)(*(lo_d + [0.0] * (3 - dim)))
+        hi3 = (ctypes.c_double * 3)(*(hi_d + [0.0] * (3 - dim)))
+        if periodic is None:
+            periodic = (False,) * dim
+        if len(periodic) != dim:
+            raise ValueError(f"periodic must have {dim} entries, got "
+                             f"{periodic!r}")
+        flags = (ctypes.c_int * 3)(*([int(bool(p)) for p in periodic]
+                                    + [0] * (3 - dim)))
+        for axis in range(dim):
+            if not hi3[axis] > lo3[axis]:
+                raise ValueError(f"domain hi[{axis}] must exceed lo[{axis}], "
+                                 f"got lo={list(lo)!r}, hi={list(hi)!r}")
+        self._check(lib.sph_set_domain(self._handle, lo3, hi3, flags),
+                    "domain")
+        self.domain = (tuple(lo3[:dim]), tuple(hi3[:dim]))
+        self.periodic = tuple(bool(p) for p in periodic)
+
+    def effect(self, name: str, **parameters: float) -> None:
+        """Switch an effect on, e.g. ``scene.effect("gravity", gy=-9.81)``.
+
+        Parameters are passed to the library as ``key=value`` words; an
+        unknown effect name or key is a ValueError that names it.
+        """
+        known = _lib.effect_names()
+        if name not in known:
+            raise ValueError(f"unknown effect {name!r}; known effects: "
+                             f"{', '.join(known)}")
+        words = " ".join(_format_value(k, v) for k, v in parameters.items())
+        self._check(lib.sph_effect(self._handle, name.encode(),
+                                   words.encode()), f"effect {name!r}")
+        self._effects[name] = dict(parameters)
+
+    def effect_off(self, name: str) -> None:
+        """Switch an effect off."""
+        known = _lib.effect_names()
+        if name not in known:
+            raise ValueError(f"unknown effect {name!r}; known effects: "
+                             f"{', '.join(known)}")
+        self._check(lib.sph_effect_off(self._handle, name.encode()),
+                    f"effect {name!r}")
+        self._effects.pop(name, None)
+
+    @property
+    def effects(self) -> dict:
+        """Effects switched on, with the parameters given for them."""
+        return {k: dict(v) for k, v in self._effects.items()}
+
+    # ------------------------------------------------------------ bodies
+    def _material_index(self, material) -> int:
+        key = id(material)
+        if key not in self._materials:
+            self._materials[key] = (material, material.add_to(self._handle))
+        return self._materials[key][1]
+
+    def add(self, body: Body) -> int:
+        """Add a body; returns its index.
+
+        Raises ValueError if it overlaps a body already there (closer than
+        dx/2), lies outside the domain, has the wrong dimension or a name
+        already used, or if a plate or piston is thinner than the kernel
+        support 2h.
+        """
+        if self._frozen:
+            raise RuntimeError("the scene is frozen (a calculator or dynamics"
+                               " uses it); build a new Scene to add bodies")
+        if not isinstance(body, Body):
+            raise ValueError(f"body must be a sphsolid.build.Body, got "
+                             f"{type(body).__name__}")
+        if body.dimension != self.dimension:
+            raise ValueError(f"body {body.name!r} is {body.dimension}D but the"
+                             f" scene is {self.dimension}D")
+        if any(b.name == body.name for b in self.bodies):
+            raise ValueError(f"body name {body.name!r} is already used in "
+                             "this scene")
+        if body.role in ("plate", "piston") and body.layers is not None:
+            dx_ref = self.bodies[0].dx if self.bodies else body.dx
+            support = 2.0 * self.smoothing_ratio * dx_ref
+            thickness = body.layers * body.dx
+            if thickness < support * (1 - 1e-12):
+                raise ValueError(
+                    f"{body.role} {body.name!r}: layers={body.layers} give "
+                    f"{thickness:g} m, thinner than the kernel support "
+                    f"2h = {support:g} m")
+        material = self._material_index(body.material)
+        index = ctypes.c_int()
+        name = body.name.encode()
+        what = f"body {body.name!r}"
+        if body.lo is not None:
+            dim = self.dimension
+            lo = _lib.as_doubles(list(body.lo) + [0.0] * (3 - dim), 3, "lo")
+            hi = _lib.as_doubles(list(body.hi) + [0.0] * (3 - dim), 3, "hi")
+            self._check(lib.sph_add_block(self._handle, name, material, lo, hi,
+                                          body.dx, ctypes.byref(index)), what)
+        else:
+            points = np.ascontiguousarray(body.points, dtype=np.float64)
+            self._check(lib.sph_add_particles(
+                self._handle, name, material, len(points),
+                points.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), None,
+                body.dx, ctypes.byref(index)), what)
+        motion = body.motion
+        kinds = {"free": _lib.MOTION_FREE, "fixed": _lib.MOTION_FIXED,
+                 "velocity": _lib.MOTION_VELOCITY, "force": _lib.MOTION_FORCE}
+        vector = motion.vector(body, self.dimension)
+        if not isinstance(motion, Free):
+            self._check(lib.sph_set_motion(
+                self._handle, index.value, kinds[motion.kind],
+                None if vector is None else
+                _lib.as_doubles(vector, self.dimension, "motion")), what)
+        if body.velocity is not None:
+            self._check(lib.sph_set_body_velocity(
+                self._handle, index.value,
+                _lib.as_doubles(body.velocity, self.dimension, "velocity")),
+                what)
+        self.bodies.append(body)
+        self._views.clear()
+        return index.value
+
+    def body_slice(self, name: str) -> slice:
+        """Particles of a body, as a slice into the arrays."""
+        index = ctypes.c_int()
+        self._check(lib.sph_body_find(self._handle, name.encode(),
+                                      ctypes.byref(index)), "body")
+        info = _lib.BodyInfo()
+        self._check(lib.sph_body_info_get(self._handle, index.value,
+                                          ctypes.byref(info)), "body")
+        return slice(info.first, info.first + info.count)
+
+    def body_counts(self) -> dict:
+        """Particles per body, by name (from the library)."""
+        counts = {}
+        for i in range(lib.sph_body_count(self._handle)):
+            info = _lib.BodyInfo()
+            self._check(lib.sph_body_info_get(self._handle, i,
+                                              ctypes.byref(info)), "body")
+            counts[info.name.decode()] = info.count
+        return counts
+
+    def __len__(self) -> int:
+        return int(lib.sph_particle_count(self._handle))
+
+    @property
+    def n_particles(self) -> int:
+        """Number of particles of all bodies."""
+        return len(self)
+
+    def freeze(self) -> None:
+        """Stop adding bodies; array properties become views from now on."""
+        if len(self) == 0:
+            raise ValueError("the scene has no particles; add a body first")
+        self._frozen = True
+
+    @property
+    def frozen(self) -> bool:
+        return self._frozen
+
+    # ------------------------------------------------------------ arrays
+    def _shape(self, field):
+        n = len(self)
+        if field in (_lib.FIELD_POSITION, _lib.FIELD_VELOCITY,
+                     _lib.FIELD_ACCELERATION):
+            return (n, self.dimension)
+        if field in (_lib.FIELD_DEVIATORIC_STRESS, _lib.FIELD_STRESS):
+            return (n, self.ncomp)
+        return (n,)
+
+    def _copy(self, field) -> np.ndarray:
+        out = np.empty(self._shape(field), dtype=np.float64)
+        if out.size:
+            self._check(lib.sph_field_copy(
+                self._handle, field,
+                out.ctypes.data_as(ctypes.POINTER(ctypes.c_double))), "field")
+        return out
+
+    def _state(self, field) -> np.ndarray:
+        if not self._frozen:
+            out = self._copy(field)
+            out.flags.writeable = False
+            return out
+        view = self._views.get(field)
+        if view is None:
+            data = ctypes.POINTER(ctypes.c_double)()
+            rows, cols = ctypes.c_size_t(), ctypes.c_size_t()
+            self._check(lib.sph_field(self._handle, field, ctypes.byref(data),
+                                      ctypes.byref(rows), ctypes.byref(cols)),
+                        "field")
+            shape = self._shape(field)
+            if rows.value * cols.value != int(np.prod(shape)):
+                raise RuntimeError(f"library field {field} has shape "
+                                   f"{rows.value}x{cols.value}, expected "
+                                   f"{shape}")
+            address = ctypes.cast(data, ctypes.c_void_p).value
+            view = np.asarray(_Buffer(self, address, shape, True))
+            self._views[field] = view
+        return view
+
+    @property
+    def positions(self) -> np.ndarray:
+        """Particle positions [m], (n, dim)."""
+        return self._state(_lib.FIELD_POSITION)
+
+    @property
+    def velocities(self) -> np.ndarray:
+        """Particle velocities [m/s], (n, dim)."""
+        return self._state(_lib.FIELD_VELOCITY)
+
+    @property
+    def density(self) -> np.ndarray:
+        """Density [kg/m^3], (n,)."""
+        return self._state(_lib.FIELD_DENSITY)
+
+    @property
+    def deviatoric_stress(self) -> np.ndarray:
+        """Deviatoric stress S [Pa], (n, 4) as xx, yy, zz, xy in 2D; (n, 6)
+        as xx, yy, zz, xy, xz, yz in 3D."""
+        return self._state(_lib.FIELD_DEVIATORIC_STRESS)
+
+    @property
+    def masses(self) -> np.ndarray:
+        """Particle masses [kg; kg per metre of depth in 2D], (n,)."""
+        return self._state(_lib.FIELD_MASS)
+
+    @property
+    def pressure(self) -> np.ndarray:
+        """Pressure c0^2 (rho - rho0) [Pa], (n,) (a copy, derived)."""
+        return self._copy(_lib.FIELD_PRESSURE)
+
+    @property
+    def von_mises(self) -> np.ndarray:
+        """von Mises stress sqrt(3/2 S:S) [Pa], (n,) (a copy, derived)."""
+        return self._copy(_lib.FIELD_VON_MISES)
+
+    @property
+    def stress(self) -> np.ndarray:
+        """Full Cauchy stress -P I + S [Pa], (n, ncomp) (a copy, derived)."""
+        return self._copy(_lib.FIELD_STRESS)
+
+    @property
+    def accelerations(self) -> np.ndarray:
+        """dv/dt of the last rate evaluation [m/s^2], (n, dim) (a copy)."""
+        return self._copy(_lib.FIELD_ACCELERATION)
+
+    @property
+    def body_ids(self) -> np.ndarray:
+        """Body index of each particle, (n,) int32."""
+        out = np.empty(len(self), dtype=np.int32)
+        if out.size:
+            self._check(lib.sph_body_ids(
+                self._handle, out.ctypes.data_as(ctypes.POINTER(ctypes.c_int))),
+                "body ids")
+        return out
+
+    # ----------------------------------------------------- time and model
+    @property
+    def h(self) -> float:
+        """Smoothing length [m]."""
+        return lib.sph_smoothing_length(self._handle)
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self.calc.time
+
+    @property
+    def step(self) -> int:
+        """Steps taken."""
+        return self.calc.step
+
+    def energy(self, all_bodies: bool = False) -> dict:
+        """Kinetic and elastic energy [J; J/m in 2D] and momentum of the free
+        bodies (or all bodies)."""
+        self.calc.sync()
+        info = _lib.EnergyInfo()
+        self._check(lib.sph_energy(self._handle, int(bool(all_bodies)),
+                                   ctypes.byref(info)), "energy")
+        return {"kinetic": info.kinetic, "elastic": info.elastic,
+                "momentum": np.array(info.momentum[:self.dimension])}
+
+    # -------------------------------------------------------- calculator
+    @property
+    def calc(self):
+        """The calculator that advances this scene (default: the C library,
+        :class:`sphsolid.calculators.CLibrary`)."""
+        if self._calc is None:
+            from .calculators import CLibrary
+            self.calc = CLibrary()
+        return self._calc
+
+    @calc.setter
+    def calc(self, calculator) -> None:
+        if self._calc is not None and self._calc is not calculator:
+            raise RuntimeError("the scene already has a calculator")
+        self.freeze()
+        calculator.bind(self)
+        self._calc = calculator
+
+    def __repr__(self):
+        bodies = ", ".join(f"{b.name}" for b in self.bodies)
+        return (f"Scene({self.dimension}D, {len(self)} particles, "
+                f"bodies=[{bodies}], effects={sorted(self._effects)})")

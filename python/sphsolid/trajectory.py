@@ -1,0 +1,408 @@
+"""Trajectories: HDF5 files in libsphsolid's layout, with an XDMF sidecar.
+
+Writing goes through the library (``sph_output_open``/``_snapshot``/
+``_close``), so a file written from Python is the same as one written by a C
+program; reading uses h5py. The layout (docs/hdf5_layout.md) follows H5MD:
+``/particles/all/<field>/{step,time,value}`` for position, velocity,
+density, pressure, deviatoric_stress and von_mises, static ``mass``,
+``body`` and ``material`` arrays, ``/parameters`` (bodies, materials,
+effects) and ``/observables/probes``.
+
+An XDMF file written beside it on close (``piston.h5`` -> ``piston.xmf``)
+lets ParaView open the particles and fields over time directly.
+"""
+from __future__ import annotations
+
+import ctypes
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Iterator
+
+import numpy as np
+
+from . import _lib
+from ._lib import lib
+
+__all__ = ["Trajectory", "Frame", "ProbeSeries", "write_xdmf"]
+
+_SERIES = ("position", "velocity", "density", "pressure", "deviatoric_stress",
+           "von_mises")
+
+
+@dataclass
+class Frame:
+    """One snapshot read from a trajectory (SI units)."""
+
+    index: int
+    time: float                      # [s]
+    step: int
+    positions: np.ndarray            # [m] (n, dim)
+    velocities: np.ndarray           # [m/s] (n, dim)
+    density: np.ndarray              # [kg/m^3] (n,)
+    pressure: np.ndarray             # [Pa] (n,)
+    deviatoric_stress: np.ndarray    # [Pa] (n, ncomp)
+    von_mises: np.ndarray            # [Pa] (n,)
+    masses: np.ndarray               # [kg] (n,)
+    body_ids: np.ndarray             # (n,) int
+    spacing: float = 0.0             # [m] nominal particle spacing
+
+
+@dataclass
+class ProbeSeries:
+    """Probe samples stored in a trajectory file."""
+
+    names: list
+    columns: list
+    points: np.ndarray   # [m] (nprobes, dim)
+    steps: np.ndarray
+    times: np.ndarray    # [s]
+    values: np.ndarray   # [Pa] (frames, nprobes, ncolumns)
+
+    def __getitem__(self, name: str) -> dict:
+        """{column: array over time} for one probe."""
+        if name not in self.names:
+            raise KeyError(f"no probe {name!r}; probes: {self.names}")
+        k = self.names.index(name)
+        return {c: self.values[:, k, j] for j, c in enumerate(self.columns)}
+
+
+class Trajectory:
+    """An HDF5 trajectory, opened for reading (``'r'``) or writing (``'w'``).
+
+    Writing (the scene's library handle writes the file)::
+
+        traj = Trajectory("piston.h5", "w", scene, probe_interval=10)
+        dyn.attach(traj, interval=500)   # snapshot every 500 steps
+        dyn.run(until=1e-3)
+        traj.close()                     # also writes piston.xmf
+
+    Frame 0 (the state when opened) is written at once. Probes registered
+    in the scene before opening are sampled every ``probe_interval`` steps
+    into ``/observables/probes``.
+
+    Reading::
+
+        with Trajectory("piston.h5") as traj:
+            len(traj), traj[-1].von_mises, traj[::10], traj.probes["A"]
+
+    Parameters
+    ----------
+    path : str or Path
+    mode : {"r", "w"}
+    scene : Scene
+        Needed for writing.
+    snapshot_interval : int
+        Steps between automatic snapshots written by the library during a
+        run (0: only those asked for with :meth:`write`).
+    probe_interval : int
+        Steps between probe samples (0: none).
+    xdmf : bool
+        Write the XDMF sidecar on close (default True).
+    """
+
+    def __init__(self, path, mode: str = "r", scene=None,
+                 snapshot_interval: int = 0, probe_interval: int = 0,
+                 xdmf: bool = True):
+        self.path = Path(os.fspath(path))
+        self.mode = mode
+        self.scene = scene
+        self._file = None
+        self._closed = False
+        self.xdmf = xdmf
+        if mode == "r":
+            self._open_read()
+        elif mode == "w":
+            if scene is None:
+                raise ValueError("Trajectory: mode 'w' needs the scene to "
+                                 "write")
+            for name, value in (("snapshot_interval", snapshot_interval),
+                                ("probe_interval", probe_interval)):
+                if (not isinstance(value, int) or isinstance(value, bool)
+                        or value < 0):
+                    raise ValueError(f"Trajectory: {name} must be a "
+                                     f"non-negative integer, got {value!r}")
+            scene.calc.sync()
+            _lib.check(lib.sph_output_open(
+                scene.handle, _lib.encode_path(self.path),
+                snapshot_interval, probe_interval), scene.handle,
+                f"Trajectory {str(self.path)!r}")
+        else:
+            raise ValueError(f"Trajectory: mode must be 'r' or 'w', got "
+                             f"{mode!r}")
+
+    # ------------------------------------------------------------ writing
+    @property
+    def xdmf_path(self) -> Path:
+        """The XDMF sidecar's path (same name, suffix .xmf)."""
+        return self.path.with_suffix(".xmf")
+
+    def write(self) -> None:
+        """Write a snapshot of the scene's current state (once per step)."""
+        self._writable()
+        self.scene.calc.sync()
+        _lib.check(lib.sph_output_snapshot(self.scene.handle),
+                   self.scene.handle, f"Trajectory {str(self.path)!r}")
+
+    __call__ = write
+
+    def _writable(self):
+        if self.mode != "w":
+            raise ValueError(f"Trajectory {str(self.path)!r} is open for "
+                             "reading")
+        if self._closed:
+            raise ValueError(f"Trajectory {str(self.path)!r} is closed")
+
+    def flush(self) -> None:
+        """Write the current state as a snapshot (the library flushes the
+        file with it) and refresh the XDMF sidecar. Called by the dynamics
+        when a run is interrupted."""
+        if self.mode == "w" and not self._closed:
+            self.write()
+            if self.xdmf:
+                write_xdmf(self.path)
+
+    def close(self) -> None:
+        """Close the file (and write the XDMF sidecar when writing)."""
+        if self._closed:
+            return
+        self._closed = True
+        if self.mode == "w":
+            _lib.check(lib.sph_output_close(self.scene.handle),
+                       self.scene.handle, f"Trajectory {str(self.path)!r}")
+            if self.xdmf:
+                write_xdmf(self.path)
+        elif self._file is not None:
+            self._file.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    # ------------------------------------------------------------ reading
+    def _open_read(self):
+        import h5py
+        if not self.path.is_file():
+            raise OSError(f"Trajectory: cannot read {str(self.path)!r}: no "
+                          "such file")
+        try:
+            self._file = h5py.File(self.path, "r")
+        except OSError as error:
+            raise OSError(f"Trajectory: cannot read {str(self.path)!r} as "
+                          f"HDF5: {error}") from None
+        if "particles/all/position/value" not in self._file:
+            self._file.close()
+            raise OSError(f"Trajectory: {str(self.path)!r} is not a "
+                          "libsphsolid output file (no "
+                          "/particles/all/position/value)")
+        self._all = self._file["particles/all"]
+
+    def _readable(self):
+        if self.mode != "r":
+            raise ValueError("Trajectory: open the file with mode 'r' to "
+                             "read it")
+        if self._closed:
+            raise ValueError(f"Trajectory {str(self.path)!r} is closed")
+
+    def __len__(self) -> int:
+        self._readable()
+        return self._all["position/value"].shape[0]
+
+    @property
+    def times(self) -> np.ndarray:
+        """Times of the frames [s]."""
+        self._readable()
+        return self._all["position/time"][:]
+
+    @property
+    def steps(self) -> np.ndarray:
+        self._readable()
+        return self._all["position/step"][:]
+
+    @property
+    def dimension(self) -> int:
+        self._readable()
+        return int(self._file["parameters"].attrs["dimension"])
+
+    @property
+    def body_names(self) -> list:
+        """Body names in index order."""
+        self._readable()
+        bodies = self._file["parameters/bodies"]
+        return sorted(bodies, key=lambda b: int(bodies[b].attrs["index"]))
+
+    @property
+    def parameters(self) -> dict:
+        """The /parameters attributes (dimension, h, dt, effects, ...)."""
+        self._readable()
+        return {k: _attr(v) for k, v in
+                self._file["parameters"].attrs.items()}
+
+    def frame(self, index: int) -> Frame:
+        """Frame ``index`` (negative counts from the end)."""
+        self._readable()
+        n = len(self)
+        if not isinstance(index, (int, np.integer)):
+            raise ValueError(f"Trajectory: frame index must be an integer, "
+                             f"got {index!r}")
+        if index < 0:
+            index += n
+        if not 0 <= index < n:
+            raise IndexError(f"Trajectory: frame {index} out of range "
+                             f"({n} frames)")
+        a = self._all
+        return Frame(
+            index=int(index), time=float(a["position/time"][index]),
+            step=int(a["position/step"][index]),
+            positions=a["position/value"][index],
+            velocities=a["velocity/value"][index],
+            density=a["density/value"][index],
+            pressure=a["pressure/value"][index],
+            deviatoric_stress=a["deviatoric_stress/value"][index],
+            von_mises=a["von_mises/value"][index],
+            masses=a["mass"][:], body_ids=a["body"][:],
+            spacing=float(np.ravel(
+                self._file["parameters"].attrs["spacing"])[0]))
+
+    def __getitem__(self, key):
+        if isinstance(key, slice):
+            return [self.frame(i) for i in range(*key.indices(len(self)))]
+        return self.frame(key)
+
+    def __iter__(self) -> Iterator[Frame]:
+        for i in range(len(self)):
+            yield self.frame(i)
+
+    def nearest(self, time: float) -> Frame:
+        """The frame closest to ``time`` [s]."""
+        return self.frame(int(np.argmin(np.abs(self.times - time))))
+
+    @property
+    def probes(self) -> ProbeSeries | None:
+        """Probe samples in the file, or None if it has none."""
+        self._readable()
+        if "observables/probes" not in self._file:
+            return None
+        g = self._file["observables/probes"]
+        return ProbeSeries(names=_attr(g.attrs["names"]).split(),
+                           columns=_attr(g.attrs["columns"]).split(),
+                           points=g["points"][:], steps=g["step"][:],
+                           times=g["time"][:], values=g["value"][:])
+
+    def load_into(self, scene, index: int = -1) -> None:
+        """Load frame ``index`` into a scene built like the one that wrote
+        the file (positions, velocities, density, stress, time, step) with
+        the library's ``sph_read_frame``."""
+        _lib.check(lib.sph_read_frame(scene.handle,
+                                      _lib.encode_path(self.path), index),
+                   scene.handle, f"Trajectory {str(self.path)!r}")
+
+    def describe(self) -> str:
+        """A summary for people (``sphsolid info``)."""
+        self._readable()
+        p = self.parameters
+        times = self.times
+        lines = [f"{self.path}: libsphsolid output "
+                 f"({_attr(self._file['h5md/creator'].attrs.get('version', b'?'))})",
+                 f"  dimension {p.get('dimension')}, kernel {p.get('kernel')},"
+                 f" h = {float(np.ravel(p['smoothing_length'])[0]) * 1e3:.4g}"
+                 f" mm, dt = {float(np.ravel(p['dt'])[0]) * 1e6:.4g} us",
+                 f"  effects: {p.get('effects') or 'none'}"]
+        bodies = self._file["parameters/bodies"]
+        total = 0
+        for name in self.body_names:
+            a = bodies[name].attrs
+            total += int(a["count"])
+            lines.append(f"  body {name}: {int(a['count'])} particles, "
+                         f"motion {_attr(a['motion'])}, spacing "
+                         f"{float(np.ravel(a['spacing'])[0]) * 1e3:.4g} mm")
+        lines.append(f"  particles: {total}")
+        if len(times):
+            lines.append(f"  frames: {len(times)}, t = {times[0] * 1e3:.6g} "
+                         f"to {times[-1] * 1e3:.6g} ms")
+        probes = self.probes
+        if probes is not None:
+            lines.append(
+                f"  probes: {' '.join(probes.names)}, {len(probes.times)} "
+                "samples" + (f" to t = {probes.times[-1] * 1e3:.6g} ms"
+                             if len(probes.times) else ""))
+            if len(probes.times):
+                last = probes.values[-1]
+                for k, name in enumerate(probes.names):
+                    point = ", ".join(f"{c:g}" for c in probes.points[k])
+                    lines.append(f"    {name} at ({point}) m:"
+                                 f" von Mises {last[k, 0]:.6g} Pa at the end")
+        return "\n".join(lines)
+
+
+def _attr(value):
+    if isinstance(value, bytes):
+        return value.decode()
+    if isinstance(value, np.ndarray) and value.dtype.kind == "S":
+        return [v.decode() for v in value]
+    return value
+
+
+def write_xdmf(h5_path) -> Path:
+    """Write the XDMF sidecar of a libsphsolid HDF5 file for ParaView.
+
+    One grid per frame (a temporal collection) of polyvertex cells, with
+    the particle fields as attributes; data stay in the HDF5 file.
+    """
+    import h5py
+    h5_path = Path(h5_path)
+    with h5py.File(h5_path, "r") as f:
+        a = f["particles/all"]
+        times = a["position/time"][:]
+        n, dim = a["position/value"].shape[1:]
+        ncomp = a["deviatoric_stress/value"].shape[2]
+    href = h5_path.name
+    geometry = "XY" if dim == 2 else "XYZ"
+
+    def slab(name, index, inner):
+        dims = " ".join(str(d) for d in (n,) + inner)
+        full = " ".join(str(d) for d in (len(times), n) + inner)
+        rank = 2 + len(inner)
+        start = " ".join(["%d" % index] + ["0"] * (rank - 1))
+        stride = " ".join(["1"] * rank)
+        count = " ".join(["1", str(n)] + [str(d) for d in inner])
+        return (f'<DataItem ItemType="HyperSlab" Dimensions="{dims}" '
+                f'Type="HyperSlab">\n'
+                f'  <DataItem Dimensions="3 {rank}" Format="XML">'
+                f'{start} {stride} {count}</DataItem>\n'
+                f'  <DataItem Dimensions="{full}" NumberType="Float" '
+                f'Precision="8" Format="HDF">{href}:/particles/all/{name}/'
+                f'value</DataItem>\n</DataItem>')
+
+    grids = []
+    for i, t in enumerate(times):
+        attributes = [
+            ("velocity", "Vector" if dim == 3 else "Matrix", (dim,)),
+            ("density", "Scalar", ()), ("pressure", "Scalar", ()),
+            ("von_mises", "Scalar", ()),
+            ("deviatoric_stress", "Matrix", (ncomp,))]
+        body = "\n".join(
+            f'<Attribute Name="{name}" AttributeType="{kind}" Center="Node">'
+            f'\n{slab(name, i, inner)}\n</Attribute>'
+            for name, kind, inner in attributes)
+        grids.append(
+            f'<Grid Name="frame {i}" GridType="Uniform">\n'
+            f'<Time Value="{t!r}"/>\n'
+            f'<Topology TopologyType="Polyvertex" NumberOfElements="{n}" '
+            f'NodesPerElement="1"/>\n'
+            f'<Geometry GeometryType="{geometry}">\n'
+            f'{slab("position", i, (dim,))}\n</Geometry>\n'
+            f'<Attribute Name="body" AttributeType="Scalar" Center="Node">\n'
+            f'<DataItem Dimensions="{n}" NumberType="Int" Precision="4" '
+            f'Format="HDF">{href}:/particles/all/body</DataItem>\n'
+            f'</Attribute>\n{body}\n</Grid>')
+    text = ('<?xml version="1.0" ?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n'
+            '<Xdmf Version="2.0">\n<Domain>\n'
+            '<Grid Name="particles" GridType="Collection" '
+            'CollectionType="Temporal">\n' + "\n".join(grids) +
+            '\n</Grid>\n</Domain>\n</Xdmf>\n')
+    out = h5_path.with_suffix(".xmf")
+    out.write_text(text)
+    return out
