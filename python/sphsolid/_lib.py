@@ -280,7 +280,7 @@ def check(status: int, sim, what: str = "") -> None:
     message = errmsg(sim) if sim else ""
     if not message:
         message = STATUS.get(status, f"status {status}")
-    if what:
+    if what and not message.startswith(what):
         message = f"{what}: {message}"
     if status == SPH_ERR_ARGUMENT:
         raise ValueError(message)

@@ -357,10 +357,8 @@ def piston(over: Body, layers: int = 3, velocity=(0.0, -1.5e-3),
     load-controlled piston instead.
     """
     if motion is None:
-        dim = over.dimension
-        velocity = tuple(velocity) if len(velocity) == dim else \
-            tuple(velocity) + (0.0,) * (dim - len(velocity))
-        motion = Velocity(velocity)
+        motion = Velocity(tuple(_vector("piston velocity", velocity,
+                                        over.dimension)))
     return _layered(over, layers, dx, material, False, name, motion,
                     "piston")
 

@@ -154,13 +154,13 @@ class Trajectory:
             raise ValueError(f"Trajectory {str(self.path)!r} is closed")
 
     def flush(self) -> None:
-        """Write the current state as a snapshot (the library flushes the
-        file with it) and refresh the XDMF sidecar. Called by the dynamics
-        when a run is interrupted."""
+        """Write the current state as a snapshot; the library flushes the
+        file to disk with it. Called by the dynamics when a run is
+        interrupted, so the file ends with the state where it stopped. (The
+        XDMF sidecar is written by :meth:`close`: the library holds the
+        file's lock until then.)"""
         if self.mode == "w" and not self._closed:
             self.write()
-            if self.xdmf:
-                write_xdmf(self.path)
 
     def close(self) -> None:
         """Close the file (and write the XDMF sidecar when writing)."""
@@ -389,7 +389,7 @@ def write_xdmf(h5_path) -> Path:
             for name, kind, inner in attributes)
         grids.append(
             f'<Grid Name="frame {i}" GridType="Uniform">\n'
-            f'<Time Value="{t!r}"/>\n'
+            f'<Time Value="{float(t)!r}"/>\n'
             f'<Topology TopologyType="Polyvertex" NumberOfElements="{n}" '
             f'NodesPerElement="1"/>\n'
             f'<Geometry GeometryType="{geometry}">\n'

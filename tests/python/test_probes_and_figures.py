@@ -1,0 +1,88 @@
+"""Probes see the paper's wave order; figures and the CLI write PNGs."""
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import sphsolid
+from sphsolid import figures, scenes
+
+
+def arrival(times, values, threshold):
+    above = np.nonzero(values > threshold)[0]
+    return times[above[0]] if len(above) else np.inf
+
+
+def test_wave_reaches_probe_B_before_A_and_C():
+    """B is 36.5 mm below the piston, A and C 70 mm: the front (speed
+    c_p) reaches B first and A, C together (the paper's Fig. 6)."""
+    scene = scenes.uniaxial_piston(2e-3)
+    probes = sphsolid.Probes(scene, scenes.PAPER_PROBES)
+    dyn = sphsolid.ImprovedEuler(scene)
+    dyn.attach(probes, interval=1)
+    material = scenes.paper_material()
+    t_A = 0.070 / material.c_p             # front from the piston to A
+    dyn.run(until=1.5 * t_A)
+    # threshold: a fifth of the jump rho0 c_p v behind a plane front
+    jump = material.rho0 * material.c_p * scenes.PISTON_SPEED
+    a, b, c = (arrival(probes.times, probes[n]["von_mises"], 0.2 * jump)
+               for n in "ABC")
+    assert b < a and b < c
+    assert abs(a - c) <= 4 * dyn.dt
+    assert 0.5 * t_A < a < 1.5 * t_A
+
+
+def test_figures_write_pngs_with_the_units(tmp_path):
+    scene = scenes.uniaxial_piston(4e-3)
+    probes = sphsolid.Probes(scene, scenes.PAPER_PROBES)
+    dyn = sphsolid.ImprovedEuler(scene)
+    path = tmp_path / "f.h5"
+    traj = sphsolid.Trajectory(path, "w", scene)
+    dyn.attach(probes, interval=5)
+    dyn.attach(traj, interval=50)
+    dyn.run(steps=100)
+    traj.close()
+    with sphsolid.Trajectory(path) as reader:
+        png = figures.von_mises_map(reader[1:], tmp_path / "map.png",
+                                    mask=lambda f: f.body_ids == 0)
+    curves = figures.probe_curves(
+        probes.times, {n: probes[n]["von_mises"] for n in probes.names},
+        tmp_path / "curves.png")
+    for file in (png, curves):
+        assert file.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert figures.stress_unit(2.5e4) == ("kPa", 1e3)
+    assert figures.time_unit(3e-4) == ("µs", 1e-6)
+    with pytest.raises(ValueError, match="series 'A'"):
+        figures.probe_curves([0.0, 1.0], {"A": [1.0]}, tmp_path / "x.png")
+
+
+def test_cli_piston_writes_its_outputs_and_info_reads_them(tmp_path):
+    run = subprocess.run(
+        [sys.executable, "-m", "sphsolid", "piston", "--dx", "4mm",
+         "--until", "0.04ms", "--out", str(tmp_path)],
+        capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    # the library's lattice rule: round(L / dx) particles per side
+    expected = round(0.086 / 4e-3) * round(0.140 / 4e-3)
+    assert f"specimen {expected}," in run.stdout
+    for name in ("piston.h5", "piston.xmf", "piston_probes.csv",
+                 "piston_probes.png", "piston_von_mises.png"):
+        assert (tmp_path / name).stat().st_size > 0, name
+    info = subprocess.run([sys.executable, "-m", "sphsolid", "info",
+                           str(tmp_path / "piston.h5")],
+                          capture_output=True, text=True, timeout=60)
+    assert info.returncode == 0, info.stderr
+    assert "frames: 5" in info.stdout and "probes: A B C" in info.stdout
+
+
+def test_cli_reports_bad_input_without_a_traceback(tmp_path):
+    run = subprocess.run([sys.executable, "-m", "sphsolid", "piston", "--dx",
+                          "-1mm", "--out", str(tmp_path)],
+                         capture_output=True, text=True, timeout=60)
+    assert run.returncode == 2
+    assert "dx" in run.stderr and "Traceback" not in run.stderr
+    run = subprocess.run([sys.executable, "-m", "sphsolid", "info",
+                          str(tmp_path / "none.h5")],
+                         capture_output=True, text=True, timeout=60)
+    assert run.returncode == 2 and "none.h5" in run.stderr
