@@ -100,7 +100,7 @@ typedef struct sph_material_info {
     double bulk_modulus;    /* K [Pa] */
     double shear_modulus;   /* mu [Pa] */
     double rho0;            /* reference density [kg/m^3] */
-    double poisson_ratio;   /* eq. (10) */
+    double poisson_ratio;   /* (3K - 2mu) / (2 (3K + mu)) */
     double youngs_modulus;  /* 9 K mu / (3 K + mu) */
     double c0;              /* bulk sound speed sqrt(K/rho0) [m/s] */
     double c_p;             /* plane/3D P-wave speed sqrt((K + 4mu/3)/rho0) */

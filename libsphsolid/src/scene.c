@@ -119,7 +119,7 @@ sph_status sph_add_material_K_nu(sph_sim *sim, double K, double nu, double rho0,
         return sph_fail(sim, SPH_ERR_ARGUMENT, "bulk modulus K=%g: must be finite and > 0", K);
     if (check_poisson(sim, nu))
         return SPH_ERR_ARGUMENT;
-    /* eq. (10) solved for mu: mu = 3K (1 - 2 nu) / (2 (1 + nu)) */
+    /* isotropic elasticity: mu = 3K (1 - 2 nu) / (2 (1 + nu)) */
     return add_material(sim, K, 3.0 * K * (1.0 - 2.0 * nu) / (2.0 * (1.0 + nu)), rho0, id);
 }
 
@@ -133,8 +133,10 @@ sph_status sph_material_info_get(const sph_sim *sim, int id, sph_material_info *
     info->bulk_modulus = m->K;
     info->shear_modulus = m->mu;
     info->rho0 = m->rho0;
-    /* eq. (10) */
-    info->poisson_ratio = m->mu > 0.0 ? (3.0 * m->K / m->mu - 2.0) / (2.0 * (3.0 * m->K / m->mu + 2.0)) : 0.5;
+    /* eq. (10) of the paper prints (3K/mu + 2) in the denominator; the
+     * isotropic-elasticity relation that (E, nu) -> (K, mu) inverts is
+     * nu = (3K - 2mu) / (2 (3K + mu)) = (3K/mu - 2) / (2 (3K/mu + 1)). */
+    info->poisson_ratio = (3.0 * m->K - 2.0 * m->mu) / (2.0 * (3.0 * m->K + m->mu));
     info->youngs_modulus = 9.0 * m->K * m->mu / (3.0 * m->K + m->mu);
     info->c0 = m->c0;
     info->c_p = m->c_p;

@@ -1,0 +1,207 @@
+/* The public API: bad input is refused with a message naming the value;
+ * runs stop on non-finite values with step, particle and quantity;
+ * results do not depend on the number of threads. */
+#include "helpers.h"
+
+/* The call must fail with `status` and a message containing `needle`. */
+#define assert_refused(sim, call, status, needle)                              \
+    do {                                                                       \
+        const sph_status st_ = (call);                                         \
+        if (st_ != (status) || !strstr(sph_errmsg(sim), (needle))) {           \
+            print_error("%s: status %d (%s), message '%s'; expected %d and '%s'\n", \
+                        #call, st_, sph_status_name(st_), sph_errmsg(sim),     \
+                        (status), (needle));                                   \
+            fail();                                                            \
+        }                                                                      \
+    } while (0)
+
+static void bad_materials_are_refused(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int m;
+    assert_refused(sim, sph_add_material_K_mu(sim, -1e9, 1e9, 2300, &m), SPH_ERR_ARGUMENT, "K=-1e+09");
+    assert_refused(sim, sph_add_material_K_mu(sim, 0.0, 1e9, 2300, &m), SPH_ERR_ARGUMENT, "K=0");
+    assert_refused(sim, sph_add_material_K_mu(sim, 1e9, -2e9, 2300, &m), SPH_ERR_ARGUMENT, "mu=-2e+09");
+    assert_refused(sim, sph_add_material_K_mu(sim, 1e9, 1e9, -5, &m), SPH_ERR_ARGUMENT, "rho0=-5");
+    assert_refused(sim, sph_add_material_E_nu(sim, 1e9, 0.5, 2300, &m), SPH_ERR_ARGUMENT, "nu=0.5");
+    assert_refused(sim, sph_add_material_E_nu(sim, 1e9, -1.0, 2300, &m), SPH_ERR_ARGUMENT, "nu=-1");
+    assert_refused(sim, sph_add_material_K_nu(sim, 1e9, 0.7, 2300, &m), SPH_ERR_ARGUMENT, "nu=0.7");
+    assert_refused(sim, sph_add_material_E_nu(sim, -3.0, 0.3, 2300, &m), SPH_ERR_ARGUMENT, "E=-3");
+    /* a valid (E, nu) pair gives back nu by eq. (10) */
+    check(sim, sph_add_material_E_nu(sim, 70e9, 0.33, 2700, &m));
+    sph_material_info info;
+    check(sim, sph_material_info_get(sim, m, &info));
+    assert_close(info.poisson_ratio, 0.33, 1e-12, "nu from eq. (10)");
+    assert_close(info.youngs_modulus, 70e9, 1e-3, "E back");
+    sph_destroy(sim);
+}
+
+static void bad_bodies_are_refused(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int m, b;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &m));
+    const double lo[3] = {0, 0, 0}, hi[3] = {0.01, 0.01, 0};
+    assert_refused(sim, sph_add_block(sim, "a", m, lo, hi, -1e-3, &b), SPH_ERR_ARGUMENT, "dx=-0.001");
+    assert_refused(sim, sph_add_block(sim, "a", m, lo, hi, 0.0, &b), SPH_ERR_ARGUMENT, "dx=0");
+    assert_refused(sim, sph_add_block(sim, "a", 3, lo, hi, 1e-3, &b), SPH_ERR_ARGUMENT, "material=3");
+    assert_refused(sim, sph_add_particles(sim, "empty", m, 0, lo, NULL, 1e-3, &b), SPH_ERR_ARGUMENT, "empty");
+    check(sim, sph_add_block(sim, "a", m, lo, hi, 1e-3, &b));
+    /* a second block over the first */
+    const double lo2[3] = {0.005, 0.005, 0}, hi2[3] = {0.015, 0.015, 0};
+    assert_refused(sim, sph_add_block(sim, "b", m, lo2, hi2, 1e-3, &b), SPH_ERR_ARGUMENT, "overlaps body 'a'");
+    assert_refused(sim, sph_add_block(sim, "a", m, lo2, hi2, 1e-3, &b), SPH_ERR_ARGUMENT, "'a' is already used");
+    assert_int_equal(sph_body_count(sim), 1);
+    /* touching but not overlapping is fine */
+    const double lo3[3] = {0.01, 0, 0}, hi3[3] = {0.02, 0.01, 0};
+    check(sim, sph_add_block(sim, "b", m, lo3, hi3, 1e-3, &b));
+    /* a domain that leaves particles out */
+    const double dlo[3] = {0, 0, 0}, dhi[3] = {0.015, 0.01, 0};
+    assert_refused(sim, sph_set_domain(sim, dlo, dhi, NULL), SPH_ERR_ARGUMENT, "leaves out particle");
+    sph_destroy(sim);
+
+    sph_sim *bad = NULL;
+    assert_int_equal(sph_create(4, &bad), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(bad), "dimension=4"));
+    sph_destroy(bad);
+}
+
+static void bad_effects_and_time_steps_are_refused(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(10, 10, 1e-3);
+    assert_refused(sim, sph_effect(sim, "viscosity", "alpha=1"), SPH_ERR_ARGUMENT, "unknown effect 'viscosity'");
+    assert_refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 gamma=2"), SPH_ERR_ARGUMENT, "unknown parameter 'gamma'");
+    assert_refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=-1"), SPH_ERR_ARGUMENT, "alpha=-1");
+    assert_refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=x"), SPH_ERR_ARGUMENT, "alpha='x'");
+    assert_refused(sim, sph_effect(sim, "damping", ""), SPH_ERR_ARGUMENT, "rate=");
+    assert_int_equal(sph_effect_is_on(sim, "artificial_viscosity"), 0);
+    assert_int_equal(sph_effect_is_on(sim, "nonsense"), -1);
+    /* a step above the stability limit needs the override */
+    const double limit = sph_stable_dt(sim);
+    assert_true(limit > sph_default_dt(sim));
+    assert_refused(sim, sph_set_dt(sim, 1.5 * limit, 0), SPH_ERR_ARGUMENT, "exceeds the stability limit");
+    check(sim, sph_set_dt(sim, 1.5 * limit, 1));
+    assert_refused(sim, sph_set_dt(sim, -1e-7, 1), SPH_ERR_ARGUMENT, "dt=-1e-07");
+    assert_refused(sim, sph_run(sim, -3), SPH_ERR_ARGUMENT, "steps=-3");
+    assert_refused(sim, sph_run_until(sim, -1.0), SPH_ERR_ARGUMENT, "t=-1");
+    sph_destroy(sim);
+}
+
+static void non_finite_value_stops_run_with_step_particle_and_quantity(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(10, 10, 1e-3);
+    check(sim, sph_run(sim, 3));
+    double *S = field_ptr(sim, SPH_FIELD_DEVIATORIC_STRESS);
+    S[4 * 0 + 3] = NAN; /* particle 0, the lowest index, goes bad first */
+    assert_refused(sim, sph_run(sim, 5), SPH_ERR_NONFINITE, "step 4");
+    long step, particle;
+    int body;
+    const char *quantity;
+    check(sim, sph_failure(sim, &step, &particle, &body, &quantity));
+    assert_int_equal(step, 4);
+    assert_int_equal(particle, 0);
+    assert_int_equal(body, 0);
+    assert_non_null(strstr(sph_errmsg(sim), "particle 0 of body 'block'"));
+    assert_non_null(strstr(sph_errmsg(sim), quantity));
+    assert_int_equal(sph_step_count(sim), 3); /* the bad step was not counted */
+    sph_destroy(sim);
+
+    /* a real blow-up: twenty times the stable step */
+    sim = free_block_2d(10, 10, 1e-3);
+    double *rho = field_ptr(sim, SPH_FIELD_DENSITY);
+    rho[0] *= 1.01;
+    check(sim, sph_set_dt(sim, 20 * sph_stable_dt(sim), 1));
+    const sph_status st = sph_run(sim, 2000);
+    assert_int_equal(st, SPH_ERR_NONFINITE);
+    check(sim, sph_failure(sim, &step, &particle, &body, &quantity));
+    assert_true(step >= 1 && step <= 2000);
+    assert_true(particle >= 0 && particle < 100);
+    sph_destroy(sim);
+}
+
+static void particle_leaving_the_domain_stops_the_run(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(6, 6, 1e-3);
+    const double lo[3] = {-0.004, -0.004, 0}, hi[3] = {0.004, 0.004, 0};
+    check(sim, sph_set_domain(sim, lo, hi, NULL));
+    const double v[2] = {100.0, 0.0};
+    check(sim, sph_set_body_velocity(sim, 0, v));
+    assert_refused(sim, sph_run(sim, 1000), SPH_ERR_DOMAIN, "left the domain along x");
+    sph_destroy(sim);
+}
+
+static void results_do_not_depend_on_thread_count(void **state)
+{
+    (void)state;
+    double *x[2], *S[2];
+    size_t n = 0;
+    for (int k = 0; k < 2; ++k) {
+        sph_sim *sim = new_sim(2);
+        check(sim, sph_set_threads(sim, k + 1));
+        check(sim, sph_build_paper_scene(sim, 4e-3, 1.5e-3, 0, NULL));
+        check(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 beta=0"));
+        check(sim, sph_run(sim, 60));
+        n = sph_particle_count(sim);
+        x[k] = malloc(n * 2 * sizeof(double));
+        S[k] = malloc(n * 4 * sizeof(double));
+        check(sim, sph_field_copy(sim, SPH_FIELD_POSITION, x[k]));
+        check(sim, sph_field_copy(sim, SPH_FIELD_DEVIATORIC_STRESS, S[k]));
+        sph_destroy(sim);
+    }
+    double smax = 0;
+    for (size_t i = 0; i < 4 * n; ++i)
+        smax = fmax(smax, fabs(S[0][i]));
+    assert_true(smax > 0);
+    for (size_t i = 0; i < 4 * n; ++i)
+        assert_close(S[1][i], S[0][i], 1e-12 * smax, "S with 1 vs 2 threads");
+    for (size_t i = 0; i < 2 * n; ++i)
+        assert_close(x[1][i], x[0][i], 1e-12 * fabs(x[0][i]) + 1e-18, "x with 1 vs 2 threads");
+    for (int k = 0; k < 2; ++k) {
+        free(x[k]);
+        free(S[k]);
+    }
+}
+
+static int stop_at_five(const sph_sim *sim, void *user)
+{
+    ++*(int *)user;
+    return sph_step_count(sim) >= 5;
+}
+
+static void run_until_lands_on_time_and_callback_can_stop(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(8, 8, 1e-3);
+    const double dt = sph_dt(sim);
+    check(sim, sph_run_until(sim, 7.3 * dt));
+    assert_true(sph_time(sim) == 7.3 * dt);
+    assert_int_equal(sph_step_count(sim), 8);
+    int calls = 0;
+    check(sim, sph_set_progress(sim, 1, stop_at_five, &calls));
+    sph_sim *fresh = free_block_2d(8, 8, 1e-3);
+    check(fresh, sph_set_progress(fresh, 1, stop_at_five, &calls));
+    assert_refused(fresh, sph_run(fresh, 100), SPH_ERR_STOPPED, "step 5");
+    assert_int_equal(sph_step_count(fresh), 5);
+    assert_int_equal(calls, 5);
+    sph_destroy(fresh);
+    sph_destroy(sim);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(bad_materials_are_refused),
+        cmocka_unit_test(bad_bodies_are_refused),
+        cmocka_unit_test(bad_effects_and_time_steps_are_refused),
+        cmocka_unit_test(non_finite_value_stops_run_with_step_particle_and_quantity),
+        cmocka_unit_test(particle_leaving_the_domain_stops_the_run),
+        cmocka_unit_test(results_do_not_depend_on_thread_count),
+        cmocka_unit_test(run_until_lands_on_time_and_callback_can_stop),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
