@@ -1,0 +1,53 @@
+/* -*- c++ -*-
+ * compute_sphsolid_atom.h - per-atom SPH quantities of pair sphsolid.
+ *
+ * One class behind four styles, each a per-atom vector or array:
+ *   sphsolid/density/atom   density rho [kg/m^3]
+ *   sphsolid/pressure/atom  pressure P from the library's equation of state [Pa]
+ *   sphsolid/vonmises/atom  von Mises stress sqrt(3/2 S:S) [Pa]
+ *   sphsolid/stress/atom    full Cauchy stress sigma = -P I + S, columns
+ *                           xx yy zz xy (2D) or xx yy zz xy xz yz (3D) [Pa]
+ * Every value comes from the library (sph_von_mises, or a scratch handle's
+ * derived fields).
+ */
+#ifdef COMPUTE_CLASS
+// clang-format off
+ComputeStyle(sphsolid/density/atom,ComputeSPHSolidAtom);
+ComputeStyle(sphsolid/pressure/atom,ComputeSPHSolidAtom);
+ComputeStyle(sphsolid/vonmises/atom,ComputeSPHSolidAtom);
+ComputeStyle(sphsolid/stress/atom,ComputeSPHSolidAtom);
+// clang-format on
+#else
+
+#ifndef SPHSOLID_COMPUTE_SPHSOLID_ATOM_H
+#define SPHSOLID_COMPUTE_SPHSOLID_ATOM_H
+
+#include "compute.h"
+
+namespace LAMMPS_NS {
+
+class PairSPHSolid;
+
+class ComputeSPHSolidAtom : public Compute {
+ public:
+  ComputeSPHSolidAtom(class LAMMPS *, int, char **);
+  ~ComputeSPHSolidAtom() override;
+  void init() override;
+  void compute_peratom() override;
+  double memory_usage() override;
+
+ private:
+  enum Quantity { DENSITY, PRESSURE, VON_MISES, STRESS };
+  Quantity quantity;
+  int dim, ncomp, nmax;
+  PairSPHSolid *pair;
+  double *values;      // per-atom vector
+  double **columns;    // per-atom array (stress)
+
+  void derived_field(int field);
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

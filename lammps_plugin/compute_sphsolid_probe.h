@@ -1,0 +1,45 @@
+/* -*- c++ -*-
+ * compute_sphsolid_probe.h - compute sphsolid/probe: SPH values at a point.
+ *
+ *   compute ID group sphsolid/probe x y [z]
+ *
+ * A global vector of SPH_PROBE_VALUES(dim) values at the fixed point
+ * (x, y[, z]): von Mises stress, pressure, then the full Cauchy stress
+ * (xx yy zz xy, or xx yy zz xy xz yz), each a Shepard-normalised kernel
+ * interpolation over the atoms of the group, computed by the library's
+ * sph_probe_sample() on the atoms within the kernel support of the point
+ * gathered from all MPI ranks (ordered by atom ID, so the value does not
+ * depend on the number of ranks).
+ */
+#ifdef COMPUTE_CLASS
+// clang-format off
+ComputeStyle(sphsolid/probe,ComputeSPHSolidProbe);
+// clang-format on
+#else
+
+#ifndef SPHSOLID_COMPUTE_SPHSOLID_PROBE_H
+#define SPHSOLID_COMPUTE_SPHSOLID_PROBE_H
+
+#include "compute.h"
+
+namespace LAMMPS_NS {
+
+class PairSPHSolid;
+
+class ComputeSPHSolidProbe : public Compute {
+ public:
+  ComputeSPHSolidProbe(class LAMMPS *, int, char **);
+  ~ComputeSPHSolidProbe() override;
+  void init() override;
+  void compute_vector() override;
+
+ private:
+  int dim, ncomp;
+  double point[3];
+  PairSPHSolid *pair;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

