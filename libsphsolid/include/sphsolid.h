@@ -265,6 +265,10 @@ typedef struct sph_energy_info {
  * `all_bodies` is non-zero). */
 SPH_API sph_status sph_energy(sph_sim *sim, int all_bodies, sph_energy_info *info);
 
+/* Bytes of memory the handle holds (particle state, integrator and rate
+ * scratch, neighbour list), for budgeting large runs. */
+SPH_API size_t sph_memory_bytes(const sph_sim *sim);
+
 /* ---------------------------------------------------------------- probes */
 
 /* Number of values one probe reports: von Mises, pressure, then the full

@@ -150,6 +150,7 @@ sph_status sim_prepare(sph_sim *sim)
         return sph_fail(sim, SPH_ERR_STATE, "the simulation has no particles: add a body first");
     if (!sim->dt_set)
         sim->dt = sph_default_dt(sim);
+    sim_shrink_to_fit(sim);
     const size_t n = sim->n;
     const int dim = sim->dim, nc = sim->ncomp;
     const size_t saved_per = (size_t)dim + 1 + nc + (sim->fx.xsph ? dim : 0);

@@ -226,7 +226,8 @@ sph_status neighbour_build(sph_sim *sim)
     free(counts);
     const size_t total = offsets[n];
     if (total > nl->capacity || !nl->indices) {
-        const size_t cap = total + total / 8 + 16;
+        /* exact at the first build; room to grow on later ones */
+        const size_t cap = nl->indices ? total + total / 16 + 16 : total;
         int *idx = realloc(nl->indices, cap * sizeof *idx);
         if (!idx) {
             free(g.start); free(g.members);

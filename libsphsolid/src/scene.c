@@ -174,6 +174,24 @@ static sph_status grow_particles(sph_sim *sim, size_t n)
     return SPH_OK;
 }
 
+/* Release the spare capacity left by growing (called before a run). */
+void sim_shrink_to_fit(sph_sim *sim)
+{
+    if (sim->capacity <= sim->n || sim->n == 0)
+        return;
+    const size_t n = sim->n;
+    const int dim = sim->dim, nc = sim->ncomp;
+    void *p;
+    if ((p = realloc(sim->x, n * dim * sizeof(double)))) sim->x = p;
+    if ((p = realloc(sim->v, n * dim * sizeof(double)))) sim->v = p;
+    if ((p = realloc(sim->rho, n * sizeof(double)))) sim->rho = p;
+    if ((p = realloc(sim->S, n * nc * sizeof(double)))) sim->S = p;
+    if ((p = realloc(sim->mass, n * sizeof(double)))) sim->mass = p;
+    if ((p = realloc(sim->material_of, n * sizeof(int)))) sim->material_of = p;
+    if ((p = realloc(sim->body_of, n * sizeof(int)))) sim->body_of = p;
+    sim->capacity = n;
+}
+
 static sph_status check_name(sph_sim *sim, const char *name)
 {
     if (!name || !*name)
@@ -690,4 +708,30 @@ sph_status sph_energy(sph_sim *sim, int all_bodies, sph_energy_info *info)
                                                                 sim->rho[a], sim->S + a * sim->ncomp);
     }
     return sph_ok(sim);
+}
+
+size_t sph_memory_bytes(const sph_sim *sim)
+{
+    if (!sim)
+        return 0;
+    const size_t cap = sim->capacity, n = sim->n;
+    const size_t dim = (size_t)sim->dim, nc = (size_t)sim->ncomp, ns = (size_t)sim->nsym;
+    size_t bytes = sizeof *sim;
+    bytes += cap * (2 * dim + 1 + nc + 1) * sizeof(double) + cap * 2 * sizeof(int);
+    if (sim->saved)
+        bytes += n * (dim + 1 + nc + (sim->fx.xsph ? dim : 0)) * sizeof(double);
+    if (sim->dv_dt)
+        bytes += n * (dim + 1 + nc) * sizeof(double);
+    if (sim->dx_dt)
+        bytes += n * dim * sizeof(double);
+    bytes += sim->scratch_n * (ns + 1) * sizeof(double);
+    if (sim->stress_R)
+        bytes += sim->scratch_n * ns * sizeof(double);
+    if (sim->correction)
+        bytes += sim->scratch_n * ns * sizeof(double);
+    if (sim->nl.offsets)
+        bytes += (sim->nl.n + 1) * sizeof(size_t) + sim->nl.capacity * sizeof(int);
+    bytes += (size_t)sim->n_materials * sizeof(material) + (size_t)sim->n_bodies * sizeof(body) +
+             (size_t)sim->n_probes * sizeof(probe);
+    return bytes;
 }

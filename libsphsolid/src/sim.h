@@ -128,6 +128,7 @@ int sim_threads(const sph_sim *sim);
 /* scene.c */
 double sim_support(const sph_sim *sim);
 sph_status sim_prepare(sph_sim *sim);
+void sim_shrink_to_fit(sph_sim *sim);
 
 /* effects.c */
 sph_status effects_set(sph_sim *sim, const char *name, const char *parameters);
