@@ -210,6 +210,7 @@ sph_status neighbour_build(sph_sim *sim)
     const double rc2 = rc * rc;
     const long nl_n = (long)n;
     const int threads = sim_threads(sim);
+    (void)threads; /* unused without OpenMP */
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (long a = 0; a < nl_n; ++a)
         counts[a] = scan(sim, &g, (size_t)a, rc2, NULL);
