@@ -1,0 +1,151 @@
+"""MPI ranks and restarts do not change the result.
+
+* mpirun -np 2 against one rank: the piston deck's probe histories, and a
+  spinning, drifting block whose atoms cross from one rank to the other
+  many times (exchange, ghost forward communication, re-neighbouring).
+* write_restart / read_restart: a run continued from a restart file ends
+  where the uninterrupted run ends.
+"""
+from __future__ import annotations
+
+import textwrap
+
+import numpy as np
+
+from conftest import PISTON_DECK, read_probes, run_deck, sphsolid_lammps
+
+
+def test_two_ranks_reproduce_serial_probe_histories(tmp_path, plugin):
+    variables = {"dx": 0.002, "t_end": 1.0e-4, "every": 10}
+    serial, parallel = tmp_path / "serial", tmp_path / "parallel"
+    serial.mkdir()
+    parallel.mkdir()
+    run_deck(PISTON_DECK, serial, dict(variables, probes="p.txt"), plugin, ranks=1)
+    run_deck(PISTON_DECK, parallel, dict(variables, probes="p.txt"), plugin, ranks=2)
+    log = (parallel / "log.lammps").read_text()
+    assert "2 by 1 by 1 MPI processor grid" in log or "1 by 2 by 1 MPI processor grid" in log
+    a, b = read_probes(serial / "p.txt"), read_probes(parallel / "p.txt")
+    assert a.shape == b.shape and len(a) == 20
+    # the probes gather their atoms by ID, so only the force sums' order
+    # could differ; allow round-off relative to each column's peak
+    scale = np.abs(a[:, 2:]).max(axis=0) + 1e-30
+    assert (np.abs(a[:, 2:] - b[:, 2:]) / scale).max() < 1e-12
+
+
+SPINNING_BLOCK = textwrap.dedent("""\
+    # A free 24 x 24 block of spacing 1 mm drifting at 60 m/s across the
+    # processor boundary at x = 0 while spinning at 2000 rad/s.
+    plugin load ${plugin}
+    units si
+    dimension 2
+    boundary f f p
+    atom_style atomic
+    atom_modify map array
+    comm_modify vel yes
+    processors ${px} 1 1
+    region box block -0.04 0.04 -0.03 0.03 -0.001 0.001 units box
+    create_box 1 box
+    lattice sq 0.001 origin 0.5 0.5 0.0
+    region block block -0.032 -0.008 -0.012 0.012 -0.001 0.001 units box
+    create_atoms 1 region block
+    mass 1 $(2300.0*0.001*0.001)
+    pair_style sphsolid 0.001 artificial_viscosity alpha 1.0 beta 0.0
+    pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0
+    neighbor 0.0003 bin
+    neigh_modify every 1 delay 0 check yes
+    variable vx atom 60.0-2000.0*y
+    variable vy atom 2000.0*(x+0.02)
+    velocity all set v_vx v_vy 0.0 units box
+    fix heun all sphsolid/heun
+    compute rho all sphsolid/density/atom
+    compute stress all sphsolid/stress/atom
+    thermo 100
+    run 600
+    write_dump all custom final.txt id x y vx vy c_rho c_stress[*] &
+        modify sort id format float %.17g
+    """)
+
+
+def final_state(path):
+    return np.loadtxt(path, skiprows=9)
+
+
+def test_atoms_crossing_ranks_keep_their_state(tmp_path, plugin):
+    deck = tmp_path / "in.block"
+    deck.write_text(SPINNING_BLOCK)
+    results = {}
+    for ranks in (1, 2):
+        work = tmp_path / f"np{ranks}"
+        work.mkdir()
+        run_deck(deck, work, {"px": ranks}, plugin, ranks=ranks)
+        results[ranks] = final_state(work / "final.txt")
+    log = (tmp_path / "np2" / "log.lammps").read_text()
+    builds = int(log.split("Neighbor list builds =")[1].split()[0])
+    assert builds > 10  # atoms really moved across bins and ranks
+    one, two = results[1], results[2]
+    assert one.shape == two.shape == (576, 10)
+    np.testing.assert_array_equal(one[:, 0], two[:, 0])
+    # the block crossed x = 0: it started at x < -0.008 m, drifted 0.02 m
+    assert one[:, 1].max() > 0.0
+    scale = np.abs(one).max(axis=0)
+    assert (np.abs(one - two) / scale).max() < 1e-10
+
+
+RESTARTED = textwrap.dedent("""\
+    read_restart {restart}
+    comm_modify vel yes
+    pair_style sphsolid {dx} artificial_viscosity alpha 1.0 beta 0.0
+    pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0
+    neighbor {skin} bin
+    neigh_modify every 1 delay 0 check yes
+    fix heun specimen sphsolid/heun
+    fix piston piston move linear 0.0 -0.0015 0.0 units box
+    compute rho all sphsolid/density/atom
+    compute stress all sphsolid/stress/atom
+    """)
+
+
+def test_restart_continues_to_the_uninterrupted_result(tmp_path, plugin):
+    dx = 0.002
+    dump = ("write_dump all custom {path} id x y vx vy c_rho c_stress[*] "
+            "modify sort id format float %.17g")
+    # uninterrupted: 100 steps, write_restart, 100 more
+    lmp = sphsolid_lammps.open_lammps(
+        ["-log", "none", "-screen", "none", "-nocite", "-var", "plugin", str(plugin),
+         "-var", "dx", str(dx), "-var", "t_end", "0.0", "-var", "probes",
+         str(tmp_path / "p0.txt")], plugin=plugin)
+    try:
+        lmp.file(str(PISTON_DECK))
+        lmp.command("compute rho all sphsolid/density/atom")
+        lmp.command("compute stress all sphsolid/stress/atom")
+        lmp.command("run 100")
+        lmp.command(f"write_restart {tmp_path / 'state.restart'}")
+        lmp.command("run 100")
+        lmp.command(dump.format(path=tmp_path / "straight.txt"))
+        dt = lmp.extract_global("dt")
+    finally:
+        lmp.close()
+
+    lmp = sphsolid_lammps.open_lammps(plugin=plugin)
+    try:
+        for line in RESTARTED.format(restart=tmp_path / "state.restart", dx=dx,
+                                     skin=0.3 * dx).splitlines():
+            lmp.command(line)
+        assert lmp.extract_global("ntimestep") == 100
+        assert lmp.extract_global("dt") == dt
+        lmp.command("run 100")
+        lmp.command(dump.format(path=tmp_path / "restarted.txt"))
+    finally:
+        lmp.close()
+
+    straight = final_state(tmp_path / "straight.txt")
+    restarted = final_state(tmp_path / "restarted.txt")
+    np.testing.assert_array_equal(straight[:, 0], restarted[:, 0])
+    # positions and densities to round-off of their own size; velocities and
+    # stresses relative to their largest value in the scene
+    np.testing.assert_allclose(restarted[:, 1:3], straight[:, 1:3], rtol=1e-14, atol=0)
+    np.testing.assert_allclose(restarted[:, 5], straight[:, 5], rtol=1e-14, atol=0)
+    for col in (3, 4, 6, 7, 8, 9):
+        scale = np.abs(straight[:, col]).max()
+        assert scale > 0
+        assert np.abs(restarted[:, col] - straight[:, col]).max() / scale < 1e-9, col
