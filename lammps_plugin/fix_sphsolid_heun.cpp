@@ -203,6 +203,10 @@ void FixSPHSolidHeun::final_integrate()
   const sph_status status =
       sph_heun_correct(pair->handle(), nlocal, update->dt, xbuf.data(), vbuf.data(), state->rho,
                        state->S_data(), &rates, integrate_motion.data(), stage.data());
+  if (status == SPH_ERR_NONFINITE) {
+    unpack();
+    check_finite();    // names the atom by its ID
+  }
   if (status != SPH_OK)
     error->one(FLERR, "fix sphsolid/heun: corrector at step {}: {} ({})", update->ntimestep,
                sph_errmsg(pair->handle()), sph_status_name(status));
@@ -243,14 +247,15 @@ void FixSPHSolidHeun::check_finite()
   for (int i = 0; i < nlocal; i++) {
     const char *quantity = nullptr;
     for (int d = 0; d < dim; d++) {
-      if (!std::isfinite(x[i][d])) quantity = "position";
-      if (!std::isfinite(v[i][d])) quantity = "velocity";
+      if (!std::isfinite(x[i][d])) quantity = "non-finite position";
+      if (!std::isfinite(v[i][d])) quantity = "non-finite velocity";
     }
-    if (!std::isfinite(state->rho[i])) quantity = "density";
+    if (!std::isfinite(state->rho[i])) quantity = "non-finite density";
+    if (std::isfinite(state->rho[i]) && !(state->rho[i] > 0.0)) quantity = "non-positive density";
     for (int k = 0; k < ncomp; k++)
-      if (!std::isfinite(state->S[i][k])) quantity = "deviatoric stress";
+      if (!std::isfinite(state->S[i][k])) quantity = "non-finite deviatoric stress";
     if (quantity)
-      error->one(FLERR, "fix sphsolid/heun: non-finite {} of atom {} at step {}", quantity,
+      error->one(FLERR, "fix sphsolid/heun: {} of atom {} at step {}", quantity,
                  atom->tag[i], update->ntimestep);
   }
 }

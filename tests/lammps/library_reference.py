@@ -37,7 +37,16 @@ def load_library(plugin: Path) -> ctypes.CDLL:
     lib.sph_run.argtypes = [c_void_p, c_long]
     lib.sph_probe_sample.argtypes = [c_void_p, c_int, POINTER(c_double)]
     lib.sph_set_threads.argtypes = [c_void_p, c_int]
+    lib.sph_particle_count.argtypes = [c_void_p]
+    lib.sph_particle_count.restype = ctypes.c_size_t
+    lib.sph_field_copy.argtypes = [c_void_p, c_int, POINTER(c_double)]
     return lib
+
+
+# sph_field_id values and their columns in 2D
+FIELDS_2D = {"position": (0, 2), "velocity": (1, 2), "density": (2, 1),
+             "deviatoric_stress": (3, 4), "pressure": (5, 1), "von_mises": (6, 1),
+             "stress": (7, 4)}
 
 
 class PaperRun:
@@ -79,6 +88,15 @@ class PaperRun:
             self.run(every)
             rows.append(np.concatenate([[k, k * self.dt], self.probes()]))
         return np.array(rows)
+
+    def field(self, name: str) -> np.ndarray:
+        """A copy of a per-particle field (2D scene), shape (n, columns)."""
+        field_id, cols = FIELDS_2D[name]
+        n = self.lib.sph_particle_count(self.sim)
+        out = np.zeros(n * cols)
+        self._check(self.lib.sph_field_copy(self.sim, field_id,
+                                            out.ctypes.data_as(POINTER(c_double))))
+        return out.reshape(n, cols)
 
     def close(self) -> None:
         if self.sim:

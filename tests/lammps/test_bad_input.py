@@ -1,0 +1,176 @@
+"""Wrong or missing input stops with a LAMMPS error that names the problem.
+
+Each case runs in a fresh LAMMPS instance through the Python module; the
+error arrives as a Python exception carrying LAMMPS's message.
+"""
+from __future__ import annotations
+
+import pytest
+
+BOX = [
+    "units si",
+    "dimension 2",
+    "boundary f f p",
+    "atom_style atomic",
+    "atom_modify map array",
+    "comm_modify vel yes",
+    "region box block -0.01 0.01 -0.01 0.01 -0.001 0.001 units box",
+    "create_box 2 box",
+    "lattice sq 0.001 origin 0.5 0.5 0.0",
+    "region left block -0.005 0.0 -0.005 0.005 -0.001 0.001 units box",
+    "region right block 0.0 0.005 -0.005 0.005 -0.001 0.001 units box",
+    "create_atoms 1 region left",
+    "create_atoms 2 region right",
+    "mass * 0.0023",
+]
+GOOD_PAIR = ["pair_style sphsolid 0.001", "pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0"]
+
+
+def fails_with(lmp_factory, commands, *words):
+    lmp = lmp_factory()
+    with pytest.raises(Exception) as raised:
+        for c in commands:
+            lmp.command(c)
+    message = str(raised.value)
+    for w in words:
+        assert w in message, message
+    return message
+
+
+def test_missing_spacing_is_named(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid"], "particle spacing dx")
+
+
+def test_negative_spacing_is_named(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid -0.001"], "dx must be positive", "-0.001")
+
+
+def test_unknown_pair_keyword_is_named(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001 viscosity 1.0"],
+               "unknown keyword 'viscosity'", "artificial_viscosity")
+
+
+def test_unknown_effect_parameter_is_named_by_the_library(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001 artificial_viscosity gamma 2.0"],
+               "artificial_viscosity", "gamma")
+
+
+def test_effect_parameter_without_value_is_named(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001 artificial_viscosity alpha"],
+               "alpha", "needs a value")
+
+
+def test_gravity_keyword_points_to_fix_gravity(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001 gravity gy -9.81"], "fix",
+               "gravity")
+
+
+def test_unknown_kernel_is_named(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001 kernel gauss"], "gauss",
+               "cubic_spline")
+
+
+def test_pair_coeff_missing_rho0(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001", "pair_coeff * * K 1e9 mu 1e9"],
+               "missing rho0")
+
+
+def test_pair_coeff_unknown_keyword(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001",
+                                   "pair_coeff * * K 1e9 G 1e9 rho0 2300"],
+               "unknown keyword 'G'")
+
+
+def test_pair_coeff_incomplete_constants(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001", "pair_coeff * * K 1e9 rho0 2300"],
+               "exactly one pair of elastic constants")
+
+
+def test_pair_coeff_for_undefined_type(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001",
+                                   "pair_coeff 3 3 K 1e9 mu 1e9 rho0 2300"], "3", "out of bounds")
+
+
+def test_pair_coeff_bad_bulk_modulus_is_named_by_the_library(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001",
+                                   "pair_coeff * * K -1e9 mu 1e9 rho0 2300"], "pair_coeff", "K")
+
+
+def test_pair_coeff_poisson_ratio_out_of_range(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001",
+                                   "pair_coeff * * E 1e9 nu 0.5 rho0 2300"], "0.5")
+
+
+def test_cross_type_pair_coeff_is_refused(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001",
+                                   "pair_coeff 1 2 K 1e9 mu 1e9 rho0 2300"],
+               "material belongs to one atom type")
+
+
+def test_type_without_material_stops_the_run(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001",
+                                   "pair_coeff 1 1 K 12.2e9 mu 2.67e9 rho0 2300",
+                                   "fix heun all sphsolid/heun", "timestep 1e-7", "run 1"],
+               "pair coeffs are not set")
+
+
+def test_ghost_velocities_are_required(lmp_factory):
+    box = [c for c in BOX if not c.startswith("comm_modify")]
+    fails_with(lmp_factory, box + GOOD_PAIR + ["fix heun all sphsolid/heun", "run 1"],
+               "comm_modify vel yes")
+
+
+def test_units_must_be_si(lmp_factory):
+    box = ["units metal" if c == "units si" else c for c in BOX]
+    fails_with(lmp_factory, box + GOOD_PAIR + ["fix heun all sphsolid/heun", "timestep 1e-7",
+                                               "run 1"], "units si")
+
+
+def test_integrator_needs_the_pair_style(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style zero 0.002", "pair_coeff * *",
+                                   "fix heun all sphsolid/heun", "timestep 1e-7", "run 1"],
+               "needs 'pair_style sphsolid'")
+
+
+def test_integrator_without_time_step_names_the_library_default(lmp_factory):
+    # the fix defined before pair_coeff cannot pick the library's step
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001", "fix heun all sphsolid/heun",
+                                   "pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300", "run 1"],
+               "no timestep given", "0.5 h/c0")
+
+
+def test_integrator_takes_no_arguments(lmp_factory):
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["fix heun all sphsolid/heun 1.0"],
+               "takes no arguments", "1.0")
+
+
+def test_only_one_integrator(lmp_factory):
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["group left region left",
+                                               "fix a all sphsolid/heun",
+                                               "fix b left sphsolid/heun", "run 1"],
+               "only one fix sphsolid/heun")
+
+
+def test_probe_needs_its_coordinates(lmp_factory):
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["compute A all sphsolid/probe 0.0"],
+               "2 coordinates", "got 1")
+
+
+def test_probe_needs_the_pair_style(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style zero 0.002", "pair_coeff * *",
+                                   "compute A all sphsolid/probe 0.0 0.0",
+                                   "thermo_style custom step c_A[1]", "run 0"],
+               "needs 'pair_style sphsolid'")
+
+
+def test_atoms_without_mass_stop_the_run(lmp_factory):
+    box = [c for c in BOX if not c.startswith("mass")]
+    fails_with(lmp_factory, box + GOOD_PAIR + ["fix heun all sphsolid/heun", "run 1"], "mass")
+
+
+def test_runaway_state_names_step_atom_and_quantity(lmp_factory):
+    # a time step 40x the stable one blows up; the run stops at once
+    message = fails_with(lmp_factory, BOX + GOOD_PAIR + [
+        "velocity all create 1.0 4928459 dist gaussian", "fix heun all sphsolid/heun",
+        "timestep 1e-5", "run 2000"], "step")
+    assert "atom" in message and ("non-finite" in message or "density" in message)
