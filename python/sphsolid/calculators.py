@@ -126,6 +126,7 @@ class CLibrary(Calculator):
         return int(lib.sph_step_count(self._handle))
 
     def _with_progress(self, run, progress: Progress, interval: int):
+        self.scene._touch()   # the user may have written through the views
         if progress is None:
             return self._check(run(), "run")
         errors = []

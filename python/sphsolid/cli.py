@@ -89,7 +89,7 @@ def _parser() -> argparse.ArgumentParser:
 def _run_scene(args, scene, name: str) -> int:
     from . import ImprovedEuler, Probes, scenes
     from .figures import probe_curves, von_mises_map
-    from .trajectory import Trajectory
+    from .trajectory import Frame, Trajectory
 
     args.out.mkdir(parents=True, exist_ok=True)
     if args.backend == "lammps":
@@ -100,7 +100,6 @@ def _run_scene(args, scene, name: str) -> int:
         scene.calc = CLibrary(threads=args.threads)
     probes = Probes(scene, scenes.PAPER_PROBES)
     dyn = ImprovedEuler(scene, dt=args.dt, progress=args.progress)
-    h5 = args.out / f"{name}.h5"
     times = args.times or [args.until * (i + 1) / args._frames
                            for i in range(args._frames)]
     times = sorted(t for t in times if 0 < t <= args.until)
@@ -109,7 +108,12 @@ def _run_scene(args, scene, name: str) -> int:
           + ", ".join(f"{k} {v}" for k, v in counts.items())
           + f" particles, dt = {dyn.dt * 1e6:.4g} us, until "
           f"{args.until * 1e3:g} ms ({args.backend} backend)")
-    traj = Trajectory(h5, "w", scene, probe_interval=args.probe_interval)
+    # The library writes the HDF5 file with its own clock, which only the C
+    # backend advances; with LAMMPS the field maps come from copies.
+    h5 = args.out / f"{name}.h5" if args.backend == "c" else None
+    traj = (Trajectory(h5, "w", scene, probe_interval=args.probe_interval)
+            if h5 is not None else None)
+    frames = []
     dyn.attach(probes, interval=args.probe_interval)
     start = wallclock.perf_counter()
     interrupted = False
@@ -118,33 +122,39 @@ def _run_scene(args, scene, name: str) -> int:
             if t > dyn.time:
                 dyn.run(until=t)
                 if t in times:
-                    traj.write()
+                    if traj is not None:
+                        traj.write()
+                    else:
+                        frames.append(Frame.from_scene(scene, len(frames)))
     except KeyboardInterrupt as stop:
         interrupted = True
         print(f"\n{stop}", file=sys.stderr)
     finally:
-        traj.close()
+        if traj is not None:
+            traj.close()
     wall = wallclock.perf_counter() - start
     print(f"{dyn.nsteps} steps to t = {dyn.time * 1e3:.6g} ms in {wall:.2f} s"
           f" ({len(scene) * dyn.nsteps / max(wall, 1e-9) / 1e6:.3g} M "
           "particle-steps/s)")
     csv = args.out / f"{name}_probes.csv"
     probes.write_csv(csv)
-    outputs = [h5, traj.xdmf_path, csv]
+    outputs = ([h5, traj.xdmf_path] if traj is not None else []) + [csv]
     if len(probes.times):
         outputs.append(probe_curves(
             probes.times, {n: probes[n]["von_mises"] for n in probes.names},
             args.out / f"{name}_probes.png",
             title=f"{name}: von Mises stress at probes, dx = "
-                  f"{args.dx * 1e3:g} mm"))
-    with Trajectory(h5) as reader:
-        frames = [frame for frame in reader if frame.time > 0]
-        if frames:
-            specimen = reader.body_names.index("specimen")
-            outputs.append(von_mises_map(
-                frames, args.out / f"{name}_von_mises.png",
-                mask=lambda f: f.body_ids == specimen,
-                title=f"{name}: von Mises stress, dx = {args.dx * 1e3:g} mm"))
+                  f"{args.dx * 1e3:g} mm ({args.backend})"))
+    specimen = [b.name for b in scene.bodies].index("specimen")
+    if traj is not None:
+        with Trajectory(h5) as reader:
+            frames = [frame for frame in reader if frame.time > 0]
+    if frames:
+        outputs.append(von_mises_map(
+            frames, args.out / f"{name}_von_mises.png",
+            mask=lambda f: f.body_ids == specimen,
+            title=f"{name}: von Mises stress, dx = {args.dx * 1e3:g} mm "
+                  f"({args.backend})"))
     for path in outputs:
         print(f"wrote {path}")
     return 130 if interrupted else 0
@@ -158,6 +168,7 @@ def _info(args) -> int:
 
 
 def main(argv=None) -> int:
+    from ._lib import UnsupportedError
     args = _parser().parse_args(argv)
     try:
         if args.command == "info":
@@ -175,7 +186,7 @@ def main(argv=None) -> int:
             scene = scenes.gravity(args.dx, g=args.g, viscosity=viscosity,
                                    **kwargs)
         return _run_scene(args, scene, args.command)
-    except (ValueError, OSError) as error:
+    except (ValueError, OSError, UnsupportedError) as error:
         print(f"sphsolid: error: {error}", file=sys.stderr)
         return 2
 

@@ -97,8 +97,11 @@ def von_mises_map(frames, path, mask=None, vmax: float | None = None,
     mappable = None
     for ax, (frame, x, vm) in zip(axes.ravel(), selected):
         spacing = _spacing(frame, x) * 1e3
-        squares = [Rectangle((px * 1e3 - spacing / 2, py * 1e3 - spacing / 2),
-                             spacing, spacing) for px, py in x[:, :2]]
+        # squares a little wider than the nominal spacing: a lattice of
+        # round(L/dx) sites is slightly looser than dx, and gaps would show
+        side = 1.08 * spacing
+        squares = [Rectangle((px * 1e3 - side / 2, py * 1e3 - side / 2),
+                             side, side) for px, py in x[:, :2]]
         patches = PatchCollection(squares, cmap="jet", norm=norm,
                                   linewidths=0)
         patches.set_array(vm / scale)

