@@ -54,7 +54,8 @@ typedef enum sph_status {
     SPH_ERR_NONFINITE = 5,  /* the run produced a non-finite value */
     SPH_ERR_UNSUPPORTED = 6,/* feature not compiled in (e.g. HDF5) */
     SPH_ERR_STOPPED = 7,    /* a progress callback asked the run to stop */
-    SPH_ERR_DOMAIN = 8      /* a particle left the domain */
+    SPH_ERR_DOMAIN = 8,     /* a particle left the domain */
+    SPH_ERR_UNSTABLE = 9    /* the watchdog saw a runaway speed or density */
 } sph_status;
 
 typedef struct sph_sim sph_sim;
@@ -222,9 +223,18 @@ SPH_API sph_status sph_run(sph_sim *sim, long steps);
 /* Advance until time t (the last step is shortened to land on t). */
 SPH_API sph_status sph_run_until(sph_sim *sim, double t);
 
+/* The watchdog stops a run (SPH_ERR_UNSTABLE) when a particle of a free
+ * body moves faster than `max_speed_over_cp` times its material's P-wave
+ * speed, or its density leaves [min_density_ratio, max_density_ratio] times
+ * rho0.  Defaults 1, 0.5, 2: a solid beyond them is no longer described by
+ * the linear model.  A zero switches that check off. */
+SPH_API sph_status sph_set_watchdog(sph_sim *sim, double max_speed_over_cp,
+                                    double min_density_ratio,
+                                    double max_density_ratio);
+
 /* Where a run stopped on a non-finite value or a domain exit: step, global
  * particle index, body and quantity name ("position", "velocity",
- * "density", "deviatoric stress").  Returns SPH_ERR_STATE if the last run
+ * "density", "deviatoric stress", "speed", "density ratio").  Returns SPH_ERR_STATE if the last run
  * did not fail that way. */
 SPH_API sph_status sph_failure(const sph_sim *sim, long *step, long *particle,
                        int *body, const char **quantity);

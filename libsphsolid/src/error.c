@@ -39,6 +39,7 @@ const char *sph_status_name(sph_status status)
     case SPH_ERR_UNSUPPORTED: return "not supported in this build";
     case SPH_ERR_STOPPED: return "stopped by callback";
     case SPH_ERR_DOMAIN: return "particle left the domain";
+    case SPH_ERR_UNSTABLE: return "run went unstable";
     }
     return "unknown status";
 }

@@ -223,7 +223,7 @@ static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
     const sph_rates r = {sim->dv_dt, sim->drho_dt, sim->dS_dt, sim->fx.xsph ? sim->dx_dt : NULL};
     const saved_state s = saved_layout(sim->saved, sim->n, dim, nc, sim->fx.xsph);
     double max_moved = 0.0;
-    long first_bad = -1;
+    long first_bad = -1, first_wild = -1;
     for (int k = 0; k < sim->n_bodies; ++k) {
         const body *b = &sim->bodies[k];
         const int integrate = body_integrates(b);
@@ -232,24 +232,39 @@ static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
 #pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
             for (long a = lo; a < hi; ++a)
                 predict_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r, integrate, &s);
-        } else {
-            long bad = hi;
-            double m = 0.0;
-#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad) reduction(max : m)
-            for (long a = lo; a < hi; ++a) {
-                const double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r, integrate, &s);
-                if (isnan(d)) {
-                    if (a < bad)
-                        bad = a;
-                } else if (d > m) {
-                    m = d;
-                }
-            }
-            if (bad < hi && first_bad < 0)
-                first_bad = bad;
-            if (m > max_moved)
-                max_moved = m;
+            continue;
         }
+        /* watchdog bounds of this body (0: off) */
+        const material *m = &sim->materials[b->material];
+        const double vmax2 = integrate && sim->watch_speed > 0.0
+                                 ? (sim->watch_speed * m->c_p) * (sim->watch_speed * m->c_p)
+                                 : INFINITY;
+        const double rho_lo = sim->watch_rho_min * m->rho0;
+        const double rho_hi = sim->watch_rho_max > 0.0 ? sim->watch_rho_max * m->rho0 : INFINITY;
+        long bad = hi, wild = hi;
+        double moved_max = 0.0;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild) reduction(max : moved_max)
+        for (long a = lo; a < hi; ++a) {
+            const double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r, integrate, &s);
+            if (isnan(d)) {
+                if (a < bad)
+                    bad = a;
+                continue;
+            }
+            if (d > moved_max)
+                moved_max = d;
+            double v2 = 0.0;
+            for (int i = 0; i < dim; ++i)
+                v2 += sim->v[a * dim + i] * sim->v[a * dim + i];
+            if ((v2 > vmax2 || sim->rho[a] < rho_lo || sim->rho[a] > rho_hi) && a < wild)
+                wild = a;
+        }
+        if (bad < hi && first_bad < 0)
+            first_bad = bad;
+        if (wild < hi && first_wild < 0)
+            first_wild = wild;
+        if (moved_max > max_moved)
+            max_moved = moved_max;
     }
     *moved = max_moved;
     if (first_bad >= 0) {
@@ -274,6 +289,28 @@ static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
                         sim->bodies[sim->fail_body].name,
                         what[0] == 'd' && what[1] == 'e' && what[2] == 'n' ? "non-positive or non-finite" : "non-finite",
                         what);
+    }
+    if (first_wild >= 0) {
+        const size_t a = (size_t)first_wild;
+        const material *m = &sim->materials[sim->material_of[a]];
+        double v2 = 0.0;
+        for (int i = 0; i < dim; ++i)
+            v2 += sim->v[a * dim + i] * sim->v[a * dim + i];
+        const int speed = sim->watch_speed > 0.0 && v2 > pow(sim->watch_speed * m->c_p, 2);
+        sim->failed = 1;
+        sim->fail_step = sim->step + 1;
+        sim->fail_particle = first_wild;
+        sim->fail_body = sim->body_of[a];
+        sim->fail_quantity = speed ? "speed" : "density ratio";
+        if (speed)
+            return sph_fail(sim, SPH_ERR_UNSTABLE,
+                            "step %ld (t = %.9g s): particle %ld of body '%s' moves at %g m/s, more than %g times the P-wave speed %g m/s (watchdog; see sph_set_watchdog)",
+                            sim->fail_step, sim->t + dt, sim->fail_particle, sim->bodies[sim->fail_body].name,
+                            sqrt(v2), sim->watch_speed, m->c_p);
+        return sph_fail(sim, SPH_ERR_UNSTABLE,
+                        "step %ld (t = %.9g s): particle %ld of body '%s' has density ratio rho/rho0 = %g outside [%g, %g] (watchdog; see sph_set_watchdog)",
+                        sim->fail_step, sim->t + dt, sim->fail_particle, sim->bodies[sim->fail_body].name,
+                        sim->rho[a] / m->rho0, sim->watch_rho_min, sim->watch_rho_max);
     }
     return SPH_OK;
 }

@@ -22,6 +22,9 @@ sph_status sph_create(int dimension, sph_sim **out)
     sim->h_over_dx = 1.2;
     sim->kernel = SPH_KERNEL_CUBIC_SPLINE;
     sim->progress_interval = 0;
+    sim->watch_speed = 1.0;
+    sim->watch_rho_min = 0.5;
+    sim->watch_rho_max = 2.0;
     if (dimension != 2 && dimension != 3) {
         sim->failed = -1;
         return sph_fail(sim, SPH_ERR_ARGUMENT, "dimension=%d: must be 2 or 3", dimension);
@@ -55,6 +58,23 @@ sph_status sph_set_threads(sph_sim *sim, int threads)
     if (threads < 0)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "threads=%d: must be >= 0 (0 = OpenMP default)", threads);
     sim->threads = threads;
+    return sph_ok(sim);
+}
+
+sph_status sph_set_watchdog(sph_sim *sim, double max_speed_over_cp,
+                            double min_density_ratio, double max_density_ratio)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!(max_speed_over_cp >= 0.0) || !isfinite(max_speed_over_cp))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "watchdog max_speed_over_cp=%g: must be finite and >= 0", max_speed_over_cp);
+    if (!(min_density_ratio >= 0.0 && min_density_ratio < 1.0))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "watchdog min_density_ratio=%g: must be in [0, 1)", min_density_ratio);
+    if (!(max_density_ratio == 0.0 || (max_density_ratio > 1.0 && isfinite(max_density_ratio))))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "watchdog max_density_ratio=%g: must be 0 (off) or > 1", max_density_ratio);
+    sim->watch_speed = max_speed_over_cp;
+    sim->watch_rho_min = min_density_ratio;
+    sim->watch_rho_max = max_density_ratio;
     return sph_ok(sim);
 }
 

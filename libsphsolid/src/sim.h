@@ -86,6 +86,9 @@ struct sph_sim {
     double *stress_R;       /* artificial stress, when on */
     double *correction;     /* kernel-gradient correction M, when on */
 
+    /* watchdog: 0 switches a bound off */
+    double watch_speed, watch_rho_min, watch_rho_max;
+
     /* failure report */
     int failed;
     long fail_step, fail_particle;

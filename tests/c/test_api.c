@@ -110,16 +110,27 @@ static void non_finite_value_stops_run_with_step_particle_and_quantity(void **st
     assert_int_equal(sph_step_count(sim), 3); /* the bad step was not counted */
     sph_destroy(sim);
 
-    /* a real blow-up: twenty times the stable step */
-    sim = free_block_2d(10, 10, 1e-3);
-    double *rho = field_ptr(sim, SPH_FIELD_DENSITY);
-    rho[0] *= 1.01;
-    check(sim, sph_set_dt(sim, 20 * sph_stable_dt(sim), 1));
-    const sph_status st = sph_run(sim, 2000);
-    assert_int_equal(st, SPH_ERR_NONFINITE);
-    check(sim, sph_failure(sim, &step, &particle, &body, &quantity));
-    assert_true(step >= 1 && step <= 2000);
-    assert_true(particle >= 0 && particle < 100);
+    /* a real blow-up, twenty times the stable step: the watchdog stops it
+     * on a runaway speed or density before anything overflows */
+    for (int watchdog = 1; watchdog >= 0; --watchdog) {
+        sim = free_block_2d(10, 10, 1e-3);
+        if (!watchdog)
+            check(sim, sph_set_watchdog(sim, 0.0, 0.0, 0.0));
+        double *rho = field_ptr(sim, SPH_FIELD_DENSITY);
+        rho[0] *= 1.01;
+        check(sim, sph_set_dt(sim, 20 * sph_stable_dt(sim), 1));
+        const sph_status st = sph_run(sim, 5000);
+        assert_int_equal(st, watchdog ? SPH_ERR_UNSTABLE : SPH_ERR_NONFINITE);
+        check(sim, sph_failure(sim, &step, &particle, &body, &quantity));
+        assert_true(step >= 1 && step <= 5000);
+        assert_true(particle >= 0 && particle < 100);
+        if (watchdog)
+            assert_true(!strcmp(quantity, "speed") || !strcmp(quantity, "density ratio"));
+        assert_non_null(strstr(sph_errmsg(sim), quantity));
+        sph_destroy(sim);
+    }
+    sim = free_block_2d(4, 4, 1e-3);
+    assert_refused(sim, sph_set_watchdog(sim, 1.0, 1.5, 2.0), SPH_ERR_ARGUMENT, "min_density_ratio=1.5");
     sph_destroy(sim);
 }
 
