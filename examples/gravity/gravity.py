@@ -17,6 +17,7 @@ traj = Trajectory("gravity.h5", "w", scene, probe_interval=50)
 dyn.attach(probes, interval=50)
 dyn.attach(traj, interval=max(1, round(until / 2 / dyn.dt)))
 dyn.run(until=until)
+traj.write()                                                      # the final state
 traj.close()
 figures.probe_curves(probes.times, {n: probes[n]["von_mises"] for n in "ABC"}, "gravity_probes.png")
 with Trajectory("gravity.h5") as t:

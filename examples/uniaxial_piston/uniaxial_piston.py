@@ -16,6 +16,7 @@ traj = Trajectory("uniaxial_piston.h5", "w", scene, probe_interval=10)
 dyn.attach(probes, interval=10)
 dyn.attach(traj, interval=max(1, round(until / 4 / dyn.dt)))
 dyn.run(until=until)
+traj.write()                                                      # the final state
 traj.close()
 figures.probe_curves(probes.times, {n: probes[n]["von_mises"] for n in "ABC"}, "uniaxial_piston_probes.png")
 with Trajectory("uniaxial_piston.h5") as t:

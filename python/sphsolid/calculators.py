@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import ctypes
 import math
+from abc import ABC, abstractmethod
 from typing import Callable, Optional
 
 from . import _lib
@@ -27,7 +28,7 @@ __all__ = ["Calculator", "CLibrary"]
 Progress = Optional[Callable[[int], bool]]
 
 
-class Calculator:
+class Calculator(ABC):
     """What every backend provides to the dynamics.
 
     Methods
@@ -52,8 +53,46 @@ class Calculator:
 
     name = "abstract"
 
+    @abstractmethod
     def bind(self, scene) -> None:
-        raise NotImplementedError
+        """Take charge of ``scene``."""
+
+    @abstractmethod
+    def default_dt(self) -> float:
+        """0.5 h / c0 [s]."""
+
+    @abstractmethod
+    def stable_dt(self) -> float:
+        """h / max(c_p + |v|) [s]."""
+
+    @abstractmethod
+    def set_dt(self, dt: float, allow_unstable: bool = False) -> None:
+        """Set the time step [s]."""
+
+    @abstractmethod
+    def advance(self, steps: int, progress: Progress = None,
+                interval: int = 10) -> None:
+        """Take ``steps`` Improved Euler steps."""
+
+    @abstractmethod
+    def advance_until(self, t: float, progress: Progress = None,
+                      interval: int = 10) -> None:
+        """Advance to time ``t`` [s] exactly."""
+
+    @property
+    @abstractmethod
+    def dt(self) -> float:
+        """Time step [s]."""
+
+    @property
+    @abstractmethod
+    def time(self) -> float:
+        """Simulated time [s]."""
+
+    @property
+    @abstractmethod
+    def step(self) -> int:
+        """Steps taken."""
 
     def sync(self) -> None:
         """Nothing to do for backends that work on the scene's arrays."""

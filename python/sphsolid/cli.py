@@ -129,6 +129,10 @@ def _run_scene(args, scene, name: str) -> int:
     except KeyboardInterrupt as stop:
         interrupted = True
         print(f"\n{stop}", file=sys.stderr)
+        if traj is not None:
+            traj.flush()           # the state where it stopped
+        else:
+            frames.append(Frame.from_scene(scene, len(frames)))
     finally:
         if traj is not None:
             traj.close()
