@@ -180,6 +180,10 @@ SPH_API sph_status sph_set_kernel(sph_sim *sim, sph_kernel kernel);
 /* Smoothing length as a multiple of the first body's spacing (default 1.2). */
 SPH_API sph_status sph_set_smoothing_ratio(sph_sim *sim, double h_over_dx);
 SPH_API double sph_smoothing_length(const sph_sim *sim);
+/* Set the reference particle spacing (normally the first body's): h is
+ * h_over_dx times it, and the artificial stress normalises by W(dx).  For
+ * handles that evaluate rates of external particles and have no bodies. */
+SPH_API sph_status sph_set_spacing(sph_sim *sim, double dx);
 
 /* --------------------------------------------------------------- effects */
 
@@ -209,6 +213,9 @@ SPH_API double sph_default_dt(const sph_sim *sim);
 SPH_API sph_status sph_set_dt(sph_sim *sim, double dt, int allow_unstable);
 SPH_API double sph_dt(const sph_sim *sim);
 SPH_API double sph_time(const sph_sim *sim);
+/* Set the clock (time [s] and step count), e.g. when the state was advanced
+ * by another engine and is copied back into this handle. */
+SPH_API sph_status sph_set_time(sph_sim *sim, double t, long step);
 SPH_API long sph_step_count(const sph_sim *sim);
 
 /* Called every `interval` steps during sph_run*() (and after the last);
@@ -387,8 +394,9 @@ SPH_API sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *particl
  * dim + 1 + ncomp doubles per particle) and sets y* = y_n + dt f(y_n).
  * Stage 2 (correct): y_{n+1} = (y_n + y*)/2 + dt/2 f(y*), with
  * x_{n+1} = x* + dt/2 (v* - v_n).  `integrate_motion[i]` is 0 for
- * particles whose position and velocity are prescribed by the caller
- * (their density and stress still evolve). */
+ * particles whose velocity is prescribed: their velocity is left alone
+ * while their position still advances by dt v and their density and stress
+ * evolve (pass NULL to integrate all). */
 SPH_API sph_status sph_heun_predict(const sph_sim *sim, size_t n, double dt,
                             double *x, double *v, double *rho, double *S,
                             const sph_rates *rates,
@@ -399,6 +407,25 @@ SPH_API sph_status sph_heun_correct(const sph_sim *sim, size_t n, double dt,
                             const sph_rates *rates,
                             const unsigned char *integrate_motion,
                             const double *saved);
+
+/* Derived fields of external particles (n of them, material indices of
+ * sim): pressure P (n), full Cauchy stress sigma = -P I + S (n * ncomp) and
+ * von Mises stress (n).  Any output may be NULL. */
+SPH_API sph_status sph_derived_fields(const sph_sim *sim, size_t n,
+                                      const double *rho, const double *S,
+                                      const int *material, double *pressure,
+                                      double *stress, double *von_mises);
+
+/* Probe interpolation split for distributed particles: add the
+ * contributions of particles [0, n_local) to `sums`
+ * (SPH_PROBE_VALUES(dim) + 1 doubles, zeroed by the caller; add the sums of
+ * all ranks together), then turn the total into values with
+ * sph_probe_finish().  Gives the same values as sph_probe_sample(). */
+SPH_API sph_status sph_probe_accumulate(const sph_sim *sim,
+                                        const sph_particles *particles,
+                                        const double *point, double *sums);
+SPH_API sph_status sph_probe_finish(const sph_sim *sim, const double *sums,
+                                    double *values);
 
 #ifdef __cplusplus
 }

@@ -8,16 +8,19 @@
 #include "kernel.h"
 #include "sim.h"
 
-void probe_sample_point(sph_sim *sim, const double *point, double *values)
+/* Add the kernel-weighted contributions of particles [0, n) at `point`:
+ * sums = (sum w, sum w vm, sum w P, sum w S...), w = V_b W(p - r_b). */
+static void probe_accumulate(const sph_sim *sim, size_t n, const double *x,
+                             const double *rho, const double *S, const double *mass,
+                             const int *material_of, const double *point, double *sums)
 {
     const int dim = sim->dim, nc = sim->ncomp;
-    const int nvalues = 2 + nc;
     const double h = sim->h, support2 = 4.0 * h * h;
-    double sum_w = 0.0, vm = 0.0, P = 0.0, S[6] = {0};
-    for (size_t b = 0; b < sim->n; ++b) {
+    const double norm = kernel_sigma(sim->kernel, dim) / pow(h, dim);
+    for (size_t b = 0; b < n; ++b) {
         double r2 = 0.0;
         for (int i = 0; i < dim; ++i) {
-            double d = point[i] - sim->x[b * dim + i];
+            double d = point[i] - x[b * dim + i];
             if (sim->has_domain && sim->periodic[i]) {
                 const double L = sim->hi[i] - sim->lo[i];
                 if (d > 0.5 * L) d -= L;
@@ -27,24 +30,66 @@ void probe_sample_point(sph_sim *sim, const double *point, double *values)
         }
         if (r2 >= support2)
             continue;
-        const material *m = &sim->materials[sim->material_of[b]];
-        const double w = sim->mass[b] / sim->rho[b] * kernel_w(sim->kernel, sqrt(r2) / h);
-        const double *Sb = sim->S + b * nc;
-        sum_w += w;
-        vm += w * von_mises_stress(dim, Sb);
-        P += w * eos_pressure(m->c0_squared, sim->rho[b], m->rho0);
+        const material *m = &sim->materials[material_of[b]];
+        const double w = mass[b] / rho[b] * kernel_w(sim->kernel, sqrt(r2) / h) * norm;
+        const double *Sb = S + b * nc;
+        sums[0] += w;
+        sums[1] += w * von_mises_stress(dim, Sb);
+        sums[2] += w * eos_pressure(m->c0_squared, rho[b], m->rho0);
         for (int c = 0; c < nc; ++c)
-            S[c] += w * Sb[c];
+            sums[3 + c] += w * Sb[c];
     }
-    if (sum_w <= 0.0) {
-        for (int k = 0; k < nvalues; ++k)
+}
+
+/* Shepard normalisation of the sums; NAN where no particle is in range. */
+static void probe_finish(const sph_sim *sim, const double *sums, double *values)
+{
+    const int nc = sim->ncomp;
+    if (!(sums[0] > 0.0)) {
+        for (int k = 0; k < 2 + nc; ++k)
             values[k] = NAN;
         return;
     }
-    values[0] = vm / sum_w;
-    values[1] = P / sum_w;
+    values[0] = sums[1] / sums[0];
+    values[1] = sums[2] / sums[0];
     for (int c = 0; c < nc; ++c)
-        values[2 + c] = S[c] / sum_w - (c < 3 ? values[1] : 0.0);
+        values[2 + c] = sums[3 + c] / sums[0] - (c < 3 ? values[1] : 0.0);
+}
+
+void probe_sample_point(sph_sim *sim, const double *point, double *values)
+{
+    double sums[3 + 6] = {0};
+    probe_accumulate(sim, sim->n, sim->x, sim->rho, sim->S, sim->mass, sim->material_of, point, sums);
+    probe_finish(sim, sums, values);
+}
+
+sph_status sph_probe_accumulate(const sph_sim *sim, const sph_particles *p,
+                                const double *point, double *sums)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!p || !point || !sums)
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: particles, point and sums must not be NULL");
+    if (sim->h <= 0.0)
+        return sph_fail((sph_sim *)sim, SPH_ERR_STATE, "sph_probe_accumulate: the smoothing length is not set (sph_set_spacing)");
+    if (p->n_local > 0 && (!p->x || !p->rho || !p->S || !p->mass || !p->material))
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: a particle array is NULL");
+    for (size_t b = 0; b < p->n_local; ++b)
+        if (p->material[b] < 0 || p->material[b] >= sim->n_materials)
+            return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: particle %zu has material %d, but %d materials are defined",
+                            b, p->material[b], sim->n_materials);
+    probe_accumulate(sim, p->n_local, p->x, p->rho, p->S, p->mass, p->material, point, sums);
+    return SPH_OK;
+}
+
+sph_status sph_probe_finish(const sph_sim *sim, const double *sums, double *values)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!sums || !values)
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_probe_finish: sums and values must not be NULL");
+    probe_finish(sim, sums, values);
+    return SPH_OK;
 }
 
 sph_status sph_add_probe(sph_sim *sim, const char *name, const double *point, int *id)

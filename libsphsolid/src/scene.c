@@ -542,6 +542,47 @@ sph_status sph_set_smoothing_ratio(sph_sim *sim, double ratio)
 
 double sph_smoothing_length(const sph_sim *sim) { return sim ? sim->h : 0.0; }
 
+sph_status sph_set_spacing(sph_sim *sim, double dx)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!(dx > 0.0) || !isfinite(dx))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "spacing dx=%g: must be finite and > 0", dx);
+    sim->dx_ref = dx;
+    sim->h = sim->h_over_dx * dx;
+    sim->nl.valid = 0;
+    sim->rates_valid = 0;
+    if (!sim->dt_set)
+        sim->dt = 0.0;
+    return sph_ok(sim);
+}
+
+sph_status sph_derived_fields(const sph_sim *sim, size_t n, const double *rho,
+                              const double *S, const int *material_of,
+                              double *pressure, double *stress, double *von_mises)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (n > 0 && (!rho || !S || !material_of))
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_derived_fields: rho, S and material must not be NULL");
+    const int dim = sim->dim, nc = sim->ncomp;
+    for (size_t a = 0; a < n; ++a) {
+        if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
+            return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_derived_fields: particle %zu has material %d, but %d materials are defined",
+                            a, material_of[a], sim->n_materials);
+        const material *m = &sim->materials[material_of[a]];
+        const double P = eos_pressure(m->c0_squared, rho[a], m->rho0);
+        if (pressure)
+            pressure[a] = P;
+        if (stress)
+            for (int c = 0; c < nc; ++c)
+                stress[a * nc + c] = S[a * nc + c] - (c < 3 ? P : 0.0);
+        if (von_mises)
+            von_mises[a] = von_mises_stress(dim, S + a * nc);
+    }
+    return SPH_OK;
+}
+
 /* --------------------------------------------------------------- effects */
 
 sph_status sph_effect(sph_sim *sim, const char *name, const char *parameters)
@@ -627,6 +668,20 @@ double sph_dt(const sph_sim *sim)
 }
 double sph_time(const sph_sim *sim) { return sim ? sim->t : 0.0; }
 long sph_step_count(const sph_sim *sim) { return sim ? sim->step : 0; }
+
+sph_status sph_set_time(sph_sim *sim, double t, long step)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!isfinite(t) || t < 0.0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "time t=%g s: must be finite and >= 0", t);
+    if (step < 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "step=%ld: must be >= 0", step);
+    sim->t = t;
+    sim->step = step;
+    sim->rates_valid = 0;
+    return sph_ok(sim);
+}
 
 /* ---------------------------------------------------------------- fields */
 
