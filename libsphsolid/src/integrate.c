@@ -217,55 +217,66 @@ static sph_status evaluate(sph_sim *sim)
     return SPH_OK;
 }
 
+/* Per-body constants of a stage. */
+typedef struct body_stage {
+    int integrate;
+    double vmax2, rho_lo, rho_hi;   /* watchdog bounds */
+} body_stage;
+
 static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
 {
     const int dim = sim->dim, nc = sim->ncomp;
     const sph_rates r = {sim->dv_dt, sim->drho_dt, sim->dS_dt, sim->fx.xsph ? sim->dx_dt : NULL};
     const saved_state s = saved_layout(sim->saved, sim->n, dim, nc, sim->fx.xsph);
-    double max_moved = 0.0;
-    long first_bad = -1, first_wild = -1;
+    body_stage small[8], *bs = sim->n_bodies <= 8 ? small : malloc((size_t)sim->n_bodies * sizeof *bs);
+    if (!bs)
+        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %d body records", sim->n_bodies);
     for (int k = 0; k < sim->n_bodies; ++k) {
         const body *b = &sim->bodies[k];
-        const int integrate = body_integrates(b);
-        const long lo = (long)b->first, hi = (long)(b->first + b->count);
-        if (!corrector) {
-#pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
-            for (long a = lo; a < hi; ++a)
-                predict_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r, integrate, &s);
-            continue;
-        }
-        /* watchdog bounds of this body (0: off) */
         const material *m = &sim->materials[b->material];
-        const double vmax2 = integrate && sim->watch_speed > 0.0
-                                 ? (sim->watch_speed * m->c_p) * (sim->watch_speed * m->c_p)
-                                 : INFINITY;
-        const double rho_lo = sim->watch_rho_min * m->rho0;
-        const double rho_hi = sim->watch_rho_max > 0.0 ? sim->watch_rho_max * m->rho0 : INFINITY;
-        long bad = hi, wild = hi;
-        double moved_max = 0.0;
-#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild) reduction(max : moved_max)
-        for (long a = lo; a < hi; ++a) {
-            const double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r, integrate, &s);
+        bs[k].integrate = body_integrates(b);
+        bs[k].vmax2 = bs[k].integrate && sim->watch_speed > 0.0
+                          ? (sim->watch_speed * m->c_p) * (sim->watch_speed * m->c_p)
+                          : INFINITY;
+        bs[k].rho_lo = sim->watch_rho_min * m->rho0;
+        bs[k].rho_hi = sim->watch_rho_max > 0.0 ? sim->watch_rho_max * m->rho0 : INFINITY;
+    }
+    const long n = (long)sim->n;
+    const int *body_of = sim->body_of;
+    double max_moved = 0.0;
+    long first_bad = -1, first_wild = -1;
+    if (!corrector) {
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
+        for (long a = 0; a < n; ++a)
+            predict_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r,
+                             bs[body_of[a]].integrate, &s);
+    } else {
+        long bad = n, wild = n;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild) reduction(max : max_moved)
+        for (long a = 0; a < n; ++a) {
+            const body_stage *b = &bs[body_of[a]];
+            const double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r,
+                                              b->integrate, &s);
             if (isnan(d)) {
                 if (a < bad)
                     bad = a;
                 continue;
             }
-            if (d > moved_max)
-                moved_max = d;
+            if (d > max_moved)
+                max_moved = d;
             double v2 = 0.0;
             for (int i = 0; i < dim; ++i)
                 v2 += sim->v[a * dim + i] * sim->v[a * dim + i];
-            if ((v2 > vmax2 || sim->rho[a] < rho_lo || sim->rho[a] > rho_hi) && a < wild)
+            if ((v2 > b->vmax2 || sim->rho[a] < b->rho_lo || sim->rho[a] > b->rho_hi) && a < wild)
                 wild = a;
         }
-        if (bad < hi && first_bad < 0)
+        if (bad < n)
             first_bad = bad;
-        if (wild < hi && first_wild < 0)
+        if (wild < n)
             first_wild = wild;
-        if (moved_max > max_moved)
-            max_moved = moved_max;
     }
+    if (bs != small)
+        free(bs);
     *moved = max_moved;
     if (first_bad >= 0) {
         const size_t a = (size_t)first_bad;
