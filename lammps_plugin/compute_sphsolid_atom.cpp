@@ -5,7 +5,6 @@
 
 #include "fix_sphsolid_state.h"
 #include "pair_sphsolid.h"
-#include "sphsolid_scratch.h"
 
 #include "atom.h"
 #include "domain.h"
@@ -74,12 +73,8 @@ void ComputeSPHSolidAtom::compute_peratom()
 
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
-  for (int i = 0; i < nlocal; i++) {
-    if (quantity == STRESS)
-      for (int c = 0; c < ncomp; c++) columns[i][c] = 0.0;
-    else
-      values[i] = 0.0;
-  }
+  if (quantity == DENSITY)
+    for (int i = 0; i < nlocal; i++) values[i] = 0.0;
 
   FixSPHSolidState *state = pair->state();
   if (!state) error->all(FLERR, "compute {}: pair sphsolid has no per-atom state yet", style);
@@ -87,61 +82,35 @@ void ComputeSPHSolidAtom::compute_peratom()
   if (quantity == DENSITY) {
     for (int i = 0; i < nlocal; i++)
       if (mask[i] & groupbit) values[i] = state->rho[i];
-  } else if (quantity == VON_MISES) {
-    for (int i = 0; i < nlocal; i++)
-      if (mask[i] & groupbit) values[i] = sph_von_mises(dim, state->S[i]);
-  } else {
-    derived_field(quantity == PRESSURE ? SPH_FIELD_PRESSURE : SPH_FIELD_STRESS);
+    return;
   }
-}
 
-/* ----------------------------------------------------------------------
-   a field the library derives from (rho, S): one scratch handle per
-   material, so that particles of different materials never meet there
-------------------------------------------------------------------------- */
-
-void ComputeSPHSolidAtom::derived_field(int field)
-{
-  const int nlocal = atom->nlocal;
-  const int *mask = atom->mask;
+  // pressure, Cauchy stress or von Mises of every owned atom from the
+  // library, in place; atoms outside the group are zeroed afterwards
+  if ((int) material.size() < nmax) material.resize(nmax);
   const int *type = atom->type;
-  double **x = atom->x;
-  FixSPHSolidState *state = pair->state();
-
-  int nmaterials = 0;
-  for (int t = 1; t <= atom->ntypes; t++)
-    nmaterials = std::max(nmaterials, pair->material_of_type(t) + 1);
-
-  std::vector<int> atoms;
-  std::vector<double> out;
-  for (int m = 0; m < nmaterials; m++) {
-    atoms.clear();
-    for (int i = 0; i < nlocal; i++)
-      if ((mask[i] & groupbit) && pair->material_of_type(type[i]) == m) atoms.push_back(i);
-    if (atoms.empty()) continue;
-
-    SPHSolidScratch scratch(pair);
-    for (int i : atoms) scratch.add(m, x[i], pair->mass_of(i), state->rho[i], state->S[i]);
-    sph_status status = scratch.build();
-    if (status != SPH_OK)
-      error->one(FLERR, "compute {}: {} ({})", style, scratch.message(), sph_status_name(status));
-    const int cols = field == SPH_FIELD_STRESS ? ncomp : 1;
-    out.resize(scratch.size() * cols);
-    status = sph_field_copy(scratch.sim, (sph_field_id) field, out.data());
-    if (status != SPH_OK)
-      error->one(FLERR, "compute {}: {} ({})", style, sph_errmsg(scratch.sim),
-                 sph_status_name(status));
-    for (size_t k = 0; k < atoms.size(); k++) {
-      const size_t j = scratch.handle_index[k];
-      if (field == SPH_FIELD_STRESS)
-        for (int c = 0; c < ncomp; c++) columns[atoms[k]][c] = out[j * ncomp + c];
-      else
-        values[atoms[k]] = out[j];
-    }
+  for (int i = 0; i < nlocal; i++) material[i] = pair->material_of_type(type[i]);
+  const sph_status status =
+      sph_derived_fields(pair->handle(), nlocal, state->rho, state->S_data(), material.data(),
+                         quantity == PRESSURE ? values : nullptr,
+                         quantity == STRESS && nlocal > 0 ? columns[0] : nullptr,
+                         quantity == VON_MISES ? values : nullptr);
+  if (status != SPH_OK)
+    error->one(FLERR, "compute {}: {} ({})", style, sph_errmsg(pair->handle()),
+               sph_status_name(status));
+  for (int i = 0; i < nlocal; i++) {
+    if (mask[i] & groupbit) continue;
+    if (quantity == STRESS)
+      for (int c = 0; c < ncomp; c++) columns[i][c] = 0.0;
+    else
+      values[i] = 0.0;
   }
 }
+
+/* ---------------------------------------------------------------------- */
 
 double ComputeSPHSolidAtom::memory_usage()
 {
-  return (double) nmax * (quantity == STRESS ? ncomp : 1) * sizeof(double);
+  return (double) nmax * (quantity == STRESS ? ncomp : 1) * sizeof(double) +
+      (double) material.capacity() * sizeof(int);
 }

@@ -7,8 +7,8 @@
  *   sphsolid/vonmises/atom  von Mises stress sqrt(3/2 S:S) [Pa]
  *   sphsolid/stress/atom    full Cauchy stress sigma = -P I + S, columns
  *                           xx yy zz xy (2D) or xx yy zz xy xz yz (3D) [Pa]
- * Every value comes from the library (sph_von_mises, or a scratch handle's
- * derived fields).
+ * Pressure, stress and von Mises come from the library's
+ * sph_derived_fields() on the state arrays in place.
  */
 #ifdef COMPUTE_CLASS
 // clang-format off
@@ -23,6 +23,8 @@ ComputeStyle(sphsolid/stress/atom,ComputeSPHSolidAtom);
 #define SPHSOLID_COMPUTE_SPHSOLID_ATOM_H
 
 #include "compute.h"
+
+#include <vector>
 
 namespace LAMMPS_NS {
 
@@ -43,8 +45,7 @@ class ComputeSPHSolidAtom : public Compute {
   PairSPHSolid *pair;
   double *values;      // per-atom vector
   double **columns;    // per-atom array (stress)
-
-  void derived_field(int field);
+  std::vector<int> material;    // library material of each owned atom
 };
 
 }    // namespace LAMMPS_NS

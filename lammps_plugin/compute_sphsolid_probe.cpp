@@ -5,7 +5,6 @@
 
 #include "fix_sphsolid_state.h"
 #include "pair_sphsolid.h"
-#include "sphsolid_scratch.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -14,8 +13,6 @@
 #include "force.h"
 #include "update.h"
 
-#include <algorithm>
-#include <numeric>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -58,14 +55,18 @@ void ComputeSPHSolidProbe::compute_vector()
   FixSPHSolidState *state = pair->state();
   if (!state) error->all(FLERR, "compute sphsolid/probe: pair sphsolid has no per-atom state yet");
 
-  // owned atoms of the group within the kernel support of the point, as
-  // records: tag, material, mass, rho, position (nearest image), S
-  const int record = 4 + dim + ncomp;
+  // owned atoms of the group within the kernel support of the point, at
+  // their nearest image of it, packed in the library's layout
   const double reach = pair->kernel_support() * (1.0 + 1.0e-9);
   const int nlocal = atom->nlocal;
   double **x = atom->x;
   const int *mask = atom->mask;
-  std::vector<double> mine;
+  const int *type = atom->type;
+  positions.clear();
+  rho.clear();
+  S.clear();
+  mass.clear();
+  material.clear();
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     double delta[3] = {x[i][0] - point[0], x[i][1] - point[1], x[i][2] - point[2]};
@@ -74,45 +75,30 @@ void ComputeSPHSolidProbe::compute_vector()
     double r2 = 0.0;
     for (int d = 0; d < dim; d++) r2 += delta[d] * delta[d];
     if (r2 > reach * reach) continue;
-    mine.push_back((double) atom->tag[i]);
-    mine.push_back((double) pair->material_of_type(atom->type[i]));
-    mine.push_back(pair->mass_of(i));
-    mine.push_back(state->rho[i]);
-    for (int d = 0; d < dim; d++) mine.push_back(point[d] + delta[d]);
-    for (int c = 0; c < ncomp; c++) mine.push_back(state->S[i][c]);
+    for (int d = 0; d < dim; d++) positions.push_back(point[d] + delta[d]);
+    rho.push_back(state->rho[i]);
+    S.insert(S.end(), state->S[i], state->S[i] + ncomp);
+    mass.push_back(pair->mass_of(i));
+    material.push_back(pair->material_of_type(type[i]));
   }
 
-  const int nprocs = comm->nprocs;
-  int count = (int) mine.size();
-  std::vector<int> counts(nprocs), displs(nprocs);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
-  int total = 0;
-  for (int p = 0; p < nprocs; p++) {
-    displs[p] = total;
-    total += counts[p];
-  }
-  std::vector<double> all(std::max(total, 1));
-  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-                 MPI_DOUBLE, world);
-
-  const int n = total / record;
-  std::vector<int> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(),
-            [&](int a, int b) { return all[(size_t) a * record] < all[(size_t) b * record]; });
-
-  SPHSolidScratch scratch(pair);
-  for (int k : order) {
-    const double *r = &all[(size_t) k * record];
-    scratch.add((int) r[1], r + 4, r[2], r[3], r + 4 + dim);
-  }
-  sph_status status = scratch.build();
-  int probe = 0;
-  if (status == SPH_OK) status = sph_add_probe(scratch.sim, id, point, &probe);
-  if (status == SPH_OK) status = sph_probe_sample(scratch.sim, probe, vector);
+  // this rank's kernel-weighted sums, summed over the ranks, normalised
+  sph_particles particles;
+  particles.n_local = particles.n_total = rho.size();
+  particles.x = positions.data();
+  particles.v = nullptr;
+  particles.rho = rho.data();
+  particles.S = S.data();
+  particles.mass = mass.data();
+  particles.material = material.data();
+  std::vector<double> sums(SPH_PROBE_VALUES(dim) + 1, 0.0), total(sums.size(), 0.0);
+  sph_status status = sph_probe_accumulate(pair->handle(), &particles, point, sums.data());
   if (status != SPH_OK)
-    error->all(FLERR, "compute sphsolid/probe {} at ({}, {}, {}) at step {}: {} ({})", id,
-               point[0], point[1], point[2], update->ntimestep,
-               scratch.message().empty() ? sph_errmsg(scratch.sim) : scratch.message(),
-               sph_status_name(status));
+    error->one(FLERR, "compute sphsolid/probe {} at step {}: {} ({})", id, update->ntimestep,
+               sph_errmsg(pair->handle()), sph_status_name(status));
+  MPI_Allreduce(sums.data(), total.data(), (int) sums.size(), MPI_DOUBLE, MPI_SUM, world);
+  status = sph_probe_finish(pair->handle(), total.data(), vector);
+  if (status != SPH_OK)
+    error->all(FLERR, "compute sphsolid/probe {} at step {}: {} ({})", id, update->ntimestep,
+               sph_errmsg(pair->handle()), sph_status_name(status));
 }

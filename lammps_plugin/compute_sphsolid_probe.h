@@ -6,10 +6,12 @@
  * A global vector of SPH_PROBE_VALUES(dim) values at the fixed point
  * (x, y[, z]): von Mises stress, pressure, then the full Cauchy stress
  * (xx yy zz xy, or xx yy zz xy xz yz), each a Shepard-normalised kernel
- * interpolation over the atoms of the group, computed by the library's
- * sph_probe_sample() on the atoms within the kernel support of the point
- * gathered from all MPI ranks (ordered by atom ID, so the value does not
- * depend on the number of ranks).
+ * interpolation over the atoms of the group: each rank adds up its owned
+ * atoms within the kernel support of the point (the library's
+ * sph_probe_accumulate()), the sums are added over the ranks
+ * (MPI_Allreduce) and the library normalises them (sph_probe_finish()).
+ * The values depend on the number of ranks only through the order of
+ * that sum (round-off).
  */
 #ifdef COMPUTE_CLASS
 // clang-format off
@@ -21,6 +23,8 @@ ComputeStyle(sphsolid/probe,ComputeSPHSolidProbe);
 #define SPHSOLID_COMPUTE_SPHSOLID_PROBE_H
 
 #include "compute.h"
+
+#include <vector>
 
 namespace LAMMPS_NS {
 
@@ -37,6 +41,9 @@ class ComputeSPHSolidProbe : public Compute {
   int dim, ncomp;
   double point[3];
   PairSPHSolid *pair;
+  // the owned atoms near the point, in the library's layout
+  std::vector<double> positions, rho, S, mass;
+  std::vector<int> material;
 };
 
 }    // namespace LAMMPS_NS

@@ -20,6 +20,7 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cstring>
 #include <map>
 #include <set>
@@ -151,7 +152,7 @@ void PairSPHSolid::settings(int narg, char **arg)
   }
 
   // let the library validate the effects and parameters now, not at run time
-  sph_sim *check = build_handle(true, true);
+  sph_sim *check = build_handle(true);
   support = 2.0 * sph_smoothing_length(check);
   sph_destroy(check);
 }
@@ -236,7 +237,7 @@ void PairSPHSolid::coeff(int narg, char **arg)
 
 /* ---------------------------------------------------------------------- */
 
-sph_sim *PairSPHSolid::build_handle(bool with_effects, bool reference_bodies)
+sph_sim *PairSPHSolid::build_handle(bool with_effects)
 {
   sph_sim *s = nullptr;
   sph_status status = sph_create(dim, &s);
@@ -282,26 +283,10 @@ sph_sim *PairSPHSolid::build_handle(bool with_effects, bool reference_bodies)
     type_material[t] = index;
   }
 
-  if (reference_bodies) {
-    // The library's smoothing length is h_over_dx times the first body's
-    // spacing; a handle that only evaluates rates on LAMMPS's arrays gets
-    // it from single-particle bodies of spacing dx placed far from the
-    // scene (they never enter sph_rates_evaluate).  One per material so
-    // that sph_default_dt() sees every material's sound speed.
-    const int nmat = distinct.empty() ? 0 : (int) distinct.size();
-    if (nmat == 0) {
-      int index = 0;
-      status = sph_add_material_K_mu(s, 1.0, 0.0, 1.0, &index);
-      if (status != SPH_OK) fail(s, status, "placeholder material", true);
-    }
-    for (int k = 0; k < (nmat ? nmat : 1); k++) {
-      double position[3] = {1.0e6 + 10.0 * k * spacing, 1.0e6, dim == 3 ? 1.0e6 : 0.0};
-      int body = 0;
-      status = sph_add_particles(s, fmt::format("lammps_spacing_{}", k).c_str(), k, 1, position,
-                                 nullptr, spacing, &body);
-      if (status != SPH_OK) fail(s, status, "particle spacing dx", true);
-    }
-  }
+  // h = h_over_dx * dx, and the artificial stress's W(dx), from the
+  // pair_style spacing: this handle never holds particles of its own
+  status = sph_set_spacing(s, spacing);
+  if (status != SPH_OK) fail(s, status, "particle spacing dx", true);
   return s;
 }
 
@@ -321,7 +306,19 @@ double PairSPHSolid::default_timestep()
   if (!allocated) return 0.0;
   for (int t = 1; t <= atom->ntypes; t++)
     if (!setflag[t][t]) return 0.0;
-  sph_sim *s = build_handle(false, true);
+  // sph_default_dt() takes max c0 over the bodies of a handle (0 without
+  // bodies), so this short-lived handle holds one resting particle per
+  // material; it is destroyed at once and never evaluates rates.
+  sph_sim *s = build_handle(false);
+  int nmaterials = 0;
+  for (int t = 1; t <= atom->ntypes; t++) nmaterials = std::max(nmaterials, type_material[t] + 1);
+  for (int m = 0; m < nmaterials; m++) {
+    const double position[3] = {10.0 * m * spacing, 0.0, 0.0};
+    int body = 0;
+    const sph_status status = sph_add_particles(s, fmt::format("material_{}", m).c_str(), m, 1,
+                                                position, nullptr, spacing, &body);
+    if (status != SPH_OK) fail(s, status, "default time step", true);
+  }
   const double dt = sph_default_dt(s);
   sph_destroy(s);
   return dt;
@@ -346,7 +343,7 @@ void PairSPHSolid::init_style()
 
   if (sim) sph_destroy(sim);
   sim = nullptr;
-  sim = build_handle(true, true);
+  sim = build_handle(true);
   support = 2.0 * sph_smoothing_length(sim);
 
   state_fix = dynamic_cast<FixSPHSolidState *>(modify->get_fix_by_id(STATE_FIX_ID));

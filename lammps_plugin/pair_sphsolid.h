@@ -58,13 +58,12 @@ class PairSPHSolid : public Pair {
   void evaluate_rates();
 
   /* A new library handle configured from pair_style and pair_coeff:
-   * kernel, smoothing ratio, effects (if with_effects) and one material per
-   * distinct pair_coeff (material index = material_of_type()).  With
-   * reference_bodies, one single-particle body of spacing dx per material,
-   * far from everything, fixes the smoothing length (the library defines h
-   * relative to the first body's spacing).  The caller owns the handle.
-   * On a library error this raises a LAMMPS error naming the problem. */
-  sph_sim *build_handle(bool with_effects, bool reference_bodies);
+   * kernel, smoothing ratio, spacing dx (sph_set_spacing: the handle holds
+   * no bodies), effects (if with_effects) and one material per distinct
+   * pair_coeff (material index = material_of_type()).  The caller owns the
+   * handle.  On a library error this raises a LAMMPS error naming the
+   * problem. */
+  sph_sim *build_handle(bool with_effects);
 
   sph_sim *handle() const { return sim; }
   FixSPHSolidState *state() const { return state_fix; }

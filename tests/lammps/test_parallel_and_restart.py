@@ -26,10 +26,16 @@ def test_two_ranks_reproduce_serial_probe_histories(tmp_path, plugin):
     assert "2 by 1 by 1 MPI processor grid" in log or "1 by 2 by 1 MPI processor grid" in log
     a, b = read_probes(serial / "p.txt"), read_probes(parallel / "p.txt")
     assert a.shape == b.shape and len(a) == 20
-    # the probes gather their atoms by ID, so only the force sums' order
-    # could differ; allow round-off relative to each column's peak
-    scale = np.abs(a[:, 2:]).max(axis=0) + 1e-30
-    assert (np.abs(a[:, 2:] - b[:, 2:]) / scale).max() < 1e-12
+    # Only the order of sums differs between 1 and 2 ranks (force sums over
+    # neighbours, probe sums added over the ranks), so the histories agree
+    # to round-off relative to each probe's peak over its six values (a
+    # column that is zero by symmetry, sigma_xy on the axis, carries only
+    # round-off of that peak).  A missing ghost or stale state shows at 1e-3.
+    for p in range(3):
+        cols = slice(2 + 6 * p, 8 + 6 * p)
+        peak = np.abs(a[:, cols]).max()
+        assert peak > 0.0
+        assert np.abs(a[:, cols] - b[:, cols]).max() / peak < 1e-12
 
 
 SPINNING_BLOCK = textwrap.dedent("""\
