@@ -42,8 +42,11 @@ static inline double viscosity_pair(double alpha, double beta, double h,
 {
     if (v_dot_r >= 0.0)
         return 0.0;
-    const double mu = h * v_dot_r / (r2 + 0.01 * h * h);
-    return (-alpha * c_mean * mu + beta * mu * mu) / rho_mean;
+    /* one division: with d = r^2 + 0.01 h^2, mu = h v.r / d and
+     * Pi = mu (-alpha c + beta mu) / rho = h v.r (-alpha c d + beta h v.r) / (d^2 rho) */
+    const double d = r2 + 0.01 * h * h;
+    const double hvr = h * v_dot_r;
+    return hvr * (beta * hvr - alpha * c_mean * d) / (d * d * rho_mean);
 }
 
 /* Gray et al. (2001) eq. (22): the pair factor f_ab^n, f_ab = W_ab/W(dx). */

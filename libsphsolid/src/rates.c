@@ -163,10 +163,16 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
     }
 
     e->drho_dt[a] = drho;
+    /* L stays in registers through the pair loop only if its address never
+     * escapes: the out-of-line correction works on a copy. */
+    double grad_v[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            grad_v[i][j] = L[i][j];
     if (e->M)
-        correct_velocity_gradient(dim, e->M + a * (size_t)nsym, L);
+        correct_velocity_gradient(dim, e->M + a * (size_t)nsym, grad_v);
     const int ncomp = dim == 2 ? 4 : 6;
-    jaumann_stress_rate(dim, e->materials[e->material_of[a]].mu, L,
+    jaumann_stress_rate(dim, e->materials[e->material_of[a]].mu, grad_v,
                         e->S + a * (size_t)ncomp, e->dS_dt + a * (size_t)ncomp);
     for (int i = 0; i < dim; ++i)
         e->dv_dt[a * (size_t)dim + i] = dv[i];
