@@ -22,6 +22,18 @@ cmake --build build-asan -j"$(nproc)" >/dev/null
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan --output-on-failure
 
+echo "== installed library: find_package(sphsolid) and pkg-config"
+rm -rf build/install-test
+cmake --install build --prefix build/install-test/prefix >/dev/null
+cmake -S tests/install -B build/install-test/consumer -DCMAKE_PREFIX_PATH="$PWD/build/install-test/prefix" >/dev/null
+cmake --build build/install-test/consumer >/dev/null
+LD_LIBRARY_PATH="$PWD/build/install-test/prefix/lib" build/install-test/consumer/consumer_shared
+build/install-test/consumer/consumer_static
+export PKG_CONFIG_PATH="$PWD/build/install-test/prefix/lib/pkgconfig"
+cc tests/install/consumer.c $(pkg-config --cflags --libs sphsolid) -o build/install-test/consumer_pc
+LD_LIBRARY_PATH="$PWD/build/install-test/prefix/lib" build/install-test/consumer_pc
+unset PKG_CONFIG_PATH
+
 echo "== C library without OpenMP and HDF5"
 cmake -S . -B build-plain -DSPHSOLID_OPENMP=OFF -DSPHSOLID_HDF5=OFF \
     -DSPHSOLID_LAMMPS_PLUGIN=OFF -DSPHSOLID_BENCH=OFF >/dev/null
