@@ -162,7 +162,8 @@ int main(int argc, char **argv)
                 vals[0][0], vals[1][0], vals[2][0], vals[0][3], vals[1][3], vals[2][3]);
         (void)nv;
         const long chunk = steps - done < probe_every ? steps - done : probe_every;
-        if ((st = sph_run(sim, chunk))) {
+        const double t_next = done + chunk >= steps ? t_end : (double)(done + chunk) * dt;
+        if ((st = sph_run_until(sim, t_next))) {
             fclose(f);
             if (have_output)
                 sph_output_snapshot(sim);
