@@ -58,6 +58,19 @@ int sim_threads(const sph_sim *sim)
 #endif
 }
 
+/* This thread's contiguous block of [0, n). */
+static void thread_block(long n, long *begin, long *end)
+{
+#ifdef _OPENMP
+    const long t = omp_get_thread_num(), nt = omp_get_num_threads();
+#else
+    const long t = 0, nt = 1;
+#endif
+    const long base = n / nt, extra = n % nt;
+    *begin = t * base + (t < extra ? t : extra);
+    *end = *begin + base + (t < extra ? 1 : 0);
+}
+
 static inline void neighbours_of(const engine *e, size_t a, const int **list,
                                  int *count)
 {
@@ -178,15 +191,32 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
         e->dv_dt[a * (size_t)dim + i] = dv[i];
 }
 
-/* One function per variant of the pair loop. */
+/* One function per variant of the pair loop.  Each thread takes one
+ * contiguous block of particles (the same split as schedule(static)); the
+ * block loop is compiled for AVX2+FMA as well as the baseline and picked at
+ * load time where the CPU has it. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(SPHSOLID_NO_CLONES)
+#define RATE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define RATE_CLONES
+#endif
 #define RATE_VARIANT(DIM, KERNEL, PERIODIC, VISC, STRESS)                     \
+    RATE_CLONES static void block_##DIM##_##KERNEL##_##PERIODIC##_##VISC##_##STRESS( \
+        const engine *e, long begin, long end)                                 \
+    {                                                                          \
+        for (long a = begin; a < end; ++a)                                     \
+            particle_rates(e, (size_t)a, DIM, KERNEL, PERIODIC, VISC, STRESS); \
+    }                                                                          \
     static void rates_##DIM##_##KERNEL##_##PERIODIC##_##VISC##_##STRESS(       \
         const engine *e)                                                       \
     {                                                                          \
         const long n = (long)e->n_local;                                       \
-        _Pragma("omp parallel for schedule(static) num_threads(e->threads)")   \
-        for (long a = 0; a < n; ++a)                                           \
-            particle_rates(e, (size_t)a, DIM, KERNEL, PERIODIC, VISC, STRESS); \
+        _Pragma("omp parallel num_threads(e->threads)")                        \
+        {                                                                      \
+            long begin, end;                                                   \
+            thread_block(n, &begin, &end);                                     \
+            block_##DIM##_##KERNEL##_##PERIODIC##_##VISC##_##STRESS(e, begin, end); \
+        }                                                                      \
     }
 #define RATE_VARIANTS_STRESS(DIM, KERNEL, PERIODIC, VISC)                      \
     RATE_VARIANT(DIM, KERNEL, PERIODIC, VISC, 0)                               \
