@@ -182,12 +182,14 @@ class CLibrary(Calculator):
                                          c_callback, None), "progress")
         try:
             status = run()
+            if not errors:
+                # before the reset below, which clears the library's message
+                self._check(status, "run")
         finally:
             lib.sph_set_progress(self._handle, 0,
                                  ctypes.cast(None, _lib.PROGRESS_FN), None)
         if errors:
             raise errors[0]
-        self._check(status, "run")
 
     def advance(self, steps: int, progress: Progress = None,
                 interval: int = 10) -> None:
