@@ -27,7 +27,8 @@ using namespace FixConst;
 /* ---------------------------------------------------------------------- */
 
 FixSPHSolidHeun::FixSPHSolidHeun(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), pair(nullptr), timestep_from_library(false)
+    Fix(lmp, narg, arg), pair(nullptr), timestep_from_library(false), stage_atoms(-1),
+    stage_in_rows(false)
 {
   if (narg != 3)
     error->all(FLERR, "fix sphsolid/heun takes no arguments after the style name, got '{}'",
@@ -56,7 +57,7 @@ FixSPHSolidHeun::FixSPHSolidHeun(LAMMPS *lmp, int narg, char **arg) :
 
 int FixSPHSolidHeun::setmask()
 {
-  return INITIAL_INTEGRATE | FINAL_INTEGRATE;
+  return INITIAL_INTEGRATE | PRE_EXCHANGE | FINAL_INTEGRATE;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -163,17 +164,53 @@ void FixSPHSolidHeun::initial_integrate(int /*vflag*/)
                sph_errmsg(pair->handle()), sph_status_name(status));
   unpack();
 
-  // The library keeps y_n in blocks (all v, all rho, all S, ...); atoms may
-  // change rank before the corrector, so each atom's y_n goes to its row.
-  const size_t n = nlocal;
-  for (size_t i = 0; i < n; i++) {
-    int c = 0;
-    size_t offset = 0;
-    for (int block : {pair->dimension(), 1, pair->stress_components(),
-                      nsaved - pair->dimension() - 1 - pair->stress_components()}) {
-      for (int k = 0; k < block; k++) state->saved[i][c++] = stage[offset + i * block + k];
-      offset += n * block;
+  // y_n stays in the library's block layout in `stage` unless atoms move
+  // or are reordered before the corrector (pre_exchange).
+  stage_atoms = nlocal;
+  stage_in_rows = false;
+}
+
+/* ----------------------------------------------------------------------
+   Verlet calls this only on steps that re-neighbour, before atoms migrate
+   between ranks or are sorted: each atom's y_n goes to its row of the
+   state fix, which travels with the atom.
+------------------------------------------------------------------------- */
+
+void FixSPHSolidHeun::pre_exchange()
+{
+  if (stage_atoms < 0 || stage_in_rows) return;
+  if (atom->nlocal != stage_atoms)
+    error->one(FLERR, "fix sphsolid/heun: {} atoms before re-neighbouring, {} after the predictor "
+                      "(atoms deleted or created inside a step are not supported)",
+               atom->nlocal, stage_atoms);
+  copy_stage(true);
+  stage_in_rows = true;
+}
+
+/* blocks of `stage` (all v, all rho, all S[, all dx/dt]) <-> per-atom rows
+   of the state fix's `saved`, for the stage_atoms owned atoms */
+void FixSPHSolidHeun::copy_stage(bool to_rows)
+{
+  const int dim = pair->dimension(), ncomp = pair->stress_components();
+  const int nsaved = saved_values();
+  FixSPHSolidState *state = pair->state();
+  const size_t n = stage_atoms;
+  const int blocks[4] = {dim, 1, ncomp, nsaved - dim - 1 - ncomp};
+  size_t offset = 0;
+  int column = 0;
+  for (int block : blocks) {
+    for (size_t i = 0; i < n; i++) {
+      double *row = state->saved[i] + column;
+      double *packed = &stage[offset + i * block];
+      for (int k = 0; k < block; k++) {
+        if (to_rows)
+          row[k] = packed[k];
+        else
+          packed[k] = row[k];
+      }
     }
+    offset += n * block;
+    column += block;
   }
 }
 
@@ -188,18 +225,19 @@ void FixSPHSolidHeun::final_integrate()
   const int nsaved = saved_values();
   stage.resize((size_t) std::max(nlocal, 1) * nsaved);
 
-  FixSPHSolidState *state = pair->state();
-  const size_t n = nlocal;
-  for (size_t i = 0; i < n; i++) {
-    int c = 0;
-    size_t offset = 0;
-    for (int block :
-         {dim, 1, pair->stress_components(), nsaved - dim - 1 - pair->stress_components()}) {
-      for (int k = 0; k < block; k++) stage[offset + i * block + k] = state->saved[i][c++];
-      offset += n * block;
-    }
+  if (stage_atoms < 0)
+    error->one(FLERR, "fix sphsolid/heun: corrector at step {} without a predictor",
+               update->ntimestep);
+  if (stage_in_rows) {
+    // atoms were exchanged or sorted since the predictor: gather the rows
+    stage_atoms = nlocal;
+    copy_stage(false);
+  } else if (stage_atoms != nlocal) {
+    error->one(FLERR, "fix sphsolid/heun: {} atoms at the predictor, {} at the corrector",
+               stage_atoms, nlocal);
   }
 
+  FixSPHSolidState *state = pair->state();
   const sph_status status =
       sph_heun_correct(pair->handle(), nlocal, update->dt, xbuf.data(), vbuf.data(), state->rho,
                        state->S_data(), &rates, integrate_motion.data(), stage.data());
@@ -211,7 +249,7 @@ void FixSPHSolidHeun::final_integrate()
     error->one(FLERR, "fix sphsolid/heun: corrector at step {}: {} ({})", update->ntimestep,
                sph_errmsg(pair->handle()), sph_status_name(status));
   unpack();
-  check_finite();
+  stage_atoms = -1;
 
   // The first rate evaluation of the next step, at y_{n+1}.  Forces from
   // other fixes (gravity) are kept as they were added to f(y*): they do not

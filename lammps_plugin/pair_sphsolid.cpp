@@ -34,7 +34,8 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
     Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), kernel(-1), xsph(false),
-    sim(nullptr), state_fix(nullptr), nmax_scratch(0), nrates(-1)
+    sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0),
+    nrates(-1)
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -340,6 +341,7 @@ void PairSPHSolid::init_style()
   if (!atom->tag_enable) error->all(FLERR, "pair sphsolid needs atom IDs (atom_modify id yes)");
 
   neighbor->add_request(this, NeighConst::REQ_FULL);
+  cached_build = -1;    // materials of the types may have changed
 
   if (sim) sph_destroy(sim);
   sim = nullptr;
@@ -405,11 +407,6 @@ double PairSPHSolid::init_one(int i, int j)
 
 /* ---------------------------------------------------------------------- */
 
-double PairSPHSolid::mass_of(int i) const
-{
-  return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
-}
-
 /* ---------------------------------------------------------------------- */
 
 void PairSPHSolid::grow_scratch()
@@ -430,6 +427,44 @@ void PairSPHSolid::grow_scratch()
   rate_drho.resize(n);
   rate_dS.resize(n * ncomp);
   if (xsph) rate_dx.resize(n * dim);
+}
+
+/* ----------------------------------------------------------------------
+   LAMMPS's full list as one pointer and count per owned atom
+------------------------------------------------------------------------- */
+
+void PairSPHSolid::list_pointers()
+{
+  const int nlocal = atom->nlocal;
+  // LAMMPS's full list, one pointer and count per owned atom
+  for (int i = 0; i < nlocal; i++) {
+    neighbour_lists[i] = nullptr;
+    neighbour_counts[i] = 0;
+  }
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  if (atom->molecular == Atom::ATOMIC) {
+    for (int ii = 0; ii < inum; ii++) {
+      const int i = ilist[ii];
+      neighbour_lists[i] = list->firstneigh[i];
+      neighbour_counts[i] = list->numneigh[i];
+    }
+  } else {
+    // special-bond bits sit in the top of the indices: strip them
+    size_t total = 0;
+    for (int ii = 0; ii < inum; ii++) total += list->numneigh[ilist[ii]];
+    masked_indices.resize(total);
+    size_t offset = 0;
+    for (int ii = 0; ii < inum; ii++) {
+      const int i = ilist[ii];
+      const int *jlist = list->firstneigh[i];
+      for (int jj = 0; jj < list->numneigh[i]; jj++)
+        masked_indices[offset + jj] = jlist[jj] & NEIGHMASK;
+      neighbour_lists[i] = masked_indices.data() + offset;
+      neighbour_counts[i] = list->numneigh[i];
+      offset += list->numneigh[i];
+    }
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -462,43 +497,19 @@ void PairSPHSolid::evaluate_rates()
     vp = vbuf.data();
   }
 
-  const double *mp = atom->rmass;
+  // masses, materials and the neighbour pointers change only with a new
+  // neighbour list (LAMMPS moves and sorts atoms only when it re-neighbours)
+  const double *rmass = atom->rmass;
   const int *type = atom->type;
-  if (!mp) {
-    for (int i = 0; i < nall; i++) massbuf[i] = atom->mass[type[i]];
-    mp = massbuf.data();
+  if (neighbor->ncalls != cached_build || nall != cached_nall) {
+    if (!rmass)
+      for (int i = 0; i < nall; i++) massbuf[i] = atom->mass[type[i]];
+    for (int i = 0; i < nall; i++) materialbuf[i] = type_material[type[i]];
+    list_pointers();
+    cached_build = neighbor->ncalls;
+    cached_nall = nall;
   }
-  for (int i = 0; i < nall; i++) materialbuf[i] = type_material[type[i]];
-
-  // LAMMPS's full list, one pointer and count per owned atom
-  for (int i = 0; i < nlocal; i++) {
-    neighbour_lists[i] = nullptr;
-    neighbour_counts[i] = 0;
-  }
-  const int inum = list->inum;
-  const int *ilist = list->ilist;
-  if (atom->molecular == Atom::ATOMIC) {
-    for (int ii = 0; ii < inum; ii++) {
-      const int i = ilist[ii];
-      neighbour_lists[i] = list->firstneigh[i];
-      neighbour_counts[i] = list->numneigh[i];
-    }
-  } else {
-    // special-bond bits sit in the top of the indices: strip them
-    size_t total = 0;
-    for (int ii = 0; ii < inum; ii++) total += list->numneigh[ilist[ii]];
-    masked_indices.resize(total);
-    size_t offset = 0;
-    for (int ii = 0; ii < inum; ii++) {
-      const int i = ilist[ii];
-      const int *jlist = list->firstneigh[i];
-      for (int jj = 0; jj < list->numneigh[i]; jj++)
-        masked_indices[offset + jj] = jlist[jj] & NEIGHMASK;
-      neighbour_lists[i] = masked_indices.data() + offset;
-      neighbour_counts[i] = list->numneigh[i];
-      offset += list->numneigh[i];
-    }
-  }
+  const double *mp = rmass ? rmass : massbuf.data();
 
   sph_particles particles;
   particles.n_local = nlocal;

@@ -17,6 +17,7 @@ PairStyle(sphsolid,PairSPHSolid);
 #ifndef SPHSOLID_PAIR_SPHSOLID_H
 #define SPHSOLID_PAIR_SPHSOLID_H
 
+#include "atom.h"
 #include "pair.h"
 
 #include "sphsolid.h"
@@ -72,7 +73,7 @@ class PairSPHSolid : public Pair {
   int material_of_type(int type) const { return type_material[type]; }
   double particle_spacing() const { return spacing; }
   double kernel_support() const { return support; }
-  double mass_of(int i) const;
+  double mass_of(int i) const { return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]]; }
   /* Library default time step 0.5 h / c0 for the current coefficients,
    * or 0 if some atom type has no material yet. */
   double default_timestep();
@@ -98,6 +99,12 @@ class PairSPHSolid : public Pair {
   sph_sim *sim;    // configured in init_style()
   FixSPHSolidState *state_fix;
 
+  // per-atom data that changes only when LAMMPS re-neighbours (atoms
+  // migrate or are sorted then): masses, materials and the neighbour
+  // pointers are rebuilt when the neighbour list was rebuilt
+  bigint cached_build;    // neighbor->ncalls at the last rebuild of the cache
+  int cached_nall;
+
   // scratch sized to atom->nmax
   int nmax_scratch;
   int nrates;
@@ -110,6 +117,7 @@ class PairSPHSolid : public Pair {
 
   void allocate();
   void grow_scratch();
+  void list_pointers();
   void fail(sph_sim *, sph_status, const std::string &what, bool destroy);
   void initialise_state();
 };
