@@ -421,8 +421,6 @@ void PairSPHSolid::grow_scratch()
   }
   massbuf.resize(n);
   materialbuf.resize(n);
-  neighbour_lists.resize(n);
-  neighbour_counts.resize(n);
   rate_dv.resize(n * dim);
   rate_drho.resize(n);
   rate_dS.resize(n * ncomp);
@@ -430,40 +428,30 @@ void PairSPHSolid::grow_scratch()
 }
 
 /* ----------------------------------------------------------------------
-   LAMMPS's full list as one pointer and count per owned atom
+   LAMMPS's full list as CSR rows sorted by index, as the library's own
+   list is: neighbour data are then read in memory order, and the pair sums
+   run in the same order as in the standalone library.  Special-bond bits
+   in the top of the indices are stripped.  Only on a new list.
 ------------------------------------------------------------------------- */
 
-void PairSPHSolid::list_pointers()
+void PairSPHSolid::convert_list()
 {
   const int nlocal = atom->nlocal;
-  // LAMMPS's full list, one pointer and count per owned atom
-  for (int i = 0; i < nlocal; i++) {
-    neighbour_lists[i] = nullptr;
-    neighbour_counts[i] = 0;
-  }
   const int inum = list->inum;
   const int *ilist = list->ilist;
-  if (atom->molecular == Atom::ATOMIC) {
-    for (int ii = 0; ii < inum; ii++) {
-      const int i = ilist[ii];
-      neighbour_lists[i] = list->firstneigh[i];
-      neighbour_counts[i] = list->numneigh[i];
-    }
-  } else {
-    // special-bond bits sit in the top of the indices: strip them
-    size_t total = 0;
-    for (int ii = 0; ii < inum; ii++) total += list->numneigh[ilist[ii]];
-    masked_indices.resize(total);
-    size_t offset = 0;
-    for (int ii = 0; ii < inum; ii++) {
-      const int i = ilist[ii];
-      const int *jlist = list->firstneigh[i];
-      for (int jj = 0; jj < list->numneigh[i]; jj++)
-        masked_indices[offset + jj] = jlist[jj] & NEIGHMASK;
-      neighbour_lists[i] = masked_indices.data() + offset;
-      neighbour_counts[i] = list->numneigh[i];
-      offset += list->numneigh[i];
-    }
+  neighbour_counts.assign(nlocal, 0);
+  for (int ii = 0; ii < inum; ii++) neighbour_counts[ilist[ii]] = list->numneigh[ilist[ii]];
+  neighbour_offsets.resize((size_t) nlocal + 1);
+  neighbour_offsets[0] = 0;
+  for (int i = 0; i < nlocal; i++)
+    neighbour_offsets[i + 1] = neighbour_offsets[i] + neighbour_counts[i];
+  neighbour_indices.resize(std::max<size_t>(neighbour_offsets[nlocal], 1));
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const int *jlist = list->firstneigh[i];
+    int *row = neighbour_indices.data() + neighbour_offsets[i];
+    for (int jj = 0; jj < neighbour_counts[i]; jj++) row[jj] = jlist[jj] & NEIGHMASK;
+    std::sort(row, row + neighbour_counts[i]);
   }
 }
 
@@ -505,7 +493,7 @@ void PairSPHSolid::evaluate_rates()
     if (!rmass)
       for (int i = 0; i < nall; i++) massbuf[i] = atom->mass[type[i]];
     for (int i = 0; i < nall; i++) materialbuf[i] = type_material[type[i]];
-    list_pointers();
+    convert_list();
     cached_build = neighbor->ncalls;
     cached_nall = nall;
   }
@@ -522,10 +510,10 @@ void PairSPHSolid::evaluate_rates()
   particles.material = materialbuf.data();
 
   sph_neighbours neighbours;
-  neighbours.offsets = nullptr;
-  neighbours.indices = nullptr;
-  neighbours.lists = neighbour_lists.data();
-  neighbours.counts = neighbour_counts.data();
+  neighbours.offsets = neighbour_offsets.data();
+  neighbours.indices = neighbour_indices.data();
+  neighbours.lists = nullptr;
+  neighbours.counts = nullptr;
 
   sph_rates rates;
   rates.dv_dt = rate_dv.data();
@@ -563,7 +551,7 @@ double PairSPHSolid::memory_usage()
                              rate_dv.capacity() + rate_drho.capacity() + rate_dS.capacity() +
                              rate_dx.capacity());
   bytes += sizeof(int) * (materialbuf.capacity() + neighbour_counts.capacity() +
-                          masked_indices.capacity());
-  bytes += sizeof(const int *) * neighbour_lists.capacity();
+                          neighbour_indices.capacity());
+  bytes += sizeof(size_t) * neighbour_offsets.capacity();
   return bytes;
 }

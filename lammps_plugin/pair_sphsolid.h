@@ -110,14 +110,13 @@ class PairSPHSolid : public Pair {
   int nrates;
   std::vector<double> xbuf, vbuf, massbuf;
   std::vector<int> materialbuf;
-  std::vector<const int *> neighbour_lists;
-  std::vector<int> neighbour_counts;
-  std::vector<int> masked_indices;
+  std::vector<size_t> neighbour_offsets;    // CSR rows of the owned atoms
+  std::vector<int> neighbour_indices, neighbour_counts;
   std::vector<double> rate_dv, rate_drho, rate_dS, rate_dx;
 
   void allocate();
   void grow_scratch();
-  void list_pointers();
+  void convert_list();
   void fail(sph_sim *, sph_status, const std::string &what, bool destroy);
   void initialise_state();
 };

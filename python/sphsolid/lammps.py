@@ -177,7 +177,9 @@ class Lammps(Calculator):
         cmd(f"dimension {dim}")
         cmd(f"boundary {boundary}")
         cmd("atom_style atomic")
-        cmd("atom_modify map array")
+        # sort bins of one spacing keep lattice order (a faster rate loop
+        # than LAMMPS's default bins of half the neighbour cutoff)
+        cmd(f"atom_modify map array sort 1000 {float(spacing)!r}")
         cmd("comm_modify vel yes")
         cmd(f"plugin load {plugin}")
         cmd("region box block " + " ".join(
