@@ -26,7 +26,8 @@ def table(rows, markdown=False) -> str:
     if markdown:
         lines = ["| " + " | ".join(header) + " |",
                  "|" + "---|" * len(header)]
-        lines += ["| " + " | ".join(cells) + " |" for cells in body]
+        lines += ["| " + " | ".join(c.replace("|", "\\|") for c in cells)
+                  + " |" for cells in body]
         return "\n".join(lines)
     return "\n\n".join("\n".join(f"{h:>9}: {c}" for h, c in zip(header, cells))
                        for cells in body)
