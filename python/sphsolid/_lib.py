@@ -37,10 +37,11 @@ SPH_ERR_NONFINITE = 5
 SPH_ERR_UNSUPPORTED = 6
 SPH_ERR_STOPPED = 7
 SPH_ERR_DOMAIN = 8
+SPH_ERR_UNSTABLE = 9
 STATUS = {0: "SPH_OK", 1: "SPH_ERR_ARGUMENT", 2: "SPH_ERR_MEMORY",
           3: "SPH_ERR_STATE", 4: "SPH_ERR_IO", 5: "SPH_ERR_NONFINITE",
           6: "SPH_ERR_UNSUPPORTED", 7: "SPH_ERR_STOPPED",
-          8: "SPH_ERR_DOMAIN"}
+          8: "SPH_ERR_DOMAIN", 9: "SPH_ERR_UNSTABLE"}
 
 # sph_motion
 MOTION_FREE, MOTION_FIXED, MOTION_VELOCITY, MOTION_FORCE = 0, 1, 2, 3
@@ -160,6 +161,8 @@ _PROTOTYPES = {
     "sph_dt": (c_double, [_sim]),
     "sph_time": (c_double, [_sim]),
     "sph_step_count": (c_long, [_sim]),
+    "sph_set_time": (c_int, [_sim, c_double, c_long]),
+    "sph_set_watchdog": (c_int, [_sim, c_double, c_double, c_double]),
     "sph_set_progress": (c_int, [_sim, c_long, PROGRESS_FN, c_void_p]),
     "sph_run": (c_int, [_sim, c_long]),
     "sph_run_until": (c_int, [_sim, c_double]),
@@ -269,9 +272,9 @@ def check(status: int, sim, what: str = "") -> None:
     """Raise the Python exception matching a non-zero sph_status.
 
     ``SPH_ERR_ARGUMENT`` -> ValueError, ``SPH_ERR_IO`` -> OSError,
-    ``SPH_ERR_MEMORY`` -> MemoryError, ``SPH_ERR_NONFINITE`` and
-    ``SPH_ERR_DOMAIN`` -> SimulationError (with step, particle, body and
-    quantity), ``SPH_ERR_UNSUPPORTED`` -> UnsupportedError,
+    ``SPH_ERR_MEMORY`` -> MemoryError, ``SPH_ERR_NONFINITE``,
+    ``SPH_ERR_DOMAIN`` and ``SPH_ERR_UNSTABLE`` (the watchdog) ->
+    SimulationError (with step, particle, body and quantity), ``SPH_ERR_UNSUPPORTED`` -> UnsupportedError,
     ``SPH_ERR_STOPPED`` -> StoppedError, ``SPH_ERR_STATE`` -> RuntimeError.
     The message is the library's, prefixed with ``what``.
     """
@@ -288,7 +291,7 @@ def check(status: int, sim, what: str = "") -> None:
         raise OSError(message)
     if status == SPH_ERR_MEMORY:
         raise MemoryError(message)
-    if status in (SPH_ERR_NONFINITE, SPH_ERR_DOMAIN):
+    if status in (SPH_ERR_NONFINITE, SPH_ERR_DOMAIN, SPH_ERR_UNSTABLE):
         step, particle, body = c_long(), c_long(), c_int()
         quantity = c_char_p()
         if lib.sph_failure(sim, ctypes.byref(step), ctypes.byref(particle),

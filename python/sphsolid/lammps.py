@@ -15,9 +15,14 @@ by libsphsolid from LAMMPS's state.
 The plugin file is looked up at ``$SPHSOLID_LAMMPS_PLUGIN``, then in the
 repository's build trees (``build*/lammps_plugin/sphsolidplugin.so``).
 
+The library's clock (``sph_set_time``) and time step (``sph_set_dt``)
+follow LAMMPS's, so a :class:`~sphsolid.Trajectory` and
+:meth:`Scene.write_checkpoint` write the state LAMMPS reached with its
+time and step.
+
 Not supported by this backend (each raises UnsupportedError naming it):
-force- or pressure-driven bodies, and writing a library trajectory (the
-library's file records its own clock, which LAMMPS does not advance).
+force- or pressure-driven bodies, and reading a checkpoint into a scene
+that LAMMPS advances (read it into a scene on the C library backend).
 """
 from __future__ import annotations
 
@@ -30,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from ._lib import SimulationError, StoppedError, UnsupportedError, lib
+from ._lib import check as _check
 from .calculators import Calculator, Progress
 
 __all__ = ["Lammps", "find_plugin", "plugin_directory", "available"]
@@ -307,6 +313,9 @@ class Lammps(Calculator):
             self.lmp.command(f"timestep {value!r}")
             self._dt = value
             self._prepared = False
+            # the library's step too: checkpoints record it
+            _check(lib.sph_set_dt(self.scene.handle, value, 1),
+                   self.scene.handle, "set_dt")
 
     @property
     def dt(self) -> float:
@@ -330,6 +339,12 @@ class Lammps(Calculator):
         self._step += int(steps)
         self._time += steps * dt
         self._synced = None
+        self._set_library_clock()
+
+    def _set_library_clock(self) -> None:
+        """Set the library's time and step to LAMMPS's (sph_set_time)."""
+        _check(lib.sph_set_time(self.scene.handle, self._time, self._step),
+               self.scene.handle, "set the library's clock")
 
     def advance(self, steps: int, progress: Progress = None,
                 interval: int = 10) -> None:
@@ -362,6 +377,7 @@ class Lammps(Calculator):
                 self.advance_until(t, progress, interval)
                 return
         self._time = t
+        self._set_library_clock()
 
     def sync(self) -> None:
         """Copy LAMMPS's state (ordered by atom ID) into the scene's arrays."""

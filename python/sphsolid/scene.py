@@ -449,6 +449,8 @@ class Scene:
         """Write everything needed to continue the run bit for bit (state,
         time, step, dt, motions) with the library's
         ``sph_checkpoint_write`` (written to ``path.tmp``, then renamed)."""
+        if self._calc is not None and self._calc.name != "c":
+            self._calc.sync()      # another backend's state into the arrays
         self._require_library_clock("write_checkpoint")
         self._check(lib.sph_checkpoint_write(self._handle,
                                              _lib.encode_path(path)),
@@ -457,16 +459,28 @@ class Scene:
     def read_checkpoint(self, path) -> None:
         """Continue from a checkpoint written by a scene built the same way
         (same bodies and particle counts, checked by the library)."""
-        self._require_library_clock("read_checkpoint")
+        if self._calc is not None and self._calc.name != "c":
+            raise _lib.UnsupportedError(
+                f"Scene.read_checkpoint: the {self._calc.name!r} backend "
+                "holds the state it advances outside the library; read the "
+                "checkpoint into a scene on the C library backend")
         self._check(lib.sph_checkpoint_read(self._handle,
                                             _lib.encode_path(path)),
                     f"checkpoint {str(path)!r}")
 
     def _require_library_clock(self, what):
-        if self._calc is not None and self._calc.name != "c":
+        """Refuse to write when the library's clock is not the backend's
+        (a backend that advances the scene elsewhere must set it with
+        sph_set_time, as the LAMMPS backend does)."""
+        calc = self._calc
+        if calc is None or calc.name == "c":
+            return
+        if (calc.time != lib.sph_time(self._handle)
+                or calc.step != lib.sph_step_count(self._handle)):
             raise _lib.UnsupportedError(
-                f"Scene.{what}: only the C library backend keeps its state "
-                f"in the library (this scene uses {self._calc.name!r})")
+                f"Scene.{what}: the {calc.name!r} backend is at step "
+                f"{calc.step}, t = {calc.time!r} s, but the library's clock "
+                f"is at step {lib.sph_step_count(self._handle)}")
 
     # -------------------------------------------------------- calculator
     @property

@@ -66,10 +66,70 @@ def test_backends_agree_under_gravity_with_damping():
     assert np.abs(c.velocities).max() > 0
 
 
-def test_lammps_backend_refuses_to_write_a_library_trajectory(tmp_path):
+def test_lammps_backend_writes_a_trajectory_with_its_clock(tmp_path):
+    """The LAMMPS backend sets the library's clock (sph_set_time), so a
+    Trajectory records LAMMPS's step and time with the state LAMMPS
+    reached; the frames equal the scene's synced arrays exactly and the C
+    library's run at the same steps to round-off."""
+    runs = {}
+    for backend in ("c", "lammps"):
+        scene = scenes.uniaxial_piston(4e-3)
+        if backend == "lammps":
+            scene.calc = lammps_backend.Lammps()
+        dyn = sphsolid.ImprovedEuler(scene)
+        path = tmp_path / f"{backend}.h5"
+        traj = sphsolid.Trajectory(path, "w", scene)
+        kept = []
+        dyn.attach(traj, interval=20)
+        dyn.attach(lambda: kept.append((scene.step, scene.time,
+                                        scene.velocities.copy())),
+                   interval=20)
+        dyn.run(steps=60)
+        traj.close()
+        runs[backend] = (path, kept)
+    (c_path, _), (l_path, l_kept) = runs["c"], runs["lammps"]
+    with sphsolid.Trajectory(l_path) as lt, sphsolid.Trajectory(c_path) as ct:
+        assert len(lt) == len(ct) == len(l_kept) == 4       # steps 0..60
+        for lf, cf, (step, time, velocities) in zip(lt, ct, l_kept):
+            assert lf.step == step == cf.step
+            assert lf.time == time
+            assert lf.time == pytest.approx(cf.time, rel=1e-12)
+            np.testing.assert_array_equal(lf.velocities, velocities)
+            close(lf.velocities, cf.velocities, f"velocities at {step}")
+            close(lf.deviatoric_stress, cf.deviatoric_stress,
+                  f"deviatoric stress at {step}")
+        # the piston has set the specimen moving: not a comparison of zeros
+        assert np.abs(lt[-1].velocities).max() > 0
+
+
+def test_lammps_checkpoint_continues_on_the_c_library(tmp_path):
+    """30 steps in LAMMPS, a checkpoint, 20 more in the C library: the
+    same state as 50 steps in the C library, to round-off."""
+    lammps_scene = scenes.uniaxial_piston(4e-3)
+    lammps_scene.calc = lammps_backend.Lammps()
+    sphsolid.ImprovedEuler(lammps_scene).run(steps=30)
+    lammps_scene.write_checkpoint(tmp_path / "l.chk")
+
+    resumed = scenes.uniaxial_piston(4e-3)
+    again = sphsolid.ImprovedEuler(resumed)
+    resumed.read_checkpoint(tmp_path / "l.chk")
+    assert resumed.step == 30
+    assert resumed.time == pytest.approx(30 * again.dt, rel=1e-12)
+    again.run(steps=20)
+
+    direct = scenes.uniaxial_piston(4e-3)
+    sphsolid.ImprovedEuler(direct).run(steps=50)
+    assert resumed.step == direct.step == 50
+    close(resumed.positions, direct.positions, "positions")
+    close(resumed.velocities, direct.velocities, "velocities")
+    close(resumed.deviatoric_stress, direct.deviatoric_stress,
+          "deviatoric stress")
+
+
+def test_lammps_backend_refuses_to_read_a_checkpoint(tmp_path):
+    written = scenes.uniaxial_piston(4e-3)
+    written.write_checkpoint(tmp_path / "c.chk")
     scene = scenes.uniaxial_piston(4e-3)
     scene.calc = lammps_backend.Lammps()
-    dyn = sphsolid.ImprovedEuler(scene)
-    dyn.run(steps=3)
-    with pytest.raises(sphsolid.UnsupportedError, match="clock"):
-        sphsolid.Trajectory(tmp_path / "l.h5", "w", scene)
+    with pytest.raises(sphsolid.UnsupportedError, match="C library backend"):
+        scene.read_checkpoint(tmp_path / "c.chk")
