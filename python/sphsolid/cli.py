@@ -3,6 +3,7 @@
     sphsolid piston  [--dx 1mm] [--until 0.3ms] [--backend c|lammps] [--out DIR]
     sphsolid gravity [--dx 2mm] [--until 60ms] [--damping 2000] [--out DIR]
     sphsolid info FILE.h5
+    sphsolid study paper [--out docs/validation] [--quick]
 
 Lengths and times take an optional unit: ``--dx 2mm``, ``--until 0.3ms``
 (plain numbers are metres and seconds).
@@ -81,6 +82,12 @@ def _parser() -> argparse.ArgumentParser:
                          help="damping rate [1/s] (default: the scene's)")
     gravity.add_argument("--g", type=float, default=9.81,
                          help="gravitational acceleration [m/s^2]")
+    study = sub.add_parser("study", help="validation study (docs/"
+                           "validation.md): figures, tables, results.json")
+    study.add_argument("which", choices=("paper",))
+    study.add_argument("--out", type=Path, default=Path("docs/validation"))
+    study.add_argument("--quick", action="store_true",
+                       help="coarser and shorter: a few minutes")
     info = sub.add_parser("info", help="describe an HDF5 output file")
     info.add_argument("file", type=Path)
     return parser
@@ -177,6 +184,11 @@ def main(argv=None) -> int:
     try:
         if args.command == "info":
             return _info(args)
+        if args.command == "study":
+            from .study import run_paper
+            run_paper(args.out, quick=args.quick,
+                      log=lambda m: print(m, flush=True))
+            return 0
         from . import scenes
         viscosity = ({"alpha": args.viscosity, "beta": 0.0}
                      if args.viscosity > 0 else None)
