@@ -18,8 +18,9 @@ over all of them.  The library samples its probes A, B, C every 10 steps,
 as the deck does.  For each case it prints particle-steps per second (all
 particles, piston and plate included, times steps, over the time loop),
 the loop's wall time (LAMMPS's "Loop time"; the library's run), the
-process's wall time to solution (start-up and set-up included), its CPU
-time, and its peak resident memory (os.wait4 of the process: for mpirun
+process's wall time to solution (start-up and set-up included), the
+loop's CPU time (per rank), the process's CPU time, and its peak resident
+memory (os.wait4 of the process: for mpirun
 the largest process, i.e. one rank); medians over --repeats.  Then the
 ratios the issue asks for.
 
@@ -96,7 +97,7 @@ def library_worker(library: Path, dx: float, t_end: float) -> dict:
     dt = lib.sph_default_dt(sim)
     steps = round(t_end / dt)  # the deck's step count
     values = (c_double * 6)()
-    start = time.perf_counter()
+    start, start_cpu = time.perf_counter(), time.process_time()
     done = 0
     while done < steps:
         chunk = min(PROBE_EVERY, steps - done)
@@ -105,8 +106,8 @@ def library_worker(library: Path, dx: float, t_end: float) -> dict:
         if done % PROBE_EVERY == 0:
             for probe in (scene.probe_A, scene.probe_B, scene.probe_C):
                 check(lib.sph_probe_sample(sim, probe, values))
-    loop = time.perf_counter() - start
-    return {"loop_seconds": loop, "steps": steps,
+    loop, loop_cpu = time.perf_counter() - start, time.process_time() - start_cpu
+    return {"loop_seconds": loop, "loop_cpu_seconds": loop_cpu, "steps": steps,
             "particles": int(lib.sph_particle_count(sim)), "dt": dt}
 
 
@@ -130,14 +131,27 @@ def run_process(cmd: list[str], cwd: Path) -> tuple[subprocess.CompletedProcess,
 
 
 LOOP = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
+CPU_USE = re.compile(r"([0-9.]+)% CPU use with")
+SECTION = re.compile(r"^(Pair|Neigh|Comm|Output|Modify|Other)\s*\|([^|]*)\|\s*([0-9.eE+-]+)",
+                     re.MULTILINE)
 
 
 def lammps_figures(log: Path) -> dict:
-    match = LOOP.search(log.read_text())
+    """Loop time, steps and atoms, the loop's CPU time per rank (LAMMPS's
+    "% CPU use" is CPU time over wall time, averaged over the ranks) and
+    the average time per rank in each section of the timing breakdown."""
+    text = log.read_text()
+    match = LOOP.search(text)
     if not match:
         raise RuntimeError(f"no 'Loop time' line in {log}")
-    return {"loop_seconds": float(match.group(1)), "ranks": int(match.group(2)),
-            "steps": int(match.group(3)), "particles": int(match.group(4))}
+    loop = float(match.group(1))
+    tail = text[match.end():]
+    cpu = CPU_USE.search(tail)
+    sections = {m.group(1).lower(): float(m.group(3)) for m in SECTION.finditer(tail)}
+    return {"loop_seconds": loop, "ranks": int(match.group(2)),
+            "steps": int(match.group(3)), "particles": int(match.group(4)),
+            "loop_cpu_seconds": loop * float(cpu.group(1)) / 100.0 if cpu else float("nan"),
+            "sections_seconds": sections}
 
 
 def run_case(case: str, args, work: Path) -> dict:
@@ -178,7 +192,12 @@ def summarise(all_results: dict[str, list[dict]]) -> dict[str, dict]:
         if not results:
             continue
         s = {key: median_of(results, key) for key in
-             ("loop_seconds", "wall_seconds", "cpu_seconds", "peak_rss_mb")}
+             ("loop_seconds", "loop_cpu_seconds", "wall_seconds", "cpu_seconds",
+              "peak_rss_mb")}
+        if "sections_seconds" in results[0]:
+            s["sections_seconds"] = {
+                name: statistics.median(r["sections_seconds"].get(name, 0.0) for r in results)
+                for name in results[0]["sections_seconds"]}
         s["steps"] = results[0]["steps"]
         s["particles"] = results[0]["particles"]
         s["particle_steps_per_second"] = s["particles"] * s["steps"] / s["loop_seconds"]
@@ -195,14 +214,16 @@ def report(summary: dict[str, dict], args) -> str:
     lines = [f"paper piston scene, dx = {args.dx} m, t_end = {args.t_end} s; medians of "
              f"{args.repeats} repeats; OMP_NUM_THREADS=1",
              f"{'case':<26}{'particles':>10}{'steps':>7}{'Mpart-steps/s':>15}"
-             f"{'loop [s]':>10}{'wall [s]':>10}{'CPU [s]':>9}{'peak RSS [MB]':>15}"]
+             f"{'loop [s]':>10}{'loop CPU':>10}{'wall [s]':>10}{'CPU [s]':>9}"
+             f"{'peak RSS [MB]':>15}"]
     for case in CASES:
         if case not in summary:
             continue
         s = summary[case]
         lines.append(f"{LABELS[case].format(ranks=args.ranks):<26}{s['particles']:>10d}"
                      f"{s['steps']:>7d}{s['particle_steps_per_second'] / 1e6:>15.3f}"
-                     f"{s['loop_seconds']:>10.2f}{s['wall_seconds']:>10.2f}"
+                     f"{s['loop_seconds']:>10.2f}{s['loop_cpu_seconds']:>10.2f}"
+                     f"{s['wall_seconds']:>10.2f}"
                      f"{s['cpu_seconds']:>9.2f}{s['peak_rss_mb']:>15.1f}")
     lines.append("ratios (loop times unless said otherwise):")
 
@@ -213,12 +234,16 @@ def report(summary: dict[str, dict], args) -> str:
 
     ratio("plugin 1 rank / library (time)", "plugin-1", "library",
           target="   (target <= 1.10)")
+    ratio("plugin 1 rank / library (loop CPU time)", "plugin-1", "library",
+          key="loop_cpu_seconds")
     ratio("plugin 1 rank / library (process wall, start-up incl.)", "plugin-1", "library",
           key="wall_seconds")
     ratio(f"plugin 1 rank / plugin {args.ranks} ranks (speed-up)", "plugin-1", "plugin-2",
           target=f"   (target >= {0.9 * args.ranks:.1f})")
     ratio("smd/ulsph / plugin 1 rank (time to solution)", "smd", "plugin-1",
           target="   (target >= 2)")
+    ratio("smd/ulsph / plugin 1 rank (loop CPU time)", "smd", "plugin-1",
+          key="loop_cpu_seconds")
     ratio("smd/ulsph / library (time to solution)", "smd", "library")
     ratio("plugin 1 rank / library (peak RSS)", "plugin-1", "library", key="peak_rss_mb")
     ratio("smd/ulsph / plugin 1 rank (peak RSS)", "smd", "plugin-1", key="peak_rss_mb")
