@@ -239,7 +239,11 @@ SPH_API sph_status sph_set_watchdog(sph_sim *sim, double max_speed_over_cp,
                                     double min_density_ratio,
                                     double max_density_ratio);
 
-/* Where a run stopped on a non-finite value or a domain exit: step, global
+/* A step that goes non-finite or trips the watchdog is undone: the state is
+ * left as it was at the start of that step (the last good state), and is
+ * written as a snapshot if an output file is open.
+ *
+ * Where a run stopped on a non-finite value or a domain exit: step, global
  * particle index, body and quantity name ("position", "velocity",
  * "density", "deviatoric stress", "speed", "density ratio").  Returns SPH_ERR_STATE if the last run
  * did not fail that way. */

@@ -158,11 +158,13 @@ sph_status sim_prepare(sph_sim *sim)
     double *dv = realloc(sim->dv_dt, n * dim * sizeof(double));
     double *dr = realloc(sim->drho_dt, n * sizeof(double));
     double *dS = realloc(sim->dS_dt, n * nc * sizeof(double));
+    double *xs = realloc(sim->x_saved, n * dim * sizeof(double));
+    if (xs) sim->x_saved = xs;
     if (saved) sim->saved = saved;
     if (dv) sim->dv_dt = dv;
     if (dr) sim->drho_dt = dr;
     if (dS) sim->dS_dt = dS;
-    if (!saved || !dv || !dr || !dS)
+    if (!saved || !dv || !dr || !dS || !xs)
         return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate integrator storage for %zu particles", n);
     if (sim->fx.xsph) {
         double *dx = realloc(sim->dx_dt, n * dim * sizeof(double));
@@ -247,9 +249,12 @@ static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
     long first_bad = -1, first_wild = -1;
     if (!corrector) {
 #pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
-        for (long a = 0; a < n; ++a)
+        for (long a = 0; a < n; ++a) {
+            for (int i = 0; i < dim; ++i)
+                sim->x_saved[a * dim + i] = sim->x[a * dim + i];
             predict_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r,
                              bs[body_of[a]].integrate, &s);
+        }
     } else {
         long bad = n, wild = n;
 #pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild) reduction(max : max_moved)
@@ -355,6 +360,26 @@ static sph_status wrap_and_check_domain(sph_sim *sim)
     return SPH_OK;
 }
 
+/* Put back the state at the start of the step (the last good state) after a
+ * corrector that went non-finite or tripped the watchdog, and write it to
+ * the output file if one is open. */
+static void undo_step(sph_sim *sim)
+{
+    const int dim = sim->dim, nc = sim->ncomp;
+    const saved_state s = saved_layout(sim->saved, sim->n, dim, nc, sim->fx.xsph);
+    memcpy(sim->x, sim->x_saved, sim->n * dim * sizeof(double));
+    memcpy(sim->v, s.v, sim->n * dim * sizeof(double));
+    memcpy(sim->rho, s.rho, sim->n * sizeof(double));
+    memcpy(sim->S, s.S, sim->n * nc * sizeof(double));
+    sim->rates_valid = 0;
+    if (sim->out) {
+        char message[SPH_ERRMSG_SIZE];
+        memcpy(message, sim->errmsg, sizeof message);
+        sph_output_snapshot(sim);
+        memcpy(sim->errmsg, message, sizeof message);
+    }
+}
+
 static sph_status one_step(sph_sim *sim, double dt)
 {
     double moved;
@@ -365,8 +390,10 @@ static sph_status one_step(sph_sim *sim, double dt)
         return st;
     if ((st = evaluate(sim)))
         return st;
-    if ((st = stage(sim, dt, 1, &moved)))
+    if ((st = stage(sim, dt, 1, &moved))) {
+        undo_step(sim);
         return st;
+    }
     sim->rates_valid = 0;
     sim->t += dt;
     sim->step++;

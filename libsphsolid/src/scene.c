@@ -43,6 +43,7 @@ void sph_destroy(sph_sim *sim)
     free(sim->x); free(sim->v); free(sim->rho); free(sim->S); free(sim->mass);
     free(sim->material_of); free(sim->body_of);
     free(sim->saved);
+    free(sim->x_saved);
     free(sim->dv_dt); free(sim->drho_dt); free(sim->dS_dt); free(sim->dx_dt);
     free(sim->pair_data); free(sim->stress_R); free(sim->correction);
     neighbour_free(&sim->nl);
@@ -795,6 +796,8 @@ size_t sph_memory_bytes(const sph_sim *sim)
     bytes += cap * (2 * dim + 1 + nc + 1) * sizeof(double) + cap * 2 * sizeof(int);
     if (sim->saved)
         bytes += n * (dim + 1 + nc + (sim->fx.xsph ? dim : 0)) * sizeof(double);
+    if (sim->x_saved)
+        bytes += n * dim * sizeof(double);
     if (sim->dv_dt)
         bytes += n * (dim + 1 + nc) * sizeof(double);
     if (sim->dx_dt)

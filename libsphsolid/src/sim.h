@@ -76,6 +76,8 @@ struct sph_sim {
     int dt_set;
     long step;
     double *saved;          /* Heun y_n: v, rho, S (and xsph velocity) */
+    double *x_saved;        /* positions at the start of the step, so that a
+                               failed step can be undone */
     double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
     int rates_valid;
     neighbour_list nl;
