@@ -261,8 +261,7 @@ void FixSPHSolidHeun::final_integrate()
     for (int d = 0; d < dim; d++)
       other_force[(size_t) i * dim + d] = f[i][d] - m * dv_pair[(size_t) i * dim + d];
   }
-  comm->forward_comm();    // positions and velocities of the ghosts
-  pair->evaluate_rates();
+  pair->evaluate_rates(true);    // ghosts' x, v, rho and S in one exchange
   dv_pair = pair->dv_dt();
   for (int i = 0; i < nlocal; i++) {
     const double m = pair->mass_of(i);

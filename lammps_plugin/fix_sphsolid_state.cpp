@@ -27,7 +27,8 @@ FixSPHSolidState::FixSPHSolidState(LAMMPS *lmp, int narg, char **arg) :
 
   restart_peratom = 1;
   create_attribute = 1;
-  comm_forward = 1 + ncomp;
+  comm_forward = 3 + 3 + 1 + ncomp;    // with positions and velocities
+  forward_motion = false;
   maxexchange = 1 + ncomp + nsaved;
 
   grow_arrays(atom->nmax);
@@ -95,10 +96,47 @@ int FixSPHSolidState::unpack_exchange(int nlocal, double *buf)
 
 /* ---------------------------------------------------------------------- */
 
-int FixSPHSolidState::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/,
-                                        int * /*pbc*/)
+int FixSPHSolidState::pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc)
 {
   int m = 0;
+  if (forward_motion) {
+    // what comm->forward_comm() sends of x and v (periodic image shift,
+    // fix deform's velocity remap), so that one message carries it all
+    double **x = atom->x, **v = atom->v;
+    const int *mask = atom->mask;
+    double dx = 0.0, dy = 0.0, dz = 0.0, dvx = 0.0, dvy = 0.0, dvz = 0.0;
+    if (pbc_flag) {
+      if (domain->triclinic == 0) {
+        dx = pbc[0] * domain->xprd;
+        dy = pbc[1] * domain->yprd;
+        dz = pbc[2] * domain->zprd;
+      } else {
+        dx = pbc[0] * domain->xprd + pbc[5] * domain->xy + pbc[4] * domain->xz;
+        dy = pbc[1] * domain->yprd + pbc[3] * domain->yz;
+        dz = pbc[2] * domain->zprd;
+      }
+      if (domain->deform_vremap) {
+        const double *h_rate = domain->h_rate;
+        dvx = pbc[0] * h_rate[0] + pbc[5] * h_rate[5] + pbc[4] * h_rate[4];
+        dvy = pbc[1] * h_rate[1] + pbc[3] * h_rate[3];
+        dvz = pbc[2] * h_rate[2];
+      }
+    }
+    for (int ii = 0; ii < n; ii++) {
+      const int j = list[ii];
+      const bool remap = dvx != 0.0 || dvy != 0.0 || dvz != 0.0;
+      const bool vshift = remap && (mask[j] & domain->deform_groupbit);
+      buf[m++] = x[j][0] + dx;
+      buf[m++] = x[j][1] + dy;
+      buf[m++] = x[j][2] + dz;
+      buf[m++] = v[j][0] + (vshift ? dvx : 0.0);
+      buf[m++] = v[j][1] + (vshift ? dvy : 0.0);
+      buf[m++] = v[j][2] + (vshift ? dvz : 0.0);
+      buf[m++] = rho[j];
+      for (int k = 0; k < ncomp; k++) buf[m++] = S[j][k];
+    }
+    return m;
+  }
   for (int ii = 0; ii < n; ii++) {
     const int j = list[ii];
     buf[m++] = rho[j];
@@ -110,6 +148,16 @@ int FixSPHSolidState::pack_forward_comm(int n, int *list, double *buf, int /*pbc
 void FixSPHSolidState::unpack_forward_comm(int n, int first, double *buf)
 {
   int m = 0;
+  if (forward_motion) {
+    double **x = atom->x, **v = atom->v;
+    for (int i = first; i < first + n; i++) {
+      for (int d = 0; d < 3; d++) x[i][d] = buf[m++];
+      for (int d = 0; d < 3; d++) v[i][d] = buf[m++];
+      rho[i] = buf[m++];
+      for (int k = 0; k < ncomp; k++) S[i][k] = buf[m++];
+    }
+    return;
+  }
   for (int i = first; i < first + n; i++) {
     rho[i] = buf[m++];
     for (int k = 0; k < ncomp; k++) S[i][k] = buf[m++];

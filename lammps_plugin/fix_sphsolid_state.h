@@ -11,8 +11,8 @@
  *          row per atom so that it migrates with the atom inside a step
  * Each array is contiguous (rows of one atom), so the library reads and
  * writes it in place.  The values move with their atoms between MPI ranks,
- * rho and S are sent to ghost atoms, and rho and S are written to and read
- * from restart files.
+ * rho and S (optionally with x and v) are sent to ghost atoms, and rho and
+ * S are written to and read from restart files.
  */
 #ifdef FIX_CLASS
 // clang-format off
@@ -54,6 +54,11 @@ class FixSPHSolidState : public Fix {
   double *rho;       // per atom
   double **S;        // per atom x ncomp
   double **saved;    // per atom x nsaved
+
+  /* Forward communication sends rho and S; with forward_motion also the
+   * positions and velocities (as comm->forward_comm() would), so that the
+   * second rate evaluation of a step needs one ghost exchange, not two. */
+  bool forward_motion;
 
  private:
   int dim, ncomp, nsaved;

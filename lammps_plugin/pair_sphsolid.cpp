@@ -457,9 +457,13 @@ void PairSPHSolid::convert_list()
 
 /* ---------------------------------------------------------------------- */
 
-void PairSPHSolid::evaluate_rates()
+void PairSPHSolid::evaluate_rates(bool with_motion)
 {
-  comm->forward_comm(state_fix);    // density and deviatoric stress of the ghosts
+  // density and deviatoric stress of the ghosts, and with_motion their
+  // positions and velocities too, in one exchange
+  state_fix->forward_motion = with_motion;
+  comm->forward_comm(state_fix);
+  state_fix->forward_motion = false;
 
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;

@@ -53,10 +53,11 @@ class PairSPHSolid : public Pair {
   double init_one(int, int) override;
   double memory_usage() override;
 
-  /* Rates of the owned atoms at the current state of owned and ghost atoms
-   * (positions and velocities of ghosts must be current; density and
-   * deviatoric stress are sent to the ghosts here). */
-  void evaluate_rates();
+  /* Rates of the owned atoms at the current state of owned and ghost atoms.
+   * Density and deviatoric stress are sent to the ghosts here; with
+   * with_motion their positions and velocities too (in the same message),
+   * otherwise those must be current already (Verlet's forward comm). */
+  void evaluate_rates(bool with_motion = false);
 
   /* A new library handle configured from pair_style and pair_coeff:
    * kernel, smoothing ratio, spacing dx (sph_set_spacing: the handle holds
