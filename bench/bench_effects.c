@@ -1,0 +1,147 @@
+/*
+ * Cost of each effect: the paper's piston scene with no effect, then with
+ * each effect switched on alone, then probe sampling and HDF5 output.
+ *
+ *   bench_effects [--dx METRES] [--steps N] [--repeats N] [--threads N]
+ *                 [--h5 PATH]
+ *
+ * Prints wall milliseconds per Improved Euler step (median of the repeats,
+ * after one warm-up step that builds the neighbour list) and the ratio to
+ * the scene with no effect. Effects that are off cost nothing in the pair
+ * loop (SPEC 3); this shows what each one costs when on.
+ */
+#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "sphsolid.h"
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int compare(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+typedef struct bench_case {
+    const char *label;
+    const char *effect;     /* NULL: none */
+    const char *parameters;
+    int probes;             /* sample A, B, C after every step */
+    int output;             /* HDF5 snapshot every 10 steps */
+} bench_case;
+
+static const bench_case CASES[] = {
+    {"none", NULL, NULL, 0, 0},
+    {"artificial_viscosity", "artificial_viscosity", "alpha=1 beta=0", 0, 0},
+    {"artificial_stress", "artificial_stress", "epsilon=0.3 n=4", 0, 0},
+    {"xsph", "xsph", "epsilon=0.5", 0, 0},
+    {"kernel_correction", "kernel_correction", "", 0, 0},
+    {"gravity", "gravity", "gx=0 gy=-9.81", 0, 0},
+    {"damping", "damping", "rate=1000", 0, 0},
+    {"probes A, B, C every step", NULL, NULL, 1, 0},
+    {"HDF5 snapshot every 10 steps", NULL, NULL, 0, 1},
+};
+
+static void fail(sph_sim *sim, const char *what)
+{
+    fprintf(stderr, "bench_effects: %s: %s\n", what, sph_errmsg(sim));
+    exit(1);
+}
+
+/* Seconds per step of one case, or a negative value if unsupported. */
+static double per_step(const bench_case *c, double dx, long steps, int threads,
+                       const char *h5, size_t *particles)
+{
+    sph_sim *sim = NULL;
+    sph_paper_scene paper;
+    if (sph_create(2, &sim) || sph_set_threads(sim, threads) ||
+        sph_build_paper_scene(sim, dx, 1.5e-3, 0, &paper))
+        fail(sim, "scene");
+    if (c->effect && sph_effect(sim, c->effect, c->parameters))
+        fail(sim, c->label);
+    if (c->output && sph_output_open(sim, h5, 10, 0)) {
+        sph_destroy(sim);
+        return -1.0;   /* library built without HDF5 */
+    }
+    if (sph_run(sim, 1))
+        fail(sim, "warm-up");
+    double values[16];
+    const double t0 = now();
+    if (c->probes) {
+        for (long s = 0; s < steps; ++s)
+            if (sph_run(sim, 1) || sph_probe_sample(sim, paper.probe_A, values) ||
+                sph_probe_sample(sim, paper.probe_B, values) ||
+                sph_probe_sample(sim, paper.probe_C, values))
+                fail(sim, c->label);
+    } else if (sph_run(sim, steps)) {
+        fail(sim, c->label);
+    }
+    const double wall = (now() - t0) / (double)steps;
+    if (c->output)
+        sph_output_close(sim);
+    *particles = sph_particle_count(sim);
+    sph_destroy(sim);
+    return wall;
+}
+
+int main(int argc, char **argv)
+{
+    double dx = 1e-3;
+    long steps = 100;
+    int repeats = 3, threads = 1;
+    const char *h5 = "bench_effects.h5";
+    for (int i = 1; i < argc; ++i) {
+        if (!strcmp(argv[i], "--dx") && i + 1 < argc)
+            dx = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--steps") && i + 1 < argc)
+            steps = atol(argv[++i]);
+        else if (!strcmp(argv[i], "--repeats") && i + 1 < argc)
+            repeats = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--threads") && i + 1 < argc)
+            threads = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--h5") && i + 1 < argc)
+            h5 = argv[++i];
+        else {
+            fprintf(stderr, "usage: bench_effects [--dx METRES] [--steps N] "
+                            "[--repeats N] [--threads N] [--h5 PATH]\n");
+            return 2;
+        }
+    }
+    if (dx <= 0 || steps < 1 || repeats < 1 || threads < 1) {
+        fprintf(stderr, "bench_effects: dx, steps, repeats and threads must be positive\n");
+        return 2;
+    }
+    double *w = malloc((size_t)repeats * sizeof *w);
+    size_t n = 0;
+    double base = 0.0;
+    printf("libsphsolid %s, paper piston scene, dx = %g mm, %d thread%s, %ld steps, "
+           "median of %d\n\n", sph_version(), dx * 1e3, threads, threads > 1 ? "s" : "",
+           steps, repeats);
+    printf("| effect alone | ms per step | relative to none |\n|---|---|---|\n");
+    for (size_t k = 0; k < sizeof CASES / sizeof CASES[0]; ++k) {
+        for (int r = 0; r < repeats; ++r)
+            w[r] = per_step(&CASES[k], dx, steps, threads, h5, &n);
+        qsort(w, (size_t)repeats, sizeof *w, compare);
+        const double m = w[repeats / 2];
+        if (m < 0) {
+            printf("| %s | (no HDF5) | |\n", CASES[k].label);
+            continue;
+        }
+        if (k == 0)
+            base = m;
+        printf("| %s | %.3f | %.2f |\n", CASES[k].label, m * 1e3, m / base);
+    }
+    printf("\n%zu particles\n", n);
+    remove(h5);
+    free(w);
+    return 0;
+}
