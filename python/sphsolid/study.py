@@ -34,7 +34,7 @@ from .trajectory import Frame
 
 __all__ = ["lattice_gradient_moment", "standing_wave", "strip_front",
            "piston_scene", "piston_run", "richardson", "arrival_times",
-           "agreement_time", "steady_shape", "effect_costs", "gravity_column", "run_paper"]
+           "agreement_time", "steady_shape", "pareto", "plot_accuracy_cost", "effect_costs", "gravity_column", "run_paper"]
 
 RHO_V_NOTE = "stress jump behind a piston front: rho0 c_p v"
 #: Options compared in the accuracy-versus-cost study.
@@ -416,6 +416,40 @@ def _table(header, rows) -> str:
     return "\n".join(lines) + "\n"
 
 
+def pareto(points: list, cost: str) -> list:
+    """For each point, whether no other point is both cheaper (``cost``)
+    and more accurate (``error``)."""
+    return [not any(o[cost] <= q[cost] and o["error"] < q["error"]
+                    for o in points if o is not q) for q in points]
+
+
+def plot_accuracy_cost(points: list, path, window: float):
+    """Error against wall time and against particle-steps, one line per
+    option, with the Pareto front of each axis."""
+    plt = _plt()
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
+    labels = list(dict.fromkeys(q["option"] for q in points))
+    for ax, key in zip(axes, ("wall", "particle_steps")):
+        for label in labels:
+            qs = sorted((q for q in points if q["option"] == label),
+                        key=lambda q: q[key])
+            ax.loglog([q[key] for q in qs], [q["error"] for q in qs], "o-",
+                      label=label)
+        front = sorted((q for q, on in zip(points, pareto(points, key))
+                        if on), key=lambda q: q[key])
+        ax.loglog([q[key] for q in front], [q["error"] for q in front],
+                  "k--", lw=1.5, label="Pareto front")
+        ax.set_xlabel("wall time [s], 1 core" if key == "wall"
+                      else "particle-steps")
+        ax.set_ylabel("relative L2 error at A, B, C")
+    axes[0].legend(fontsize=7)
+    fig.suptitle(f"Accuracy versus cost, piston test 0-{window * 1e3:g} ms "
+                 "(each line: dx = 4 mm top left to the finest bottom right)")
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return Path(path)
+
+
 def _steady_text(t2, slope2, t5, slope5, shape) -> str:
     def when(t, slope, tol):
         if math.isnan(t):
@@ -629,31 +663,10 @@ def run_paper(out: Path, quick: bool = False, log=print) -> dict:
                            "wall": wall,
                            "particle_steps": steps * r["particles"]})
     order = sorted(points, key=lambda q: q["wall"])
-    best = math.inf
-    for q in order:
-        q["pareto"] = q["error"] < best
-        best = min(best, q["error"])
+    for q, on in zip(points, pareto(points, "wall")):
+        q["pareto"] = on
     results["accuracy_cost"] = points
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
-    for label in OPTIONS:
-        qs = [q for q in points if q["option"] == label]
-        for ax, key in zip(axes, ("wall", "particle_steps")):
-            ax.loglog([q[key] for q in qs], [q["error"] for q in qs], "o-",
-                      label=label)
-    for ax, key in zip(axes, ("wall", "particle_steps")):
-        front_pts = sorted((q for q in points if q["pareto"]),
-                           key=lambda q: q[key])
-        ax.loglog([q[key] for q in front_pts],
-                  [q["error"] for q in front_pts], "k--", lw=1,
-                  label="Pareto front (wall time)")
-        ax.set_xlabel("wall time [s], 1 core" if key == "wall"
-                      else "particle-steps")
-        ax.set_ylabel("relative L2 error at A, B, C")
-    axes[0].legend(fontsize=7)
-    fig.suptitle(f"Accuracy versus cost, piston test 0-{window * 1e3:g} ms "
-                 "(each line: dx = 4 mm top left to the finest bottom right)")
-    fig.savefig(out / "accuracy_vs_cost.png", dpi=100)
-    plt.close(fig)
+    plot_accuracy_cost(points, out / "accuracy_vs_cost.png", window)
     tables.append(
         "## Accuracy versus cost (piston test, error against the Richardson "
         "reference; * = on the Pareto front of wall time)\n\n"
