@@ -34,7 +34,7 @@ from .trajectory import Frame
 
 __all__ = ["lattice_gradient_moment", "standing_wave", "strip_front",
            "piston_scene", "piston_run", "richardson", "arrival_times",
-           "agreement_time", "steady_shape", "pareto", "plot_accuracy_cost", "effect_costs", "gravity_column", "run_paper"]
+           "agreement_time", "steady_shape", "pareto", "plot_accuracy_cost", "fe_section", "effect_costs", "gravity_column", "run_paper"]
 
 RHO_V_NOTE = "stress jump behind a piston front: rho0 c_p v"
 #: Options compared in the accuracy-versus-cost study.
@@ -803,5 +803,105 @@ def run_paper(out: Path, quick: bool = False, log=print) -> dict:
                    f"{r['relative']:.2f}"] for r in costs]))
     results["total_wall"] = wallclock.perf_counter() - clock
     save()
+    results = fe_section(out, quick, log)
     log(f"done in {results['total_wall']:.0f} s; wrote {out}")
+    return results
+
+
+# ------------------------------------------------- finite-element check
+def fe_section(out: Path, quick: bool = False, log=print) -> dict:
+    """An independent reference for the piston test: the finite-element
+    solution (:mod:`sphsolid.fe_reference`, scikit-fem) at several element
+    sizes on the grid of ``piston_series.npz``, against the SPH runs and
+    the Richardson reference; and the quasi-static FE pattern against the
+    SPH steady-state ratios. Appends to ``results.json`` and
+    ``tables.md`` in ``out``."""
+    from . import fe_reference
+    out = Path(out)
+    results = json.loads((out / "results.json").read_text())
+    if not fe_reference.available():
+        log("scikit-fem not installed: finite-element check skipped")
+        return results
+    data = np.load(out / "piston_series.npz")
+    grid = data["grid"]
+    conv = results["piston_convergence"]
+    hs = conv["dx"]
+    series = {d: {n: data[f"dx{d * 1e3:g}mm_{n}"] for n in "ABC"} for d in hs}
+    stack = lambda d: np.concatenate([series[d][n] for n in "ABC"])  # noqa
+    ref_dx = conv["reference_dx"]
+    ref, _ = richardson(ref_dx, [stack(d) for d in ref_dx])
+    rock = scenes.paper_material()
+    sizes = [4e-3, 2e-3] if quick else [4e-3, 2e-3, 1e-3]
+    fe = {}
+    for size in sizes:
+        log(f"finite elements, {size * 1e3:g} mm quadratic quads ...")
+        fe[size] = fe_reference.piston_fe(
+            size, grid[-1], 0.25e-6 * size / 2e-3, grid, scenes.PAPER_PROBES,
+            rock.K, rock.mu, rock.rho0, scenes.PISTON_SPEED)
+    fe_stack = lambda s: np.concatenate([fe[s]["vm"][n] for n in "ABC"])  # noqa
+    best = fe_stack(sizes[-1])
+    scale = np.linalg.norm(best)
+    fe_rows = [[f"{s * 1e3:g}", fe[s]["dofs"], fe[s]["steps"],
+                f"{fe[s]['dt'] * 1e6:g}",
+                f"{np.linalg.norm(fe_stack(s) - best) / scale:.2e}"
+                if s != sizes[-1] else "(reference)",
+                f"{fe[s]['wall']:.1f}"] for s in sizes]
+    sph_rows = []
+    sph_err = {}
+    for d in hs:
+        sph_err[d] = float(np.linalg.norm(stack(d) - best) / scale)
+        sph_rows.append([f"{d * 1e3:g}", f"{sph_err[d]:.2e}"])
+    ref_vs_fe = float(np.linalg.norm(ref - best) / scale)
+    p_fe = fit_order(hs, [sph_err[d] for d in hs])
+    # quasi-static pattern
+    static = fe_reference.static_pattern(sizes[-1], scenes.PAPER_PROBES,
+                                         rock.K, rock.mu)
+    mean = np.mean(list(static.values()))
+    static_ratios = {n: static[n] / mean for n in "ABC"}
+    # von Mises per metre of compression times the piston speed [Pa/s]
+    static_slope = {n: static[n] / 1e-6 * scenes.PISTON_SPEED
+                    for n in "ABC"}
+    results["fe"] = {"sizes": sizes,
+                     "walls": [fe[s]["wall"] for s in sizes],
+                     "sph_error_vs_fe": {str(d): sph_err[d] for d in hs},
+                     "observed_order_vs_fe": p_fe,
+                     "richardson_vs_fe": ref_vs_fe,
+                     "static_ratios": static_ratios,
+                     "static_slopes": static_slope}
+    plt = _plt()
+    fig, axes = plt.subplots(1, 3, figsize=(12, 3.6), sharey=True,
+                             constrained_layout=True)
+    for k, n in enumerate("ABC"):
+        axes[k].plot(grid * 1e3, fe[sizes[-1]]["vm"][n] / 1e3, "k-", lw=1,
+                     label=f"FE {sizes[-1] * 1e3:g} mm Q2")
+        axes[k].plot(grid * 1e3, ref[k * len(grid):(k + 1) * len(grid)] / 1e3,
+                     "r--", lw=1, label="Richardson (SPH)")
+        for d in hs[-2:]:
+            axes[k].plot(grid * 1e3, series[d][n] / 1e3, lw=1,
+                         label=f"SPH {d * 1e3:g} mm")
+        axes[k].set_title(f"point {n}")
+        axes[k].set_xlabel("t [ms]")
+    axes[0].set_ylabel("von Mises [kPa]")
+    axes[0].legend(fontsize=7)
+    fig.savefig(out / "fe_comparison.png", dpi=100)
+    plt.close(fig)
+    text = ("\n## Finite-element reference (scikit-fem, 9-node quadratic "
+            "quads, implicit Newmark average acceleration, consistent mass)"
+            f"\n\nOwn convergence (relative L2 of von Mises at A, B, C over "
+            f"0-{grid[-1] * 1e3:g} ms against the finest mesh):\n\n"
+            + _table(["element [mm]", "DOFs", "steps", "dt [us]",
+                      "vs finest", "wall [s]"], fe_rows)
+            + f"\nSPH against FE {sizes[-1] * 1e3:g} mm (observed order "
+            f"{p_fe:.2f}); the Richardson reference differs from it by "
+            f"{ref_vs_fe:.2e}:\n\n"
+            + _table(["SPH dx [mm]", "error vs FE"], sph_rows)
+            + "\nQuasi-static FE pattern (top pushed down, bonded ends): "
+            "ratios to the mean of A, B, C "
+            + ", ".join(f"{n} {static_ratios[n]:.3f}" for n in "ABC")
+            + "; slopes at 1.5 mm/s "
+            + ", ".join(f"{n} {static_slope[n] / 1e6:.4g}" for n in "ABC")
+            + " kPa/ms.\n")
+    (out / "results.json").write_text(json.dumps(results, indent=1))
+    with open(out / "tables.md", "a") as handle:
+        handle.write(text)
     return results
