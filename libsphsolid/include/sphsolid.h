@@ -204,9 +204,12 @@ SPH_API const char *sph_effect_names(void);
 
 /* ------------------------------------------------------------ time steps */
 
-/* Largest stable step, h / max(c_p + |v|) over the particles. */
+/* Largest stable step, h / max(c_p + |v|) over the particles (over the
+ * materials for a handle without particles; 0 while h is unknown). */
 SPH_API double sph_stable_dt(const sph_sim *sim);
-/* Default step 0.5 h / max(c0): the paper's 0.261 us at dx = 1 mm. */
+/* Default step 0.5 h / max(c0) (bodies' materials, or all materials of a
+ * handle without bodies), capped at sph_stable_dt(): the paper's 0.261 us
+ * at dx = 1 mm. */
 SPH_API double sph_default_dt(const sph_sim *sim);
 /* Set the step.  A step above sph_stable_dt() is refused unless
  * `allow_unstable` is non-zero. */

@@ -615,29 +615,46 @@ int sph_effect_is_on(const sph_sim *sim, const char *name)
 
 /* ------------------------------------------------------------ time steps */
 
-double sph_stable_dt(const sph_sim *sim)
+/* Largest P-wave speed plus particle speed; with no particles (a handle for
+ * external particles) the largest P-wave speed of the materials. */
+static double signal_speed(const sph_sim *sim)
 {
-    if (!sim || sim->h <= 0.0 || sim->n == 0)
-        return 0.0;
     double speed = 0.0;
+    if (sim->n == 0) {
+        for (int m = 0; m < sim->n_materials; ++m)
+            speed = fmax(speed, sim->materials[m].c_p);
+        return speed;
+    }
     for (size_t a = 0; a < sim->n; ++a) {
         double v2 = 0.0;
         for (int i = 0; i < sim->dim; ++i)
             v2 += sim->v[a * sim->dim + i] * sim->v[a * sim->dim + i];
-        const double s = sim->materials[sim->material_of[a]].c_p + sqrt(v2);
-        if (s > speed)
-            speed = s;
+        speed = fmax(speed, sim->materials[sim->material_of[a]].c_p + sqrt(v2));
     }
-    return sim->h / speed;
+    return speed;
+}
+
+double sph_stable_dt(const sph_sim *sim)
+{
+    if (!sim || sim->h <= 0.0)
+        return 0.0;
+    const double speed = signal_speed(sim);
+    return speed > 0.0 ? sim->h / speed : 0.0;
 }
 
 double sph_default_dt(const sph_sim *sim)
 {
-    if (!sim || sim->h <= 0.0 || sim->n == 0)
+    if (!sim || sim->h <= 0.0)
         return 0.0;
+    /* the bodies' materials, or every material of a handle without bodies */
     double c0 = 0.0;
     for (int b = 0; b < sim->n_bodies; ++b)
         c0 = fmax(c0, sim->materials[sim->bodies[b].material].c0);
+    if (sim->n_bodies == 0)
+        for (int m = 0; m < sim->n_materials; ++m)
+            c0 = fmax(c0, sim->materials[m].c0);
+    if (c0 <= 0.0)
+        return 0.0;
     const double dt = 0.5 * sim->h / c0;
     const double stable = sph_stable_dt(sim);
     return dt < stable ? dt : stable;

@@ -28,6 +28,12 @@ static void bad_materials_are_refused(void **state)
     assert_refused(sim, sph_add_material_E_nu(sim, 1e9, -1.0, 2300, &m), SPH_ERR_ARGUMENT, "nu=-1");
     assert_refused(sim, sph_add_material_K_nu(sim, 1e9, 0.7, 2300, &m), SPH_ERR_ARGUMENT, "nu=0.7");
     assert_refused(sim, sph_add_material_E_nu(sim, -3.0, 0.3, 2300, &m), SPH_ERR_ARGUMENT, "E=-3");
+    /* a handle without bodies (for external particles) knows its step once
+     * the spacing is set: 0.5 h / c0 */
+    assert_true(sph_default_dt(sim) == 0.0);
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &m));
+    check(sim, sph_set_spacing(sim, 1e-3));
+    assert_close(sph_default_dt(sim), 0.5 * 1.2e-3 / sqrt(PAPER_K / PAPER_RHO0), 1e-18, "default dt without bodies");
     /* a valid (E, nu) pair gives back nu by eq. (10) */
     check(sim, sph_add_material_E_nu(sim, 70e9, 0.33, 2700, &m));
     sph_material_info info;
