@@ -307,19 +307,8 @@ double PairSPHSolid::default_timestep()
   if (!allocated) return 0.0;
   for (int t = 1; t <= atom->ntypes; t++)
     if (!setflag[t][t]) return 0.0;
-  // sph_default_dt() takes max c0 over the bodies of a handle (0 without
-  // bodies), so this short-lived handle holds one resting particle per
-  // material; it is destroyed at once and never evaluates rates.
+  // a handle without bodies takes the default step from its materials
   sph_sim *s = build_handle(false);
-  int nmaterials = 0;
-  for (int t = 1; t <= atom->ntypes; t++) nmaterials = std::max(nmaterials, type_material[t] + 1);
-  for (int m = 0; m < nmaterials; m++) {
-    const double position[3] = {10.0 * m * spacing, 0.0, 0.0};
-    int body = 0;
-    const sph_status status = sph_add_particles(s, fmt::format("material_{}", m).c_str(), m, 1,
-                                                position, nullptr, spacing, &body);
-    if (status != SPH_OK) fail(s, status, "default time step", true);
-  }
   const double dt = sph_default_dt(s);
   sph_destroy(s);
   return dt;
