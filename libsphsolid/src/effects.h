@@ -40,13 +40,13 @@ static inline double viscosity_pair(double alpha, double beta, double h,
                                     double v_dot_r, double r2,
                                     double c_mean, double rho_mean)
 {
-    if (v_dot_r >= 0.0)
-        return 0.0;
     /* one division: with d = r^2 + 0.01 h^2, mu = h v.r / d and
-     * Pi = mu (-alpha c + beta mu) / rho = h v.r (-alpha c d + beta h v.r) / (d^2 rho) */
+     * Pi = mu (-alpha c + beta mu) / rho = h v.r (-alpha c d + beta h v.r) / (d^2 rho);
+     * computed for every pair and selected, so the pair loop vectorises */
     const double d = r2 + 0.01 * h * h;
     const double hvr = h * v_dot_r;
-    return hvr * (beta * hvr - alpha * c_mean * d) / (d * d * rho_mean);
+    const double Pi = hvr * (beta * hvr - alpha * c_mean * d) / (d * d * rho_mean);
+    return v_dot_r < 0.0 ? Pi : 0.0;
 }
 
 /* Gray et al. (2001) eq. (22): the pair factor f_ab^n, f_ab = W_ab/W(dx). */
