@@ -16,20 +16,10 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench_timing.h"
 #include "sphsolid.h"
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
-static int compare(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 typedef struct bench_case {
     const char *label;
@@ -75,7 +65,7 @@ static double per_step(const bench_case *c, double dx, long steps, int threads,
     if (sph_run(sim, 1))
         fail(sim, "warm-up");
     double values[16];
-    const double t0 = now();
+    const double t0 = bench_now();
     if (c->probes) {
         for (long s = 0; s < steps; ++s)
             if (sph_run(sim, 1) || sph_probe_sample(sim, paper.probe_A, values) ||
@@ -85,7 +75,7 @@ static double per_step(const bench_case *c, double dx, long steps, int threads,
     } else if (sph_run(sim, steps)) {
         fail(sim, c->label);
     }
-    const double wall = (now() - t0) / (double)steps;
+    const double wall = (bench_now() - t0) / (double)steps;
     if (c->output)
         sph_output_close(sim);
     *particles = sph_particle_count(sim);
@@ -130,8 +120,7 @@ int main(int argc, char **argv)
     for (size_t k = 0; k < sizeof CASES / sizeof CASES[0]; ++k) {
         for (int r = 0; r < repeats; ++r)
             w[r] = per_step(&CASES[k], dx, steps, threads, h5, &n);
-        qsort(w, (size_t)repeats, sizeof *w, compare);
-        const double m = w[repeats / 2];
+        const double m = bench_median(w, repeats);
         if (m < 0) {
             printf("| %s | (no HDF5) | |\n", CASES[k].label);
             continue;

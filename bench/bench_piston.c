@@ -16,26 +16,11 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench_timing.h"
 #include "sphsolid.h"
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
-static int compare(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, compare);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static sph_sim *scene(double dx, int threads)
 {
@@ -59,9 +44,9 @@ static double timed_run(double dx, int threads, long steps, double t_end, size_t
         fprintf(stderr, "bench_piston: %s\n", sph_errmsg(sim));
         exit(1);
     }
-    const double t0 = now();
+    const double t0 = bench_now();
     const sph_status st = steps >= 0 ? sph_run(sim, steps) : sph_run_until(sim, t_end);
-    const double wall = now() - t0;
+    const double wall = bench_now() - t0;
     if (st) {
         fprintf(stderr, "bench_piston: %s\n", sph_errmsg(sim));
         exit(1);
@@ -99,7 +84,7 @@ int main(int argc, char **argv)
     for (int threads = 1; threads <= 2; ++threads) {
         for (int r = 0; r < repeats; ++r)
             w[r] = timed_run(1e-3, threads, quick ? 50 : 200, 0.0, &n, &bytes);
-        const double m = median(w, repeats);
+        const double m = bench_median(w, repeats);
         rate[threads] = (double)n * (quick ? 50 : 200) / m;
         printf("  %d thread%s: %.3f s, %.3g particle-steps/s (%zu particles)\n", threads,
                threads > 1 ? "s" : " ", m, rate[threads], n);
@@ -113,7 +98,7 @@ int main(int argc, char **argv)
             for (int r = 0; r < repeats; ++r)
                 w[r] = timed_run(dxs[k], threads, -1, 0.3e-3, &n, NULL);
             printf("  dx = %g mm, %d thread%s: %.3f s (%zu particles)\n", dxs[k] * 1e3, threads,
-                   threads > 1 ? "s" : " ", median(w, repeats), n);
+                   threads > 1 ? "s" : " ", bench_median(w, repeats), n);
         }
 
     timed_run(1e-3, 1, 1, 0.0, &n, &bytes);

@@ -18,14 +18,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench_timing.h"
 #include "sphsolid.h"
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int main(int argc, char **argv)
 {
@@ -66,7 +61,7 @@ int main(int argc, char **argv)
         const double sample = 1e-6;
         double prev = NAN, prev2 = NAN, d1 = 0, d2 = 0, vals[3][8];
         char outcome[64] = "finished";
-        const double t0 = now();
+        const double t0 = bench_now();
         while (sph_time(sim) < until * (1 - 1e-12)) {
             const sph_status st = sph_run_until(sim, fmin(until, sph_time(sim) + sample));
             if (st) {
@@ -82,7 +77,7 @@ int main(int argc, char **argv)
             prev2 = prev;
             prev = a;
         }
-        const double wall = now() - t0;
+        const double wall = bench_now() - t0;
         sph_probe_sample(sim, s.probe_A, vals[0]);
         sph_probe_sample(sim, s.probe_B, vals[1]);
         sph_probe_sample(sim, s.probe_C, vals[2]);
