@@ -248,6 +248,15 @@ void FixSPHSolidHeun::final_integrate()
   if (status != SPH_OK)
     error->one(FLERR, "fix sphsolid/heun: corrector at step {}: {} ({})", update->ntimestep,
                sph_errmsg(pair->handle()), sph_status_name(status));
+
+  // the library's watchdog: runaway speed or density of an integrated atom
+  watch_material.resize((size_t) std::max(nlocal, 1));
+  for (int i = 0; i < nlocal; i++) watch_material[i] = pair->material_of_type(atom->type[i]);
+  long bad = -1;
+  if (sph_watchdog_check(pair->handle(), nlocal, vbuf.data(), state->rho, watch_material.data(),
+                         integrate_motion.data(), &bad) == SPH_ERR_UNSTABLE)
+    error->one(FLERR, "fix sphsolid/heun: atom {} at step {}: {} (libsphsolid watchdog: speed above c_p or density outside [0.5, 2] rho0)",
+               atom->tag[bad], update->ntimestep, sph_errmsg(pair->handle()));
   unpack();
   stage_atoms = -1;
 

@@ -50,6 +50,7 @@ class FixSPHSolidHeun : public Fix {
   bool timestep_from_library;
   std::vector<double> xbuf, vbuf, dvbuf, other_force, stage;
   std::vector<unsigned char> integrate_motion;
+  std::vector<int> watch_material;    // library material of each local atom, for the watchdog
   int stage_atoms;       // owned atoms whose y_n is in `stage` (-1: none)
   bool stage_in_rows;    // y_n was moved to the state fix's rows (atoms migrate)
 

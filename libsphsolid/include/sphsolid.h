@@ -242,6 +242,16 @@ SPH_API sph_status sph_set_watchdog(sph_sim *sim, double max_speed_over_cp,
                                     double min_density_ratio,
                                     double max_density_ratio);
 
+/* The watchdog's test on external arrays (n particles, material indices of
+ * sim; integrate_motion as for sph_heun_correct, NULL for all): returns
+ * SPH_ERR_UNSTABLE, with *particle the lowest offending index and a message
+ * naming speed or density ratio, or SPH_OK (*particle = -1). */
+SPH_API sph_status sph_watchdog_check(const sph_sim *sim, size_t n,
+                                      const double *v, const double *rho,
+                                      const int *material,
+                                      const unsigned char *integrate_motion,
+                                      long *particle);
+
 /* A step that goes non-finite or trips the watchdog is undone: the state is
  * left as it was at the start of that step (the last good state), and is
  * written as a snapshot if an output file is open.

@@ -219,6 +219,61 @@ static sph_status evaluate(sph_sim *sim)
     return SPH_OK;
 }
 
+/* The watchdog's bounds for one material; a zero setting switches a bound
+ * off.  Prescribed particles (integrate = 0) are not held to the speed. */
+static void watchdog_bounds(const sph_sim *sim, const material *m, int integrate,
+                            double *vmax2, double *rho_lo, double *rho_hi)
+{
+    *vmax2 = integrate && sim->watch_speed > 0.0
+                 ? (sim->watch_speed * m->c_p) * (sim->watch_speed * m->c_p)
+                 : INFINITY;
+    *rho_lo = sim->watch_rho_min * m->rho0;
+    *rho_hi = sim->watch_rho_max > 0.0 ? sim->watch_rho_max * m->rho0 : INFINITY;
+}
+
+static inline int watchdog_trips(int dim, const double *v, double rho, double vmax2,
+                                 double rho_lo, double rho_hi)
+{
+    double v2 = 0.0;
+    for (int i = 0; i < dim; ++i)
+        v2 += v[i] * v[i];
+    return v2 > vmax2 || rho < rho_lo || rho > rho_hi;
+}
+
+sph_status sph_watchdog_check(const sph_sim *sim, size_t n, const double *v, const double *rho,
+                              const int *material_of, const unsigned char *integrate_motion,
+                              long *particle)
+{
+    if (!sim || !particle)
+        return SPH_ERR_ARGUMENT;
+    *particle = -1;
+    if (n > 0 && (!v || !rho || !material_of))
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: v, rho and material must not be NULL");
+    const int dim = sim->dim;
+    for (size_t a = 0; a < n; ++a) {
+        if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
+            return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: particle %zu has material %d, but %d materials are defined",
+                            a, material_of[a], sim->n_materials);
+        const material *m = &sim->materials[material_of[a]];
+        double vmax2, rho_lo, rho_hi;
+        watchdog_bounds(sim, m, integrate_motion ? integrate_motion[a] : 1, &vmax2, &rho_lo, &rho_hi);
+        if (!watchdog_trips(dim, v + a * dim, rho[a], vmax2, rho_lo, rho_hi))
+            continue;
+        *particle = (long)a;
+        double v2 = 0.0;
+        for (int i = 0; i < dim; ++i)
+            v2 += v[a * dim + i] * v[a * dim + i];
+        if (v2 > vmax2)
+            return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
+                            "particle %zu moves at %g m/s, more than %g times the P-wave speed %g m/s (watchdog)",
+                            a, sqrt(v2), sim->watch_speed, m->c_p);
+        return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
+                        "particle %zu has density ratio rho/rho0 = %g outside [%g, %g] (watchdog)",
+                        a, rho[a] / m->rho0, sim->watch_rho_min, sim->watch_rho_max);
+    }
+    return SPH_OK;
+}
+
 /* Per-body constants of a stage. */
 typedef struct body_stage {
     int integrate;
@@ -237,11 +292,7 @@ static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
         const body *b = &sim->bodies[k];
         const material *m = &sim->materials[b->material];
         bs[k].integrate = body_integrates(b);
-        bs[k].vmax2 = bs[k].integrate && sim->watch_speed > 0.0
-                          ? (sim->watch_speed * m->c_p) * (sim->watch_speed * m->c_p)
-                          : INFINITY;
-        bs[k].rho_lo = sim->watch_rho_min * m->rho0;
-        bs[k].rho_hi = sim->watch_rho_max > 0.0 ? sim->watch_rho_max * m->rho0 : INFINITY;
+        watchdog_bounds(sim, m, bs[k].integrate, &bs[k].vmax2, &bs[k].rho_lo, &bs[k].rho_hi);
     }
     const long n = (long)sim->n;
     const int *body_of = sim->body_of;
@@ -269,10 +320,7 @@ static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
             }
             if (d > max_moved)
                 max_moved = d;
-            double v2 = 0.0;
-            for (int i = 0; i < dim; ++i)
-                v2 += sim->v[a * dim + i] * sim->v[a * dim + i];
-            if ((v2 > b->vmax2 || sim->rho[a] < b->rho_lo || sim->rho[a] > b->rho_hi) && a < wild)
+            if (watchdog_trips(dim, sim->v + a * dim, sim->rho[a], b->vmax2, b->rho_lo, b->rho_hi) && a < wild)
                 wild = a;
         }
         if (bad < n)

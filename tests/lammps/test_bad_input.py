@@ -174,3 +174,13 @@ def test_runaway_state_names_step_atom_and_quantity(lmp_factory):
         "velocity all create 1.0 4928459 dist gaussian", "fix heun all sphsolid/heun",
         "timestep 1e-5", "run 2000"], "step")
     assert "atom" in message and ("non-finite" in message or "density" in message)
+
+
+def test_growing_instability_is_stopped_by_the_watchdog(lmp_factory):
+    # twice the stable step: the state grows over many steps, and the
+    # library's watchdog stops it before any value overflows
+    message = fails_with(lmp_factory, BOX + GOOD_PAIR + [
+        "velocity all create 1.0 4928459 dist gaussian", "fix heun all sphsolid/heun",
+        "timestep 5e-7", "run 20000"], "step")
+    assert "atom" in message and "watchdog" in message
+    assert "density ratio" in message or "P-wave speed" in message
