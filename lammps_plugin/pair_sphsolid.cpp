@@ -158,6 +158,15 @@ void PairSPHSolid::settings(int narg, char **arg)
   sph_destroy(check);
 }
 
+/* The library material for a pair_coeff: whichever pair of constants was
+   given decides the library call. */
+static sph_status add_material(sph_sim *s, const SPHSolidMaterial &m, int *index)
+{
+  if (m.kind == "K_mu") return sph_add_material_K_mu(s, m.first, m.second, m.rho0, index);
+  if (m.kind == "E_nu") return sph_add_material_E_nu(s, m.first, m.second, m.rho0, index);
+  return sph_add_material_K_nu(s, m.first, m.second, m.rho0, index);
+}
+
 /* ----------------------------------------------------------------------
    pair_coeff I J K v mu v rho0 v  |  E v nu v rho0 v  |  K v nu v rho0 v
 ------------------------------------------------------------------------- */
@@ -211,12 +220,7 @@ void PairSPHSolid::coeff(int narg, char **arg)
   if (!check) error->all(FLERR, "pair_coeff for sphsolid: out of memory");
   int index = 0;
   sph_status status = SPH_OK;
-  if (m.kind == "K_mu")
-    status = sph_add_material_K_mu(check, m.first, m.second, m.rho0, &index);
-  else if (m.kind == "E_nu")
-    status = sph_add_material_E_nu(check, m.first, m.second, m.rho0, &index);
-  else
-    status = sph_add_material_K_nu(check, m.first, m.second, m.rho0, &index);
+  status = add_material(check, m, &index);
   if (status != SPH_OK) fail(check, status, fmt::format("pair_coeff {} {}", arg[0], arg[1]), true);
   sph_destroy(check);
 
@@ -272,12 +276,7 @@ sph_sim *PairSPHSolid::build_handle(bool with_effects)
     for (size_t k = 0; k < distinct.size(); k++)
       if (distinct[k] == m) index = (int) k;
     if (index < 0) {
-      if (m.kind == "K_mu")
-        status = sph_add_material_K_mu(s, m.first, m.second, m.rho0, &index);
-      else if (m.kind == "E_nu")
-        status = sph_add_material_E_nu(s, m.first, m.second, m.rho0, &index);
-      else
-        status = sph_add_material_K_nu(s, m.first, m.second, m.rho0, &index);
+      status = add_material(s, m, &index);
       if (status != SPH_OK) fail(s, status, fmt::format("material of atom type {}", t), true);
       distinct.push_back(m);
     }
