@@ -7,6 +7,7 @@
  */
 #include "fix_sphsolid_heun.h"
 
+#include "fix_sphsolid_force.h"
 #include "fix_sphsolid_state.h"
 #include "pair_sphsolid.h"
 
@@ -14,6 +15,7 @@
 #include "comm.h"
 #include "error.h"
 #include "force.h"
+#include "group.h"
 #include "modify.h"
 #include "update.h"
 
@@ -71,12 +73,66 @@ void FixSPHSolidHeun::init()
                       "every atom; its group selects whose motion it integrates");
   if (utils::strmatch(update->integrate_style, "^respa"))
     error->all(FLERR, "fix sphsolid/heun does not support run_style respa");
+  init_rigid_bodies();
   if (update->dt_default)
     error->all(FLERR,
                "fix sphsolid/heun: no timestep given; use the timestep command or define the fix "
                "after pair_coeff to get the library default 0.5 h/c0 ({:.6g} s for the current "
                "coefficients)",
                pair->default_timestep());
+}
+
+/* ----------------------------------------------------------------------
+   fix sphsolid/force groups: each inside this fix's group, no atom in two
+------------------------------------------------------------------------- */
+
+void FixSPHSolidHeun::init_rigid_bodies()
+{
+  rigid.clear();
+  for (Fix *f : modify->get_fix_by_style("^sphsolid/force$"))
+    rigid.push_back(dynamic_cast<FixSPHSolidForce *>(f));
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  for (size_t k = 0; k < rigid.size(); k++) {
+    bigint outside = 0, shared = 0, all[2];
+    for (int i = 0; i < nlocal; i++) {
+      if (!(mask[i] & rigid[k]->groupbit)) continue;
+      if (!(mask[i] & groupbit)) outside++;
+      for (size_t j = k + 1; j < rigid.size(); j++)
+        if (mask[i] & rigid[j]->groupbit) shared++;
+    }
+    const bigint mine[2] = {outside, shared};
+    MPI_Allreduce(mine, all, 2, MPI_LMP_BIGINT, MPI_SUM, world);
+    if (all[0] > 0)
+      error->all(FLERR, "fix {} (sphsolid/force): {} atoms of its group are not in group {} of "
+                        "fix sphsolid/heun, which integrates the body's motion",
+                 rigid[k]->id, all[0], group->names[igroup]);
+    if (all[1] > 0)
+      error->all(FLERR, "fix {} (sphsolid/force): {} atoms of its group belong to another "
+                        "fix sphsolid/force too",
+                 rigid[k]->id, all[1]);
+  }
+}
+
+/* every atom of a fix sphsolid/force group gets the body's acceleration */
+void FixSPHSolidHeun::apply_rigid_bodies()
+{
+  const int nlocal = atom->nlocal;
+  const int dim = pair->dimension();
+  const int *mask = atom->mask;
+  member.resize((size_t) std::max(nlocal, 1));
+  masses.resize((size_t) std::max(nlocal, 1));
+  for (int i = 0; i < nlocal; i++) masses[i] = pair->mass_of(i);
+  for (FixSPHSolidForce *body : rigid) {
+    for (int i = 0; i < nlocal; i++) member[i] = (mask[i] & body->groupbit) ? 1 : 0;
+    double mine[4] = {0.0, 0.0, 0.0, 0.0}, sums[4];
+    sph_rigid_force_sum(pair->handle(), nlocal, masses.data(), dvbuf.data(), member.data(), mine);
+    MPI_Allreduce(mine, sums, dim + 1, MPI_DOUBLE, MPI_SUM, world);
+    if (sph_rigid_force_apply(pair->handle(), nlocal, body->applied(), sums, member.data(),
+                              dvbuf.data()) != SPH_OK)
+      error->all(FLERR, "fix {} (sphsolid/force) at step {}: {}", body->id, update->ntimestep,
+                 sph_errmsg(pair->handle()));
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -109,6 +165,7 @@ void FixSPHSolidHeun::pack()
     }
     integrate_motion[i] = (mask[i] & groupbit) ? 1 : 0;
   }
+  apply_rigid_bodies();
 }
 
 void FixSPHSolidHeun::unpack()

@@ -15,6 +15,8 @@
  * Density and deviatoric stress evolve for every atom of pair sphsolid;
  * the fix group selects the atoms whose position and velocity it
  * integrates.  The others are moved by fix move or stay where they are.
+ * Groups of fix sphsolid/force inside it move as rigid bodies under their
+ * applied force: their atoms' dv/dt is the body's at both evaluations.
  */
 #ifdef FIX_CLASS
 // clang-format off
@@ -34,6 +36,7 @@ FixStyle(sphsolid/heun,FixSPHSolidHeun);
 namespace LAMMPS_NS {
 
 class PairSPHSolid;
+class FixSPHSolidForce;
 
 class FixSPHSolidHeun : public Fix {
  public:
@@ -50,10 +53,15 @@ class FixSPHSolidHeun : public Fix {
   bool timestep_from_library;
   std::vector<double> xbuf, vbuf, dvbuf, other_force, stage;
   std::vector<unsigned char> integrate_motion;
+  std::vector<FixSPHSolidForce *> rigid;    // fix sphsolid/force bodies
+  std::vector<unsigned char> member;        // atoms of one of them
+  std::vector<double> masses;
   std::vector<int> watch_material;    // library material of each local atom, for the watchdog
   int stage_atoms;       // owned atoms whose y_n is in `stage` (-1: none)
   bool stage_in_rows;    // y_n was moved to the state fix's rows (atoms migrate)
 
+  void init_rigid_bodies();
+  void apply_rigid_bodies();
   void pack();
   void unpack();
   int saved_values() const;

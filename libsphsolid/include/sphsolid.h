@@ -425,6 +425,21 @@ SPH_API sph_status sph_heun_correct(const sph_sim *sim, size_t n, double dt,
                             const unsigned char *integrate_motion,
                             const double *saved);
 
+/* Rigid translation under an applied force (SPH_MOTION_FORCE), split for
+ * distributed particles.  sph_rigid_force_sum() adds the contributions of
+ * the members among n particles to `sums` (dim + 1 doubles, zeroed by the
+ * caller: the total mass, then the sum of m dv/dt); add the sums of all
+ * ranks together.  sph_rigid_force_apply() then gives every member the
+ * common acceleration (applied + sum m dv/dt) / total mass, with `applied`
+ * the external force on the whole body (dim entries).  `member` (n
+ * entries, non-zero for members) may be NULL: all n are members. */
+SPH_API sph_status sph_rigid_force_sum(const sph_sim *sim, size_t n,
+                                       const double *mass, const double *dv_dt,
+                                       const unsigned char *member, double *sums);
+SPH_API sph_status sph_rigid_force_apply(const sph_sim *sim, size_t n,
+                                         const double *applied, const double *sums,
+                                         const unsigned char *member, double *dv_dt);
+
 /* Derived fields of external particles (n of them, material indices of
  * sim): pressure P (n), full Cauchy stress sigma = -P I + S (n * ncomp) and
  * von Mises stress (n).  Any output may be NULL. */

@@ -207,14 +207,52 @@ static sph_status evaluate(sph_sim *sim)
         if (b->motion == SPH_MOTION_FIXED || b->motion == SPH_MOTION_VELOCITY) {
             memset(sim->dv_dt + b->first * dim, 0, b->count * dim * sizeof(double));
         } else if (b->motion == SPH_MOTION_FORCE) {
-            double F[3] = {b->vector[0], b->vector[1], b->vector[2]};
-            for (size_t a = b->first; a < b->first + b->count; ++a)
-                for (int i = 0; i < dim; ++i)
-                    F[i] += sim->mass[a] * sim->dv_dt[a * dim + i];
-            for (size_t a = b->first; a < b->first + b->count; ++a)
-                for (int i = 0; i < dim; ++i)
-                    sim->dv_dt[a * dim + i] = F[i] / b->total_mass;
+            double sums[4] = {0.0, 0.0, 0.0, 0.0};
+            double *dv = sim->dv_dt + b->first * dim;
+            sph_rigid_force_sum(sim, b->count, sim->mass + b->first, dv, NULL, sums);
+            sph_rigid_force_apply(sim, b->count, b->vector, sums, NULL, dv);
         }
+    }
+    return SPH_OK;
+}
+
+sph_status sph_rigid_force_sum(const sph_sim *sim, size_t n, const double *mass,
+                               const double *dv_dt, const unsigned char *member, double *sums)
+{
+    if (!sim || !sums)
+        return SPH_ERR_ARGUMENT;
+    if (n > 0 && (!mass || !dv_dt))
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_rigid_force_sum: mass and dv_dt must not be NULL");
+    const int dim = sim->dim;
+    for (size_t a = 0; a < n; ++a) {
+        if (member && !member[a])
+            continue;
+        sums[0] += mass[a];
+        for (int i = 0; i < dim; ++i)
+            sums[1 + i] += mass[a] * dv_dt[a * dim + i];
+    }
+    return SPH_OK;
+}
+
+sph_status sph_rigid_force_apply(const sph_sim *sim, size_t n, const double *applied,
+                                 const double *sums, const unsigned char *member, double *dv_dt)
+{
+    if (!sim || !applied || !sums)
+        return SPH_ERR_ARGUMENT;
+    if (n > 0 && !dv_dt)
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_rigid_force_apply: dv_dt must not be NULL");
+    if (!(sums[0] > 0.0) || !isfinite(sums[0]))
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT,
+                        "sph_rigid_force_apply: total mass %g of the body must be finite and > 0", sums[0]);
+    const int dim = sim->dim;
+    double a_body[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < dim; ++i)
+        a_body[i] = (applied[i] + sums[1 + i]) / sums[0];
+    for (size_t a = 0; a < n; ++a) {
+        if (member && !member[a])
+            continue;
+        for (int i = 0; i < dim; ++i)
+            dv_dt[a * dim + i] = a_body[i];
     }
     return SPH_OK;
 }

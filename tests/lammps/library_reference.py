@@ -21,6 +21,11 @@ class PaperScene(Structure):
                 ("specimen", "piston", "plate", "material", "probe_A", "probe_B", "probe_C")]
 
 
+class BodyInfo(Structure):
+    _fields_ = [("name", c_char_p), ("material", c_int), ("motion", c_int),
+                ("first", ctypes.c_size_t), ("count", ctypes.c_size_t), ("spacing", c_double)]
+
+
 def load_library(plugin: Path) -> ctypes.CDLL:
     path = plugin.parent.parent / "libsphsolid" / "libsphsolid.so"
     if not path.is_file():
@@ -32,6 +37,8 @@ def load_library(plugin: Path) -> ctypes.CDLL:
     lib.sph_errmsg.restype = c_char_p
     lib.sph_build_paper_scene.argtypes = [c_void_p, c_double, c_double, c_int, POINTER(PaperScene)]
     lib.sph_effect.argtypes = [c_void_p, c_char_p, c_char_p]
+    lib.sph_body_info_get.argtypes = [c_void_p, c_int, POINTER(BodyInfo)]
+    lib.sph_set_motion.argtypes = [c_void_p, c_int, c_int, POINTER(c_double)]
     lib.sph_default_dt.argtypes = [c_void_p]
     lib.sph_default_dt.restype = c_double
     lib.sph_run.argtypes = [c_void_p, c_long]
@@ -53,14 +60,20 @@ class PaperRun:
     """The paper scene in the library, sampled like the LAMMPS deck."""
 
     def __init__(self, lib: ctypes.CDLL, dx: float, speed: float = 0.0015,
-                 gravity_only: bool = False, effects: dict[str, str] | None = None):
+                 gravity_only: bool = False, effects: dict[str, str] | None = None,
+                 pressure: float = 0.0):
         self.lib = lib
+        self.dx = dx
         self.sim = c_void_p()
         self._check(lib.sph_create(2, byref(self.sim)))
         self._check(lib.sph_set_threads(self.sim, 1))
         self.scene = PaperScene()
         self._check(lib.sph_build_paper_scene(self.sim, dx, speed, int(gravity_only),
                                               byref(self.scene)))
+        if pressure > 0.0:
+            # SPH_MOTION_FORCE: the pressure on the piston's 86 mm face
+            force = (c_double * 3)(0.0, -pressure * 0.086, 0.0)
+            self._check(lib.sph_set_motion(self.sim, self.scene.piston, 3, force))
         for name, parameters in (effects or {}).items():
             self._check(lib.sph_effect(self.sim, name.encode(), parameters.encode()))
         self.dt = lib.sph_default_dt(self.sim)
@@ -97,6 +110,12 @@ class PaperRun:
         self._check(self.lib.sph_field_copy(self.sim, field_id,
                                             out.ctypes.data_as(POINTER(c_double))))
         return out.reshape(n, cols)
+
+    def body_field(self, name: str, body: int) -> np.ndarray:
+        """`field(name)` restricted to one body's particles."""
+        info = BodyInfo()
+        self._check(self.lib.sph_body_info_get(self.sim, body, byref(info)))
+        return self.field(name)[info.first:info.first + info.count]
 
     def close(self) -> None:
         if self.sim:

@@ -184,3 +184,33 @@ def test_growing_instability_is_stopped_by_the_watchdog(lmp_factory):
         "timestep 5e-7", "run 20000"], "step")
     assert "atom" in message and "watchdog" in message
     assert "density ratio" in message or "P-wave speed" in message
+
+
+def test_force_body_needs_its_components(lmp_factory):
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["group right region right",
+                                               "fix load right sphsolid/force -1.0"],
+               "2 components", "got 1")
+
+
+def test_force_body_component_must_be_finite(lmp_factory):
+    # LAMMPS's number parser names it
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["group right region right",
+                                               "fix load right sphsolid/force 0.0 1e999"],
+               "1e999", "out of range")
+
+
+def test_force_body_outside_the_integrator_group_is_named(lmp_factory):
+    # the heun fix integrates the rigid body: its atoms must be in its group
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["group left region left", "group right region right",
+                                               "fix heun left sphsolid/heun",
+                                               "fix load right sphsolid/force 0.0 -1.0",
+                                               "run 1"],
+               "fix load", "not in group left")
+
+
+def test_force_bodies_must_not_share_atoms(lmp_factory):
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["group right region right",
+                                               "fix heun all sphsolid/heun",
+                                               "fix a right sphsolid/force 0.0 -1.0",
+                                               "fix b all sphsolid/force 0.0 -1.0", "run 1"],
+               "fix a", "another fix sphsolid/force")

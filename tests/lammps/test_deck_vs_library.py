@@ -55,6 +55,41 @@ def test_piston_deck_probes_match_standalone_library(tmp_path, plugin, library):
     assert max(errors) < TOLERANCE, errors
 
 
+def test_pressure_piston_deck_matches_library_force_motion(tmp_path, plugin, library):
+    # fix sphsolid/force against the library's SPH_MOTION_FORCE: the piston
+    # starts at rest under 1 MPa on its face and accelerates into the
+    # specimen; its atoms share one acceleration summed over the group.
+    dx, steps, every, pressure = 0.002, 200, 10, 1.0e6
+    reference = PaperRun(library, dx, speed=0.0, pressure=pressure,
+                         effects={"artificial_viscosity": "alpha=1 beta=0"})
+    try:
+        expected = reference.history(steps, every)
+        piston = reference.body_field("velocity", reference.scene.piston)
+        dt = reference.dt
+    finally:
+        reference.close()
+    deck = tmp_path / "in.deck"
+    deck.write_text(PISTON_DECK.read_text() + PISTON_VELOCITY_DUMP)
+    run_deck(deck, tmp_path, {"dx": dx, "t_end": steps * dt, "every": every, "speed": 0.0,
+                              "pressure": pressure, "probes": "probes.txt"}, plugin)
+    got = read_probes(tmp_path / "probes.txt")
+    errors = compare(got, expected)
+    assert max(errors) < TOLERANCE, errors
+    # one rigid velocity for the whole piston, the library's
+    vy = np.loadtxt(tmp_path / "piston_v.txt")
+    assert np.ptp(vy) == 0.0
+    assert np.ptp(piston[:, 1]) == 0.0
+    assert vy[0] == pytest.approx(piston[0, 1], rel=1e-9)
+    assert vy[0] < 0.0
+
+
+# after the deck's run: the piston atoms' vy, one per line
+PISTON_VELOCITY_DUMP = """
+variable        pvy atom vy
+write_dump      piston custom piston_v.txt v_pvy modify header no format float %.17g
+"""
+
+
 def test_gravity_deck_probes_match_standalone_library(tmp_path, plugin, library):
     dx, steps, every = 0.002, 200, 20
     reference = PaperRun(library, dx, gravity_only=True,

@@ -57,6 +57,27 @@ def test_backends_agree_on_the_piston_scene():
     assert pc["B"]["von_mises"].max() > 1e3
 
 
+def test_backends_agree_on_a_pressure_driven_piston():
+    # Pressure -> the library's SPH_MOTION_FORCE or fix sphsolid/force
+    def make():
+        specimen = sphsolid.rectangle(scenes.SPECIMEN_X, scenes.SPECIMEN_Y, 4e-3,
+                                      scenes.paper_material(), "specimen")
+        return sphsolid.Scene(2, [specimen, sphsolid.plate(under=specimen, layers=3),
+                                  sphsolid.piston(over=specimen, layers=3,
+                                                  motion=sphsolid.Pressure(1.0e6))],
+                              effects={"artificial_viscosity": scenes.WAVE_VISCOSITY})
+
+    (c, pc, _), (l, pl, _) = run_both(make, until=100e-6, interval=10)
+    for name in "ABC":
+        close(pc[name]["sigma_yy"], pl[name]["sigma_yy"], name)
+    close(c.velocities, l.velocities, "velocities")
+    piston_c = c.velocities[c.body_ids == 2]
+    piston_l = l.velocities[l.body_ids == 2]
+    assert np.ptp(piston_l[:, 1]) == 0.0            # one rigid velocity
+    assert piston_c[0, 1] < 0.0                     # pushed down
+    close(piston_c, piston_l, "piston velocity")
+
+
 def test_backends_agree_under_gravity_with_damping():
     (c, pc, _), (l, pl, _) = run_both(
         lambda: scenes.gravity(4e-3), until=100e-6, interval=10)
