@@ -116,8 +116,10 @@ typedef enum sph_motion {
     SPH_MOTION_FREE = 0,     /* integrated by the SPH equations */
     SPH_MOTION_FIXED = 1,    /* does not move */
     SPH_MOTION_VELOCITY = 2, /* moves at a prescribed constant velocity */
-    SPH_MOTION_FORCE = 3     /* rigid translation under a constant applied
+    SPH_MOTION_FORCE = 3,    /* rigid translation under a constant applied
                                 force plus the SPH forces on it */
+    SPH_MOTION_ROTATION = 4  /* prescribed rigid rotation at a constant
+                                angular velocity (sph_set_rotation) */
 } sph_motion;
 
 /* A block of particles on a lattice over [lo, hi] (only the first `dim`
@@ -138,9 +140,23 @@ SPH_API sph_status sph_add_particles(sph_sim *sim, const char *name, int materia
 
 /* Prescribe a body's motion.  `vector` (dim entries) is the velocity for
  * SPH_MOTION_VELOCITY, the applied total force [N per unit depth in 2D]
- * for SPH_MOTION_FORCE, and is ignored (may be NULL) otherwise. */
+ * for SPH_MOTION_FORCE, and is ignored (may be NULL) otherwise.
+ * SPH_MOTION_ROTATION is set with sph_set_rotation(). */
 SPH_API sph_status sph_set_motion(sph_sim *sim, int body, sph_motion motion,
                           const double *vector);
+
+/* Prescribe a rigid rotation of a body about the fixed point `centre` (dim
+ * entries) at the constant angular velocity `omega` [rad/s]: 3 entries, the
+ * rotation vector (in 2D only omega[2], about z, may be non-zero).  Each
+ * step moves every particle exactly along its arc,
+ *   x_{n+1} = c + R(omega dt) (x_n - c),   v = omega x (x - c),
+ * for both Heun stages (a prescribed velocity would be advanced on straight
+ * lines); density and stress evolve through the SPH equations, so a body
+ * whose velocity gradient is computed exactly (kernel_correction) stays
+ * unstrained.  Sets the particles' velocities now.  Not with periodic
+ * axes. */
+SPH_API sph_status sph_set_rotation(sph_sim *sim, int body, const double *centre,
+                                    const double *omega);
 
 /* Give every particle of a body the velocity `v` (dim entries). */
 SPH_API sph_status sph_set_body_velocity(sph_sim *sim, int body, const double *v);

@@ -4,7 +4,8 @@
  *   y_{n+1} = y_n + dt/2 (f(y_n) + f(y*)) = (y_n + y*)/2 + dt/2 f(y*)
  * for positions, velocities, densities and deviatoric stresses.  Positions
  * use x_{n+1} = x* + dt/2 (v* - v_n), which needs only v_n saved.
- * Bodies with prescribed motion keep their velocity; their density and
+ * Bodies with prescribed motion keep their velocity (a prescribed rotation
+ * moves its particles exactly along their arcs instead); their density and
  * stress evolve like everyone else's.
  */
 #include <math.h>
@@ -175,6 +176,12 @@ sph_status sim_prepare(sph_sim *sim)
         free(sim->dx_dt);
         sim->dx_dt = NULL;
     }
+    for (int k = 0; k < sim->n_bodies; ++k)
+        for (int i = 0; i < dim && sim->bodies[k].motion == SPH_MOTION_ROTATION; ++i)
+            if (sim->has_domain && sim->periodic[i])
+                return sph_fail(sim, SPH_ERR_STATE,
+                                "body '%s' rotates (sph_set_rotation), which needs a domain without periodic axes (%c is periodic)",
+                                sim->bodies[k].name, "xyz"[i]);
     sim->nl.skin = 0.25 * sim->h;
     const double rc = 2.0 * sim->h + sim->nl.skin;
     for (int i = 0; i < dim; ++i)
@@ -315,8 +322,44 @@ sph_status sph_watchdog_check(const sph_sim *sim, size_t n, const double *v, con
 /* Per-body constants of a stage. */
 typedef struct body_stage {
     int integrate;
+    int rotate;                     /* prescribed rotation by R about c */
     double vmax2, rho_lo, rho_hi;   /* watchdog bounds */
+    double R[3][3], c[3];
+    const double *omega;
 } body_stage;
+
+/* The rotation by the angle |omega| dt about omega (Rodrigues). */
+static void rotation_matrix(const double *omega, double dt, double R[3][3])
+{
+    const double w = sqrt(omega[0] * omega[0] + omega[1] * omega[1] + omega[2] * omega[2]);
+    const double k[3] = {w > 0.0 ? omega[0] / w : 0.0, w > 0.0 ? omega[1] / w : 0.0,
+                         w > 0.0 ? omega[2] / w : 1.0};
+    const double c = cos(w * dt), s = sin(w * dt), C = 1.0 - c;
+    R[0][0] = c + k[0] * k[0] * C;
+    R[0][1] = k[0] * k[1] * C - k[2] * s;
+    R[0][2] = k[0] * k[2] * C + k[1] * s;
+    R[1][0] = k[1] * k[0] * C + k[2] * s;
+    R[1][1] = c + k[1] * k[1] * C;
+    R[1][2] = k[1] * k[2] * C - k[0] * s;
+    R[2][0] = k[2] * k[0] * C - k[1] * s;
+    R[2][1] = k[2] * k[1] * C + k[0] * s;
+    R[2][2] = c + k[2] * k[2] * C;
+}
+
+/* A particle of a rotating body: x = c + R (x_n - c) at both stages (the
+ * exact arc; the corrector lands where the predictor did) and v = omega x
+ * (x - c).  Returns the distance moved from x_n. */
+static double rotate_particle(int dim, const body_stage *b, const double *x_n, double *x, double *v)
+{
+    const double r[3] = {x_n[0] - b->c[0], x_n[1] - b->c[1], dim == 3 ? x_n[2] - b->c[2] : 0.0};
+    double moved2 = 0.0;
+    for (int i = 0; i < dim; ++i) {
+        x[i] = b->c[i] + b->R[i][0] * r[0] + b->R[i][1] * r[1] + b->R[i][2] * r[2];
+        moved2 += (x[i] - x_n[i]) * (x[i] - x_n[i]);
+    }
+    rotation_velocity(dim, b->omega, b->c, x, v);
+    return sqrt(moved2);
+}
 
 static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
 {
@@ -330,6 +373,11 @@ static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
         const body *b = &sim->bodies[k];
         const material *m = &sim->materials[b->material];
         bs[k].integrate = body_integrates(b);
+        bs[k].rotate = b->motion == SPH_MOTION_ROTATION;
+        bs[k].omega = b->vector;
+        memcpy(bs[k].c, b->centre, sizeof bs[k].c);
+        if (bs[k].rotate)
+            rotation_matrix(b->vector, dt, bs[k].R);
         watchdog_bounds(sim, m, bs[k].integrate, &bs[k].vmax2, &bs[k].rho_lo, &bs[k].rho_hi);
     }
     const long n = (long)sim->n;
@@ -343,14 +391,18 @@ static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
                 sim->x_saved[a * dim + i] = sim->x[a * dim + i];
             predict_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r,
                              bs[body_of[a]].integrate, &s);
+            if (bs[body_of[a]].rotate)
+                rotate_particle(dim, &bs[body_of[a]], sim->x_saved + a * dim, sim->x + a * dim, sim->v + a * dim);
         }
     } else {
         long bad = n, wild = n;
 #pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild) reduction(max : max_moved)
         for (long a = 0; a < n; ++a) {
             const body_stage *b = &bs[body_of[a]];
-            const double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r,
-                                              b->integrate, &s);
+            double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r,
+                                        b->integrate, &s);
+            if (b->rotate && !isnan(d))
+                d = rotate_particle(dim, b, sim->x_saved + a * dim, sim->x + a * dim, sim->v + a * dim);
             if (isnan(d)) {
                 if (a < bad)
                     bad = a;

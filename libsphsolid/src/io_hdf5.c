@@ -217,6 +217,7 @@ static const char *motion_name(sph_motion m)
     case SPH_MOTION_FIXED: return "fixed";
     case SPH_MOTION_VELOCITY: return "velocity";
     case SPH_MOTION_FORCE: return "force";
+    case SPH_MOTION_ROTATION: return "rotation";
     }
     return "unknown";
 }
@@ -279,7 +280,12 @@ static void write_static(sph_sim *sim, hid_t file)
         attr_long(g, "count", (long)b->count);
         attr_long(g, "material", b->material);
         attr_string(g, "motion", motion_name(b->motion));
-        attr_double(g, "vector", b->vector, (hsize_t)dim);
+        if (b->motion == SPH_MOTION_ROTATION) {
+            attr_double(g, "angular_velocity", b->vector, 3);
+            attr_double(g, "centre", b->centre, (hsize_t)dim);
+        } else {
+            attr_double(g, "vector", b->vector, (hsize_t)dim);
+        }
         attr_double(g, "spacing", &b->spacing, 1);
         H5Gclose(g);
     }
@@ -589,6 +595,9 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
             memcpy(vectors + 3 * k, sim->bodies[k].vector, 3 * sizeof(double));
         hsize_t d[2] = {(hsize_t)sim->n_bodies, 3};
         write_dataset(g, "motion_vectors", H5T_NATIVE_DOUBLE, 2, d, vectors);
+        for (int k = 0; k < sim->n_bodies; ++k)
+            memcpy(vectors + 3 * k, sim->bodies[k].centre, 3 * sizeof(double));
+        write_dataset(g, "motion_centres", H5T_NATIVE_DOUBLE, 2, d, vectors);
         free(vectors);
     }
     H5Gclose(g);
@@ -641,18 +650,21 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
                       "checkpoint '%s' holds %ld particles in %ld bodies in %ldD; this simulation has %zu in %d bodies in %dD",
                       path, n, nb, dim, sim->n, sim->n_bodies, sim->dim);
     } else {
-        double *vectors = malloc((size_t)nb * 3 * sizeof *vectors + 1);
+        double *vectors = malloc((size_t)nb * 6 * sizeof *vectors + 1);
         e = read_array(g, "position", sim->n * sim->dim, sim->x);
         e = e ? e : read_array(g, "velocity", sim->n * sim->dim, sim->v);
         e = e ? e : read_array(g, "density", sim->n, sim->rho);
         e = e ? e : read_array(g, "deviatoric_stress", sim->n * sim->ncomp, sim->S);
         e = e ? e : read_array(g, "mass", sim->n, sim->mass);
         e = e ? e : read_array(g, "motion_vectors", (size_t)nb * 3, vectors);
+        e = e ? e : read_array(g, "motion_centres", (size_t)nb * 3, vectors + (size_t)nb * 3);
         if (e) {
             st = sph_fail(sim, SPH_ERR_IO, "cannot read the state arrays of checkpoint '%s'", path);
         } else {
-            for (int k = 0; k < sim->n_bodies; ++k)
+            for (int k = 0; k < sim->n_bodies; ++k) {
                 memcpy(sim->bodies[k].vector, vectors + 3 * k, 3 * sizeof(double));
+                memcpy(sim->bodies[k].centre, vectors + 3 * (nb + k), 3 * sizeof(double));
+            }
             sim->step = step;
             sim->t = t;
             sim->dt = dt;

@@ -406,6 +406,8 @@ sph_status sph_set_motion(sph_sim *sim, int id, sph_motion motion, const double 
     if (check_body(sim, id))
         return SPH_ERR_ARGUMENT;
     body *b = &sim->bodies[id];
+    if (motion == SPH_MOTION_ROTATION)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': a rotation needs its centre; use sph_set_rotation", b->name);
     if (motion < SPH_MOTION_FREE || motion > SPH_MOTION_FORCE)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': motion=%d is not a sph_motion", b->name, (int)motion);
     double vec[3] = {0, 0, 0};
@@ -422,6 +424,7 @@ sph_status sph_set_motion(sph_sim *sim, int id, sph_motion motion, const double 
     }
     b->motion = motion;
     memcpy(b->vector, vec, sizeof vec);
+    memset(b->centre, 0, sizeof b->centre);
     const int dim = sim->dim;
     for (size_t a = b->first; a < b->first + b->count; ++a)
         for (int i = 0; i < dim; ++i) {
@@ -430,6 +433,49 @@ sph_status sph_set_motion(sph_sim *sim, int id, sph_motion motion, const double 
             else if (motion == SPH_MOTION_VELOCITY)
                 sim->v[a * dim + i] = vec[i];
         }
+    sim->rates_valid = 0;
+    return sph_ok(sim);
+}
+
+/* v = omega x (x - c) for one particle */
+void rotation_velocity(int dim, const double *omega, const double *centre, const double *x, double *v)
+{
+    const double r[3] = {x[0] - centre[0], x[1] - centre[1], dim == 3 ? x[2] - centre[2] : 0.0};
+    v[0] = omega[1] * r[2] - omega[2] * r[1];
+    v[1] = omega[2] * r[0] - omega[0] * r[2];
+    if (dim == 3)
+        v[2] = omega[0] * r[1] - omega[1] * r[0];
+}
+
+sph_status sph_set_rotation(sph_sim *sim, int id, const double *centre, const double *omega)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (check_body(sim, id))
+        return SPH_ERR_ARGUMENT;
+    body *b = &sim->bodies[id];
+    if (!centre || !omega)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': rotation needs a centre and an angular velocity", b->name);
+    const int dim = sim->dim;
+    double c[3] = {0, 0, 0};
+    for (int i = 0; i < dim; ++i) {
+        if (!isfinite(centre[i]))
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': rotation centre %c=%g is not finite", b->name, "xyz"[i], centre[i]);
+        c[i] = centre[i];
+    }
+    for (int i = 0; i < 3; ++i) {
+        if (!isfinite(omega[i]))
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': angular velocity omega_%c=%g is not finite", b->name, "xyz"[i], omega[i]);
+        if (dim == 2 && i < 2 && omega[i] != 0.0)
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "body '%s': omega_%c=%g; in 2D the rotation is about z (only omega_z may be non-zero)",
+                            b->name, "xyz"[i], omega[i]);
+    }
+    b->motion = SPH_MOTION_ROTATION;
+    memcpy(b->vector, omega, 3 * sizeof(double));
+    memcpy(b->centre, c, sizeof c);
+    for (size_t a = b->first; a < b->first + b->count; ++a)
+        rotation_velocity(dim, b->vector, b->centre, sim->x + a * dim, sim->v + a * dim);
     sim->rates_valid = 0;
     return sph_ok(sim);
 }
@@ -443,7 +489,7 @@ sph_status sph_set_body_velocity(sph_sim *sim, int id, const double *v)
     body *b = &sim->bodies[id];
     if (!v)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': velocity is NULL", b->name);
-    if (b->motion == SPH_MOTION_FIXED || b->motion == SPH_MOTION_VELOCITY)
+    if (b->motion == SPH_MOTION_FIXED || b->motion == SPH_MOTION_VELOCITY || b->motion == SPH_MOTION_ROTATION)
         return sph_fail(sim, SPH_ERR_STATE, "body '%s' has a prescribed motion; use sph_set_motion", b->name);
     for (int i = 0; i < sim->dim; ++i)
         if (!isfinite(v[i]))

@@ -19,7 +19,8 @@ typedef struct body {
     char name[SPH_NAME_SIZE];
     int material;
     sph_motion motion;
-    double vector[3];       /* velocity or applied force */
+    double vector[3];       /* velocity, applied force or angular velocity */
+    double centre[3];       /* centre of a prescribed rotation */
     size_t first, count;
     double spacing;
     double total_mass;
@@ -134,6 +135,7 @@ int sim_threads(const sph_sim *sim);
 double sim_support(const sph_sim *sim);
 sph_status sim_prepare(sph_sim *sim);
 void sim_shrink_to_fit(sph_sim *sim);
+void rotation_velocity(int dim, const double *omega, const double *centre, const double *x, double *v);
 
 /* effects.c */
 sph_status effects_set(sph_sim *sim, const char *name, const char *parameters);

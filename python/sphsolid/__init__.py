@@ -15,8 +15,8 @@ calls for, advance it with :class:`ImprovedEuler`, watch it with
 """
 from ._lib import (SimulationError, StoppedError, UnsupportedError,
                    effect_names, library_path, version)
-from .build import (Body, Fixed, Force, Free, Pressure, Velocity, block, box,
-                    disc, piston, plate, rectangle, ring)
+from .build import (Body, Fixed, Force, Free, Pressure, Rotation, Velocity,
+                    block, box, disc, piston, plate, rectangle, ring)
 from .calculators import Calculator, CLibrary
 from .dynamics import ImprovedEuler
 from .material import Material
@@ -27,7 +27,7 @@ from . import scenes
 __version__ = "0.1.0"
 
 __all__ = ["Material", "Scene", "Body", "Free", "Fixed", "Velocity", "Force",
-           "Pressure", "block", "rectangle", "box", "plate", "piston", "disc",
+           "Pressure", "Rotation", "block", "rectangle", "box", "plate", "piston", "disc",
            "ring", "Calculator", "CLibrary", "ImprovedEuler", "Probes",
            "PAPER_PROBES", "Trajectory", "scenes", "effect_names", "version",
            "library_path", "SimulationError", "StoppedError",

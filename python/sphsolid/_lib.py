@@ -45,6 +45,7 @@ STATUS = {0: "SPH_OK", 1: "SPH_ERR_ARGUMENT", 2: "SPH_ERR_MEMORY",
 
 # sph_motion
 MOTION_FREE, MOTION_FIXED, MOTION_VELOCITY, MOTION_FORCE = 0, 1, 2, 3
+MOTION_ROTATION = 4
 # sph_kernel
 KERNELS = {"cubic_spline": 0, "wendland_c2": 1}
 # sph_field_id
@@ -143,6 +144,7 @@ _PROTOTYPES = {
                                   c_double, POINTER(c_int)]),
     "sph_set_motion": (c_int, [_sim, c_int, c_int, _dp]),
     "sph_set_body_velocity": (c_int, [_sim, c_int, _dp]),
+    "sph_set_rotation": (c_int, [_sim, c_int, _dp, _dp]),
     "sph_particle_count": (c_size_t, [_sim]),
     "sph_body_count": (c_int, [_sim]),
     "sph_body_info_get": (c_int, [_sim, c_int, POINTER(BodyInfo)]),

