@@ -53,12 +53,14 @@ static inline double viscosity_pair(double alpha, double beta, double h,
 static inline double artificial_stress_factor(double W_ab, double inv_W_dx,
                                               double exponent)
 {
-    const double f = W_ab * inv_W_dx;
-    if (exponent == 4.0) {
-        const double f2 = f * f;
-        return f2 * f2;
-    }
-    return pow(f, exponent);
+    return pow(W_ab * inv_W_dx, exponent);
+}
+
+/* The same for the usual exponent n = 4, without pow (vectorises). */
+static inline double artificial_stress_factor_4(double W_ab, double inv_W_dx)
+{
+    const double f = W_ab * inv_W_dx, f2 = f * f;
+    return f2 * f2;
 }
 
 /* Gray et al. (2001) eqs (24)-(26): per-particle artificial stress R_a.
@@ -79,16 +81,26 @@ static inline void xsph_pair(int dim, double epsilon, double m_b,
         dx_dt[i] -= s * v_ab[i];
 }
 
-/* Kernel-gradient correction matrix, Bonet & Lok (1999):
- * M_a += V_b (r_b - r_a) (x) grad_a W_ab, a symmetric in-plane tensor
- * since grad_a W_ab is parallel to r_ab. */
+/* Kernel-gradient correction matrix, Bonet & Lok (1999): the term of b in
+ * M_a = sum_b V_b (r_b - r_a) (x) grad_a W_ab, a symmetric tensor since
+ * grad_a W_ab is parallel to r_ab; written to term[] in the compact order
+ * of pair_tensor_index (xx yy xy, or xx yy zz xy xz yz).  Straight-line
+ * code, so that the pair loop around it vectorises. */
 static inline void correction_matrix_pair(int dim, double volume_b,
                                           const double *r_ab,
-                                          const double *grad_W, double *M)
+                                          const double *grad_W, double *term)
 {
-    for (int i = 0; i < dim; ++i)
-        for (int j = i; j < dim; ++j)
-            M[pair_tensor_index(dim, i, j)] -= volume_b * r_ab[i] * grad_W[j];
+    const double s = -volume_b;
+    term[0] = s * r_ab[0] * grad_W[0];
+    term[1] = s * r_ab[1] * grad_W[1];
+    if (dim == 2) {
+        term[2] = s * r_ab[0] * grad_W[1];
+    } else {
+        term[2] = s * r_ab[2] * grad_W[2];
+        term[3] = s * r_ab[0] * grad_W[1];
+        term[4] = s * r_ab[0] * grad_W[2];
+        term[5] = s * r_ab[1] * grad_W[2];
+    }
 }
 
 /* Replace L by L M^-1 (M in-plane compact).  Returns 0 if M is singular

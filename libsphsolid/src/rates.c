@@ -6,14 +6,15 @@
  * Passes, each over particles (OpenMP only here):
  *   1. per particle: volume m/rho, sigma/rho^2 and, if on, the artificial
  *      stress R (over local and ghost particles);
- *   2. if kernel_correction is on: the correction matrix M;
- *   3. the pair loop: continuity, velocity gradient, momentum, and the pair
- *      terms of the effects that are on, then the Jaumann stress rate;
- *   4. if xsph is on: the XSPH velocity;
- *   5. if gravity or damping is on: body forces.
- * The pair loop is compiled in one variant per (dimension, kernel,
- * periodicity, viscosity, artificial stress), so an effect that is off has
- * no branch in it.  Each particle gathers from its full neighbour list in
+ *   2. the pair loop: continuity, velocity gradient (with kernel_correction
+ *      also the correction matrix M over the same pairs, then L M^-1),
+ *      momentum, and the pair terms of the effects that are on, then the
+ *      Jaumann stress rate;
+ *   3. if xsph is on: the XSPH velocity;
+ *   4. if gravity or damping is on: body forces.
+ * The pair loop is compiled in one variant per (dimension, kernel, kernel
+ * correction, viscosity, artificial stress: off, exponent 4, any
+ * exponent), so an effect that is off has no branch in it.  Each particle gathers from its full neighbour list in
  * a fixed order, so results do not depend on the number of threads.
  */
 #include <math.h>
@@ -39,10 +40,10 @@ typedef struct engine {
     const int *counts;
     const double *pair_data;    /* stride doubles: volume, sigma/rho^2 */
     const double *R;            /* nsym per particle, or NULL */
-    const double *M;            /* nsym per particle, or NULL */
     double h, inv_h, support2, w_norm, f_norm;
     double box[3], half_box[3];
     int periodic_axis[3];
+    int periodic;               /* some axis is periodic */
     effects fx;
     double inv_W_dx;
     double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
@@ -118,10 +119,11 @@ static inline double separation(const engine *e, const double *xa, size_t b,
 
 static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
                                          const int dim, const int kernel,
-                                         const int periodic,
+                                         const int correct,
                                          const int viscosity,
                                          const int art_stress)
 {
+    const int periodic = e->periodic;   /* scalar gather only: a runtime flag */
     const int nsym = dim == 2 ? 3 : 6;
     const int stride = nsym + 1;
     const double *xa = e->x + a * (size_t)dim;
@@ -132,6 +134,7 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
     const double *Ra = art_stress ? e->R + a * (size_t)nsym : NULL;
 
     double L[3][3] = {{0.0}};
+    double M[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     double dv[3] = {0.0, 0.0, 0.0};
     double drho = 0.0;
 
@@ -145,6 +148,7 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
         double T[6][PAIR_BLOCK], rho_mean[PAIR_BLOCK], c_mean[PAIR_BLOCK];
         /* per-pair terms */
         double t_rho[PAIR_BLOCK], t_L[3][3][PAIR_BLOCK], t_dv[3][PAIR_BLOCK];
+        double t_M[6][PAIR_BLOCK];
         for (int k = 0; k < nk; ++k) {
             const size_t b = (size_t)list[k0 + k];
             double r_ab[3];
@@ -182,6 +186,12 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
             for (int i = 0; i < dim; ++i)
                 for (int j = 0; j < dim; ++j)
                     t_L[i][j][k] = Lk[i][j];
+            if (correct) {
+                double Mk[6];
+                correction_matrix_pair(dim, vol[k], r_ab, grad_W, Mk);
+                for (int c = 0; c < nsym; ++c)
+                    t_M[c][k] = Mk[c];
+            }
             for (int c = 0; c < nsym; ++c)
                 Tk[c] = T[c][k];
             if (viscosity) {
@@ -195,7 +205,10 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
             }
             if (art_stress) {
                 const double W = kernel_w(kernel, q) * e->w_norm;
-                const double fn = artificial_stress_factor(W, e->inv_W_dx, e->fx.stress_exponent);
+                /* art_stress 1: n = 4 compiled in; 2: any n, through pow */
+                const double fn = art_stress == 1
+                                      ? artificial_stress_factor_4(W, e->inv_W_dx)
+                                      : artificial_stress_factor(W, e->inv_W_dx, e->fx.stress_exponent);
                 const double *Rb = e->R + (size_t)list[k0 + k] * (size_t)nsym;
                 for (int c = 0; c < nsym; ++c)
                     Tk[c] += (Ra[c] + Rb[c]) * fn;
@@ -211,6 +224,9 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
                 for (int j = 0; j < dim; ++j)
                     L[i][j] += t_L[i][j][k];
             }
+            if (correct)
+                for (int c = 0; c < nsym; ++c)
+                    M[c] += t_M[c][k];
         }
     }
 
@@ -221,8 +237,12 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
             grad_v[i][j] = L[i][j];
-    if (e->M)
-        correct_velocity_gradient(dim, e->M + a * (size_t)nsym, grad_v);
+    if (correct) {
+        double Mc[6];
+        for (int c = 0; c < 6; ++c)
+            Mc[c] = M[c];
+        correct_velocity_gradient(dim, Mc, grad_v);
+    }
     const int ncomp = dim == 2 ? 4 : 6;
     jaumann_stress_rate(dim, e->materials[e->material_of[a]].mu, grad_v,
                         e->S + a * (size_t)ncomp, e->dS_dt + a * (size_t)ncomp);
@@ -239,14 +259,14 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
 #else
 #define RATE_CLONES
 #endif
-#define RATE_VARIANT(DIM, KERNEL, PERIODIC, VISC, STRESS)                     \
-    RATE_CLONES static void block_##DIM##_##KERNEL##_##PERIODIC##_##VISC##_##STRESS( \
+#define RATE_VARIANT(DIM, KERNEL, CORRECT, VISC, STRESS)                     \
+    RATE_CLONES static void block_##DIM##_##KERNEL##_##CORRECT##_##VISC##_##STRESS( \
         const engine *e, long begin, long end)                                 \
     {                                                                          \
         for (long a = begin; a < end; ++a)                                     \
-            particle_rates(e, (size_t)a, DIM, KERNEL, PERIODIC, VISC, STRESS); \
+            particle_rates(e, (size_t)a, DIM, KERNEL, CORRECT, VISC, STRESS); \
     }                                                                          \
-    static void rates_##DIM##_##KERNEL##_##PERIODIC##_##VISC##_##STRESS(       \
+    static void rates_##DIM##_##KERNEL##_##CORRECT##_##VISC##_##STRESS(       \
         const engine *e)                                                       \
     {                                                                          \
         const long n = (long)e->n_local;                                       \
@@ -254,27 +274,30 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
         {                                                                      \
             long begin, end;                                                   \
             thread_block(n, &begin, &end);                                     \
-            block_##DIM##_##KERNEL##_##PERIODIC##_##VISC##_##STRESS(e, begin, end); \
+            block_##DIM##_##KERNEL##_##CORRECT##_##VISC##_##STRESS(e, begin, end); \
         }                                                                      \
     }
-#define RATE_VARIANTS_STRESS(DIM, KERNEL, PERIODIC, VISC)                      \
-    RATE_VARIANT(DIM, KERNEL, PERIODIC, VISC, 0)                               \
-    RATE_VARIANT(DIM, KERNEL, PERIODIC, VISC, 1)
-#define RATE_VARIANTS_VISC(DIM, KERNEL, PERIODIC)                              \
-    RATE_VARIANTS_STRESS(DIM, KERNEL, PERIODIC, 0)                             \
-    RATE_VARIANTS_STRESS(DIM, KERNEL, PERIODIC, 1)
-#define RATE_VARIANTS_PERIODIC(DIM, KERNEL)                                    \
+#define RATE_VARIANTS_STRESS(DIM, KERNEL, CORRECT, VISC)                      \
+    RATE_VARIANT(DIM, KERNEL, CORRECT, VISC, 0)                               \
+    RATE_VARIANT(DIM, KERNEL, CORRECT, VISC, 1)                               \
+    RATE_VARIANT(DIM, KERNEL, CORRECT, VISC, 2)
+#define RATE_VARIANTS_VISC(DIM, KERNEL, CORRECT)                              \
+    RATE_VARIANTS_STRESS(DIM, KERNEL, CORRECT, 0)                             \
+    RATE_VARIANTS_STRESS(DIM, KERNEL, CORRECT, 1)
+#define RATE_VARIANTS_CORRECT(DIM, KERNEL)                                    \
     RATE_VARIANTS_VISC(DIM, KERNEL, 0)                                         \
     RATE_VARIANTS_VISC(DIM, KERNEL, 1)
-RATE_VARIANTS_PERIODIC(2, 0)
-RATE_VARIANTS_PERIODIC(2, 1)
-RATE_VARIANTS_PERIODIC(3, 0)
-RATE_VARIANTS_PERIODIC(3, 1)
+RATE_VARIANTS_CORRECT(2, 0)
+RATE_VARIANTS_CORRECT(2, 1)
+RATE_VARIANTS_CORRECT(3, 0)
+RATE_VARIANTS_CORRECT(3, 1)
 
 typedef void (*rate_variant)(const engine *);
-#define V(D, K, P) {{rates_##D##_##K##_##P##_0_0, rates_##D##_##K##_##P##_0_1}, \
-                    {rates_##D##_##K##_##P##_1_0, rates_##D##_##K##_##P##_1_1}}
-static const rate_variant variants[2][2][2][2][2] = {
+#define V(D, K, P) {{rates_##D##_##K##_##P##_0_0, rates_##D##_##K##_##P##_0_1,   \
+                     rates_##D##_##K##_##P##_0_2},                               \
+                    {rates_##D##_##K##_##P##_1_0, rates_##D##_##K##_##P##_1_1,   \
+                     rates_##D##_##K##_##P##_1_2}}
+static const rate_variant variants[2][2][2][2][3] = {
     {{V(2, 0, 0), V(2, 0, 1)}, {V(2, 1, 0), V(2, 1, 1)}},
     {{V(3, 0, 0), V(3, 0, 1)}, {V(3, 1, 0), V(3, 1, 1)}},
 };
@@ -300,66 +323,82 @@ static void pass_pair_data(const engine *e, double *pair_data, double *R)
     }
 }
 
-/* Pass 2: kernel-gradient correction matrices. */
-static void pass_correction(const engine *e, int kernel, double *M)
+/* Pass 3 for one particle, blocked like the pair loop: neighbour data
+ * gathered, the XSPH terms computed without branches (pairs beyond the
+ * support have a zero kernel and add exact zeros), then summed in neighbour
+ * order. */
+static ALWAYS_INLINE void particle_xsph(const engine *e, size_t a, const int dim,
+                                        const int kernel)
 {
-    const int dim = e->dim, nsym = e->nsym;
-    const long n = (long)e->n_local;
-#pragma omp parallel for schedule(static) num_threads(e->threads)
-    for (long a = 0; a < n; ++a) {
-        double *Ma = M + (size_t)a * nsym;
-        for (int c = 0; c < nsym; ++c)
-            Ma[c] = 0.0;
-        const double *xa = e->x + (size_t)a * dim;
-        const int *list;
-        int count;
-        neighbours_of(e, (size_t)a, &list, &count);
-        for (int k = 0; k < count; ++k) {
-            const size_t b = (size_t)list[k];
-            double r_ab[3], grad_W[3];
-            const double r2 = separation(e, xa, b, dim, 1, r_ab);
-            if (r2 >= e->support2)
-                continue;
-            const double F = kernel_f(kernel, sqrt(r2) * e->inv_h) * e->f_norm;
-            for (int i = 0; i < dim; ++i)
-                grad_W[i] = F * r_ab[i];
-            correction_matrix_pair(dim, e->pair_data[b * (size_t)(nsym + 1)],
-                                   r_ab, grad_W, Ma);
+    const double *xa = e->x + a * (size_t)dim;
+    const double *va = e->v + a * (size_t)dim;
+    const double rho_a = e->rho[a];
+    double u[3] = {0.0, 0.0, 0.0};
+    const int *list;
+    int count;
+    neighbours_of(e, a, &list, &count);
+    for (int k0 = 0; k0 < count; k0 += PAIR_BLOCK) {
+        const int nk = count - k0 < PAIR_BLOCK ? count - k0 : PAIR_BLOCK;
+        double r[3][PAIR_BLOCK], vr[3][PAIR_BLOCK], m[PAIR_BLOCK], rho_mean[PAIR_BLOCK];
+        double t[3][PAIR_BLOCK];
+        for (int k = 0; k < nk; ++k) {
+            const size_t b = (size_t)list[k0 + k];
+            double r_ab[3];
+            separation(e, xa, b, dim, e->periodic, r_ab);
+            for (int i = 0; i < dim; ++i) {
+                r[i][k] = r_ab[i];
+                vr[i][k] = va[i] - e->v[b * (size_t)dim + i];
+            }
+            m[k] = e->mass[b];
+            rho_mean[k] = 0.5 * (rho_a + e->rho[b]);
         }
+        for (int k = 0; k < nk; ++k) {
+            double v_ab[3], term[3] = {0.0, 0.0, 0.0};
+            double r2 = 0.0;
+            for (int i = 0; i < dim; ++i) {
+                r2 += r[i][k] * r[i][k];
+                v_ab[i] = vr[i][k];
+            }
+            const double W = kernel_w(kernel, sqrt(r2) * e->inv_h) * e->w_norm;
+            xsph_pair(dim, e->fx.xsph_epsilon, m[k], rho_mean[k], v_ab, W, term);
+            for (int i = 0; i < dim; ++i)
+                t[i][k] = term[i];
+        }
+        for (int k = 0; k < nk; ++k)
+            for (int i = 0; i < dim; ++i)
+                u[i] += t[i][k];
     }
+    for (int i = 0; i < dim; ++i)
+        e->dx_dt[a * (size_t)dim + i] = va[i] + u[i];
 }
 
-/* Pass 4: XSPH velocity. */
+#define XSPH_VARIANT(DIM, KERNEL)                                              \
+    RATE_CLONES static void xsph_##DIM##_##KERNEL(const engine *e, long begin, long end) \
+    {                                                                          \
+        for (long a = begin; a < end; ++a)                                     \
+            particle_xsph(e, (size_t)a, DIM, KERNEL);                          \
+    }
+XSPH_VARIANT(2, 0)
+XSPH_VARIANT(2, 1)
+XSPH_VARIANT(3, 0)
+XSPH_VARIANT(3, 1)
+
+/* Pass 3: XSPH velocities. */
 static void pass_xsph(const engine *e, int kernel)
 {
-    const int dim = e->dim;
+    typedef void (*xsph_variant)(const engine *, long, long);
+    static const xsph_variant table[2][2] = {{xsph_2_0, xsph_2_1}, {xsph_3_0, xsph_3_1}};
+    const xsph_variant f = table[e->dim - 2][kernel];
     const long n = (long)e->n_local;
-#pragma omp parallel for schedule(static) num_threads(e->threads)
-    for (long a = 0; a < n; ++a) {
-        const double *xa = e->x + (size_t)a * dim;
-        const double *va = e->v + (size_t)a * dim;
-        double u[3] = {0.0, 0.0, 0.0};
-        const int *list;
-        int count;
-        neighbours_of(e, (size_t)a, &list, &count);
-        for (int k = 0; k < count; ++k) {
-            const size_t b = (size_t)list[k];
-            double r_ab[3], v_ab[3];
-            const double r2 = separation(e, xa, b, dim, 1, r_ab);
-            if (r2 >= e->support2)
-                continue;
-            const double W = kernel_w(kernel, sqrt(r2) * e->inv_h) * e->w_norm;
-            for (int i = 0; i < dim; ++i)
-                v_ab[i] = va[i] - e->v[b * (size_t)dim + i];
-            xsph_pair(dim, e->fx.xsph_epsilon, e->mass[b],
-                      0.5 * (e->rho[a] + e->rho[b]), v_ab, W, u);
-        }
-        for (int i = 0; i < dim; ++i)
-            e->dx_dt[(size_t)a * dim + i] = va[i] + u[i];
+#pragma omp parallel num_threads(e->threads)
+    {
+        long begin, end;
+        thread_block(n, &begin, &end);
+        f(e, begin, end);
     }
 }
 
-/* Pass 5: gravity and damping. */
+/* Pass 4: gravity and damping. */
 static void pass_body_forces(const engine *e)
 {
     const int dim = e->dim;
@@ -379,8 +418,7 @@ static void pass_body_forces(const engine *e)
 
 static sph_status grow_scratch(sph_sim *sim, size_t n)
 {
-    if (n <= sim->scratch_n && (!sim->fx.artificial_stress || sim->stress_R) &&
-        (!sim->fx.kernel_correction || sim->correction))
+    if (n <= sim->scratch_n && (!sim->fx.artificial_stress || sim->stress_R))
         return SPH_OK;
     const size_t cap = n > sim->scratch_n ? n : sim->scratch_n;
     double *pd = realloc(sim->pair_data, cap * (size_t)(sim->nsym + 1) * sizeof(double));
@@ -392,12 +430,6 @@ static sph_status grow_scratch(sph_sim *sim, size_t n)
         if (!R)
             return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate artificial stress for %zu particles", cap);
         sim->stress_R = R;
-    }
-    if (sim->fx.kernel_correction) {
-        double *M = realloc(sim->correction, cap * (size_t)sim->nsym * sizeof(double));
-        if (!M)
-            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate correction matrices for %zu particles", cap);
-        sim->correction = M;
     }
     sim->scratch_n = cap;
     return SPH_OK;
@@ -440,12 +472,11 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
     e.f_norm = sigma / pow(sim->h, sim->dim + 2);
     e.fx = sim->fx;
     e.inv_W_dx = 1.0 / (kernel_w(sim->kernel, sim->dx_ref / sim->h) * e.w_norm);
-    int periodic = 0;
     for (int i = 0; i < sim->dim; ++i) {
         e.periodic_axis[i] = call->periodic && sim->periodic[i];
         e.box[i] = sim->hi[i] - sim->lo[i];
         e.half_box[i] = 0.5 * e.box[i];
-        periodic |= e.periodic_axis[i];
+        e.periodic |= e.periodic_axis[i];
     }
     e.dv_dt = call->dv_dt;
     e.drho_dt = call->drho_dt;
@@ -455,12 +486,9 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
     pass_pair_data(&e, sim->pair_data, sim->fx.artificial_stress ? sim->stress_R : NULL);
     e.pair_data = sim->pair_data;
     e.R = sim->fx.artificial_stress ? sim->stress_R : NULL;
-    if (sim->fx.kernel_correction) {
-        pass_correction(&e, sim->kernel, sim->correction);
-        e.M = sim->correction;
-    }
-    variants[sim->dim - 2][sim->kernel][periodic][sim->fx.viscosity != 0]
-            [sim->fx.artificial_stress != 0](&e);
+    const int stress = !sim->fx.artificial_stress ? 0 : sim->fx.stress_exponent == 4.0 ? 1 : 2;
+    variants[sim->dim - 2][sim->kernel][sim->fx.kernel_correction != 0][sim->fx.viscosity != 0]
+            [stress](&e);
     if (sim->fx.xsph && e.dx_dt)
         pass_xsph(&e, sim->kernel);
     if (sim->fx.gravity || sim->fx.damping)

@@ -45,7 +45,7 @@ void sph_destroy(sph_sim *sim)
     free(sim->saved);
     free(sim->x_saved);
     free(sim->dv_dt); free(sim->drho_dt); free(sim->dS_dt); free(sim->dx_dt);
-    free(sim->pair_data); free(sim->stress_R); free(sim->correction);
+    free(sim->pair_data); free(sim->stress_R);
     neighbour_free(&sim->nl);
     free(sim);
 }
@@ -867,8 +867,6 @@ size_t sph_memory_bytes(const sph_sim *sim)
         bytes += n * dim * sizeof(double);
     bytes += sim->scratch_n * (ns + 1) * sizeof(double);
     if (sim->stress_R)
-        bytes += sim->scratch_n * ns * sizeof(double);
-    if (sim->correction)
         bytes += sim->scratch_n * ns * sizeof(double);
     if (sim->nl.offsets)
         bytes += (sim->nl.n + 1) * sizeof(size_t) + sim->nl.capacity * sizeof(int);

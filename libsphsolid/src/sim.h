@@ -87,7 +87,6 @@ struct sph_sim {
     size_t scratch_n;
     double *pair_data;      /* per particle: volume, then sigma/rho^2 */
     double *stress_R;       /* artificial stress, when on */
-    double *correction;     /* kernel-gradient correction M, when on */
 
     /* watchdog: 0 switches a bound off */
     double watch_speed, watch_rho_min, watch_rho_max;
