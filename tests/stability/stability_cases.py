@@ -66,8 +66,15 @@ def effects_label(effects: dict) -> str:
     return ", ".join(words) or "none"
 
 
-def dynamics(scene: Scene, dt: float | None = None) -> ImprovedEuler:
-    scene.calc = CLibrary(threads=THREADS)
+def dynamics(scene: Scene, dt: float | None = None,
+             backend: str = "c") -> ImprovedEuler:
+    """Improved Euler on the C library or, with backend="lammps", through
+    the LAMMPS plugin (sphsolid.lammps)."""
+    if backend == "lammps":
+        from sphsolid.lammps import Lammps
+        scene.calc = Lammps(threads=THREADS)
+    else:
+        scene.calc = CLibrary(threads=THREADS)
     return ImprovedEuler(scene, dt=dt, progress=False)
 
 
@@ -500,7 +507,7 @@ def free_vibration(full: bool = False) -> list[Result]:
 
 
 # ----------------------------------------------------- pressure loading
-def pressure_loading(full: bool = False) -> list[Result]:
+def pressure_loading(full: bool = False, backend: str = "c") -> list[Result]:
     """The paper's specimen loaded by a piston under a constant pressure
     p = 1 MPa (SPH_MOTION_FORCE, force = p x width) on the fixed plate,
     with damping to reach the steady state. Every horizontal section then
@@ -521,13 +528,15 @@ def pressure_loading(full: bool = False) -> list[Result]:
                       build.piston(over=specimen,
                                    motion=build.Pressure(pressure))],
                   effects=effects)
-    dyn = dynamics(scene)
+    dyn = dynamics(scene, backend=backend)
     start = time.time()
     error = run_guarded(dyn, until)
     s_yy = scene.stress[scene.body_slice("specimen"), 1].mean()
     ratio = -s_yy / pressure
     ok = error is None and abs(ratio - 1) <= 0.02
-    return [Result("pressure piston (steady)", effects_label(effects),
+    return [Result("pressure piston (steady)"
+                   + (", LAMMPS plugin" if backend == "lammps" else ""),
+                   effects_label(effects),
                    dyn.nsteps, "mean s_yy = -p within 2% (p = 1 MPa)",
                    f"-s_yy/p {ratio:.4f}"
                    + (f"; stopped: {error}" if error else ""),

@@ -27,6 +27,19 @@ def test_hard_case_meets_its_criterion(name):
     assert not failed, "\n".join(failed)
 
 
+def test_pressure_piston_reaches_the_applied_stress_through_lammps():
+    """The pressure-loading case on the LAMMPS plugin (fix sphsolid/force):
+    the same steady state, mean sigma_yy = -p within 2 %, and the same
+    value as the C library's run to round-off of the damped transient."""
+    lammps_backend = pytest.importorskip("sphsolid.lammps")
+    if not lammps_backend.available():
+        pytest.skip("LAMMPS backend unavailable (lammps module or plugin missing)")
+    (plugin,) = cases.pressure_loading(backend="lammps")
+    (library,) = cases.pressure_loading()
+    assert plugin.passed, f"wanted {plugin.criterion}; got {plugin.measured}"
+    assert plugin.values["ratio"] == pytest.approx(library.values["ratio"], rel=1e-9)
+
+
 def _piston(viscosity=cases.VISCOSITY):
     scene = sphsolid.scenes.uniaxial_piston(dx=4e-3, viscosity=viscosity)
     return scene, cases.dynamics(scene)
