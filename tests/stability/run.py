@@ -40,7 +40,12 @@ def main(argv=None) -> int:
     parser.add_argument("--full", action="store_true",
                         help="finer resolutions and longer runs")
     parser.add_argument("--markdown", action="store_true")
+    parser.add_argument("--h-over-dx", type=float, default=None,
+                        help="smoothing ratio of every case (default 1.2)")
     args = parser.parse_args(argv)
+    if args.h_over_dx is not None:
+        import stability_cases
+        stability_cases.H_OVER_DX = args.h_over_dx
     rows = []
     start = time.time()
     for name in args.cases or CASES:

@@ -10,6 +10,9 @@ Every case has a fast variant (seconds, collected by pytest in
 Rows marked "detected" document a failure mode: they pass when the
 instability they demonstrate is seen without the effect that fixes it.
 
+``SPHSOLID_STABILITY_H_OVER_DX`` (``run.py --h-over-dx``) runs every case
+at another smoothing ratio than the default 1.2.
+
 Runs use one OpenMP thread (``SPHSOLID_STABILITY_THREADS`` to change it):
 on a shared two-core machine, two spinning OpenMP threads were measured 40x
 slower than one.
@@ -35,6 +38,9 @@ from sphsolid import ImprovedEuler, Material, Probes, Scene, build
 from sphsolid.calculators import CLibrary
 
 THREADS = int(os.environ.get("SPHSOLID_STABILITY_THREADS", "1"))
+# h/dx of every case (run.py --h-over-dx); None: the library default 1.2
+H_OVER_DX = (float(os.environ["SPHSOLID_STABILITY_H_OVER_DX"])
+             if os.environ.get("SPHSOLID_STABILITY_H_OVER_DX") else None)
 VISCOSITY = {"alpha": 1.0, "beta": 0.0}
 ARTIFICIAL_STRESS = {"epsilon": 0.3, "n": 4.0}
 
@@ -69,7 +75,10 @@ def effects_label(effects: dict) -> str:
 def dynamics(scene: Scene, dt: float | None = None,
              backend: str = "c") -> ImprovedEuler:
     """Improved Euler on the C library or, with backend="lammps", through
-    the LAMMPS plugin (sphsolid.lammps)."""
+    the LAMMPS plugin (sphsolid.lammps).  With H_OVER_DX set, the scene's
+    smoothing ratio (and so its default time step) is that one."""
+    if H_OVER_DX is not None:
+        scene.set_smoothing_ratio(H_OVER_DX)
     if backend == "lammps":
         from sphsolid.lammps import Lammps
         scene.calc = Lammps(threads=THREADS)
@@ -437,15 +446,16 @@ def rigid_rotation(full: bool = False) -> list[Result]:
 # ----------------------------------------------------------- vibration
 def free_vibration(full: bool = False) -> list[Result]:
     """A free-free strip (L = 200 mm, H = 20 mm) vibrating in its first
-    axial mode, v_x = v0 cos(pi x / L), strain amplitude 1e-4, for 21
-    periods. Rod theory in plane strain: T = 2 L / sqrt(E' / rho0),
+    axial mode, v_x = v0 cos(pi x / L), strain amplitude 1e-4, for 23
+    rod periods (at least 21 upward crossings, 20 measured periods, for
+    any period up to 5 % long). Rod theory in plane strain: T = 2 L / sqrt(E' / rho0),
     E' = E / (1 - nu^2) (lateral inertia changes it by < 1 % at H/L = 0.1).
     Improved Euler amplifies undamped high modes: with no dissipation the
     strip blows up within a few periods (second row); kernel correction
     and a light viscosity (alpha = 0.2) keep it, at a stated energy loss."""
     n_across = 12 if full else 8
     length, height = 0.2, 0.02
-    periods = 21
+    periods = 23
     dx = height / n_across
     rows = []
     for dissipative in (True, False):
