@@ -18,6 +18,9 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
     ("gravity/gravity.py", ["4e-3", "2e-4"],
      ["gravity.h5", "gravity.xmf", "gravity_probes.png",
       "gravity_von_mises.png"]),
+    ("pressure_piston/pressure_piston.py", ["4e-3", "2e-4"],
+     ["pressure_piston.h5", "pressure_piston.xmf",
+      "pressure_piston_probes.png", "pressure_piston_von_mises.png"]),
 ])
 def test_example_runs_and_writes_its_figures(script, args, outputs,
                                              tmp_path):
