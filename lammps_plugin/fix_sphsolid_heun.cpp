@@ -155,8 +155,10 @@ void FixSPHSolidHeun::pack()
   // fix move's positions stand whatever the order of the fixes
   double **ax = atom->x, **av = atom->v, **f = atom->f;
   const int *mask = atom->mask;
+  const double *rmass = atom->rmass, *type_mass = atom->mass;
+  const int *type = atom->type;
   for (int i = 0; i < nlocal; i++) {
-    const double inverse_mass = 1.0 / pair->mass_of(i);
+    const double inverse_mass = 1.0 / (rmass ? rmass[i] : type_mass[type[i]]);
     for (int d = 0; d < dim; d++) {
       xbuf[(size_t) i * dim + d] = ax[i][d];
       vbuf[(size_t) i * dim + d] = av[i][d];
@@ -307,10 +309,8 @@ void FixSPHSolidHeun::final_integrate()
                sph_errmsg(pair->handle()), sph_status_name(status));
 
   // the library's watchdog: runaway speed or density of an integrated atom
-  watch_material.resize((size_t) std::max(nlocal, 1));
-  for (int i = 0; i < nlocal; i++) watch_material[i] = pair->material_of_type(atom->type[i]);
   long bad = -1;
-  if (sph_watchdog_check(pair->handle(), nlocal, vbuf.data(), state->rho, watch_material.data(),
+  if (sph_watchdog_check(pair->handle(), nlocal, vbuf.data(), state->rho, pair->atom_materials(),
                          integrate_motion.data(), &bad) == SPH_ERR_UNSTABLE)
     error->one(FLERR, "fix sphsolid/heun: atom {} at step {}: {} (libsphsolid watchdog: speed above c_p or density outside [0.5, 2] rho0)",
                atom->tag[bad], update->ntimestep, sph_errmsg(pair->handle()));

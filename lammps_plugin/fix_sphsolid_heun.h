@@ -56,7 +56,6 @@ class FixSPHSolidHeun : public Fix {
   std::vector<FixSPHSolidForce *> rigid;    // fix sphsolid/force bodies
   std::vector<unsigned char> member;        // atoms of one of them
   std::vector<double> masses;
-  std::vector<int> watch_material;    // library material of each local atom, for the watchdog
   int stage_atoms;       // owned atoms whose y_n is in `stage` (-1: none)
   bool stage_in_rows;    // y_n was moved to the state fix's rows (atoms migrate)
 

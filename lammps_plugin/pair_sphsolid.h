@@ -72,6 +72,9 @@ class PairSPHSolid : public Pair {
   int dimension() const { return dim; }
   int stress_components() const { return SPH_STRESS_COMPONENTS(dim); }
   int material_of_type(int type) const { return type_material[type]; }
+  /* library material of every owned and ghost atom, as of the last
+   * evaluate_rates() (atoms are not reordered between evaluations) */
+  const int *atom_materials() const { return materialbuf.data(); }
   double particle_spacing() const { return spacing; }
   double kernel_support() const { return support; }
   double mass_of(int i) const { return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]]; }
