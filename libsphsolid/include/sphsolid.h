@@ -396,12 +396,15 @@ SPH_API sph_status sph_build_paper_scene(sph_sim *sim, double dx,
 typedef struct sph_particles {
     size_t n_local;
     size_t n_total;
-    const double *x;        /* n_total * dim */
-    const double *v;        /* n_total * dim */
+    const double *x;        /* n_total * stride */
+    const double *v;        /* n_total * stride */
     const double *rho;      /* n_total */
     const double *S;        /* n_total * ncomp */
     const double *mass;     /* n_total */
     const int *material;    /* n_total */
+    size_t stride;          /* doubles from one particle's x (and v) to the
+                               next's: 0 means dim; e.g. 3 for LAMMPS's
+                               arrays in 2D */
 } sph_particles;
 
 typedef struct sph_neighbours {
@@ -455,6 +458,28 @@ SPH_API sph_status sph_rigid_force_sum(const sph_sim *sim, size_t n,
 SPH_API sph_status sph_rigid_force_apply(const sph_sim *sim, size_t n,
                                          const double *applied, const double *sums,
                                          const unsigned char *member, double *dv_dt);
+
+/* The same stages for a code that moves some particles itself (the LAMMPS
+ * plugin: fix move), on its own position and velocity arrays, `stride`
+ * doubles apart (>= dim; 3 for LAMMPS's x and v in 2D).  Particles with
+ * integrate_motion[i] == 0 keep their x and v untouched; their density
+ * and stress evolve.  The corrector also applies the watchdog
+ * (sph_set_watchdog) to the integrated particles, `material` giving each
+ * particle's material: on SPH_ERR_UNSTABLE or SPH_ERR_NONFINITE,
+ * *particle is the first particle concerned (else -1). */
+SPH_API sph_status sph_heun_predict_strided(const sph_sim *sim, size_t n, double dt,
+                                            double *x, double *v, size_t stride,
+                                            double *rho, double *S,
+                                            const sph_rates *rates,
+                                            const unsigned char *integrate_motion,
+                                            double *saved);
+SPH_API sph_status sph_heun_correct_strided(const sph_sim *sim, size_t n, double dt,
+                                            double *x, double *v, size_t stride,
+                                            double *rho, double *S,
+                                            const sph_rates *rates,
+                                            const unsigned char *integrate_motion,
+                                            const int *material, const double *saved,
+                                            long *particle);
 
 /* Derived fields of external particles (n of them, material indices of
  * sim): pressure P (n), full Cauchy stress sigma = -P I + S (n * ncomp) and

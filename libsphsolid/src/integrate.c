@@ -31,18 +31,19 @@ static saved_state saved_layout(double *saved, size_t n, int dim, int ncomp, int
 }
 
 static inline void predict_particle(int dim, int ncomp, double dt, size_t a,
-                                    double *x, double *v, double *rho, double *S,
-                                    const sph_rates *r, int integrate,
+                                    double *x, double *v, size_t xs, double *rho, double *S,
+                                    const sph_rates *r, int integrate, int move,
                                     const saved_state *s)
 {
-    const double *u = (integrate && r->dx_dt) ? r->dx_dt + a * dim : v + a * dim;
+    const double *u = (integrate && r->dx_dt) ? r->dx_dt + a * dim : v + a * xs;
     for (int i = 0; i < dim; ++i) {
-        s->v[a * dim + i] = v[a * dim + i];
+        s->v[a * dim + i] = v[a * xs + i];
         if (s->u)
             s->u[a * dim + i] = u[i];
-        x[a * dim + i] += dt * u[i];
+        if (move)
+            x[a * xs + i] += dt * u[i];
         if (integrate)
-            v[a * dim + i] += dt * r->dv_dt[a * dim + i];
+            v[a * xs + i] += dt * r->dv_dt[a * dim + i];
     }
     s->rho[a] = rho[a];
     rho[a] += dt * r->drho_dt[a];
@@ -55,21 +56,22 @@ static inline void predict_particle(int dim, int ncomp, double dt, size_t a,
 /* Returns the distance bound moved in this step (for the neighbour list),
  * or NAN if a value went non-finite. */
 static inline double correct_particle(int dim, int ncomp, double dt, size_t a,
-                                      double *x, double *v, double *rho, double *S,
-                                      const sph_rates *r, int integrate,
+                                      double *x, double *v, size_t xs, double *rho, double *S,
+                                      const sph_rates *r, int integrate, int move,
                                       const saved_state *s)
 {
-    const double *u_star = (integrate && r->dx_dt) ? r->dx_dt + a * dim : v + a * dim;
+    const double *u_star = (integrate && r->dx_dt) ? r->dx_dt + a * dim : v + a * xs;
     const double *u_n = s->u ? s->u + a * dim : s->v + a * dim;
     double moved2 = 0.0, ok = 1.0;
     for (int i = 0; i < dim; ++i) {
         const double step = 0.5 * dt * (u_star[i] + u_n[i]);
         moved2 += step * step;
-        x[a * dim + i] += 0.5 * dt * (u_star[i] - u_n[i]);
+        if (move)
+            x[a * xs + i] += 0.5 * dt * (u_star[i] - u_n[i]);
         if (integrate)
-            v[a * dim + i] = 0.5 * (s->v[a * dim + i] + v[a * dim + i]) +
-                             0.5 * dt * r->dv_dt[a * dim + i];
-        ok *= isfinite(x[a * dim + i]) && isfinite(v[a * dim + i]);
+            v[a * xs + i] = 0.5 * (s->v[a * dim + i] + v[a * xs + i]) +
+                            0.5 * dt * r->dv_dt[a * dim + i];
+        ok *= isfinite(x[a * xs + i]) && isfinite(v[a * xs + i]);
     }
     rho[a] = 0.5 * (s->rho[a] + rho[a]) + 0.5 * dt * r->drho_dt[a];
     ok *= isfinite(rho[a]) && rho[a] > 0.0;
@@ -94,9 +96,32 @@ static sph_status check_stage_args(const sph_sim *sim, size_t n, double dt,
     return SPH_OK;
 }
 
-sph_status sph_heun_predict(const sph_sim *sim, size_t n, double dt, double *x,
-                            double *v, double *rho, double *S, const sph_rates *r,
-                            const unsigned char *integrate_motion, double *saved)
+/* The watchdog's bounds for one material; a zero setting switches a bound
+ * off.  Prescribed particles (integrate = 0) are not held to the speed. */
+static void watchdog_bounds(const sph_sim *sim, const material *m, int integrate,
+                            double *vmax2, double *rho_lo, double *rho_hi)
+{
+    *vmax2 = integrate && sim->watch_speed > 0.0
+                 ? (sim->watch_speed * m->c_p) * (sim->watch_speed * m->c_p)
+                 : INFINITY;
+    *rho_lo = sim->watch_rho_min * m->rho0;
+    *rho_hi = sim->watch_rho_max > 0.0 ? sim->watch_rho_max * m->rho0 : INFINITY;
+}
+
+static inline int watchdog_trips(int dim, const double *v, double rho, double vmax2,
+                                 double rho_lo, double rho_hi)
+{
+    double v2 = 0.0;
+    for (int i = 0; i < dim; ++i)
+        v2 += v[i] * v[i];
+    return v2 > vmax2 || rho < rho_lo || rho > rho_hi;
+}
+
+/* The external stages: `move` 1 advances every position (sph_heun_*), 0
+ * leaves the prescribed particles' x and v to the caller (*_strided). */
+static sph_status predict_external(const sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                   size_t xs, double *rho, double *S, const sph_rates *r,
+                                   const unsigned char *integrate_motion, double *saved, int move_all)
 {
     sph_status st = check_stage_args(sim, n, dt, x, v, rho, S, r, saved);
     if (st)
@@ -105,15 +130,18 @@ sph_status sph_heun_predict(const sph_sim *sim, size_t n, double dt, double *x,
     const saved_state s = saved_layout(saved, n, dim, nc, r->dx_dt != NULL);
     const long nn = (long)n;
 #pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
-    for (long a = 0; a < nn; ++a)
-        predict_particle(dim, nc, dt, (size_t)a, x, v, rho, S, r,
-                         integrate_motion ? integrate_motion[a] : 1, &s);
+    for (long a = 0; a < nn; ++a) {
+        const int integrate = integrate_motion ? integrate_motion[a] : 1;
+        predict_particle(dim, nc, dt, (size_t)a, x, v, xs, rho, S, r, integrate,
+                         move_all || integrate, &s);
+    }
     return SPH_OK;
 }
 
-sph_status sph_heun_correct(const sph_sim *sim, size_t n, double dt, double *x,
-                            double *v, double *rho, double *S, const sph_rates *r,
-                            const unsigned char *integrate_motion, const double *saved)
+static sph_status correct_external(const sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                   size_t xs, double *rho, double *S, const sph_rates *r,
+                                   const unsigned char *integrate_motion, const double *saved,
+                                   int move_all, const int *material_of, long *particle)
 {
     sph_status st = check_stage_args(sim, n, dt, x, v, rho, S, r, saved);
     if (st)
@@ -121,19 +149,98 @@ sph_status sph_heun_correct(const sph_sim *sim, size_t n, double dt, double *x,
     const int dim = sim->dim, nc = sim->ncomp;
     const saved_state s = saved_layout((double *)saved, n, dim, nc, r->dx_dt != NULL);
     const long nn = (long)n;
-    long bad = nn;
-#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad)
+    long bad = nn, wild = nn;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild)
     for (long a = 0; a < nn; ++a) {
-        const double moved = correct_particle(dim, nc, dt, (size_t)a, x, v, rho, S, r,
-                                              integrate_motion ? integrate_motion[a] : 1, &s);
-        if (isnan(moved) && a < bad)
-            bad = a;
+        const int integrate = integrate_motion ? integrate_motion[a] : 1;
+        const double moved = correct_particle(dim, nc, dt, (size_t)a, x, v, xs, rho, S, r,
+                                              integrate, move_all || integrate, &s);
+        if (isnan(moved)) {
+            if (a < bad)
+                bad = a;
+        } else if (material_of && a < wild) {
+            double vmax2, rho_lo, rho_hi;
+            watchdog_bounds(sim, &sim->materials[material_of[a]], integrate, &vmax2, &rho_lo, &rho_hi);
+            if (watchdog_trips(dim, v + a * xs, rho[a], vmax2, rho_lo, rho_hi))
+                wild = a;
+        }
     }
+    if (particle)
+        *particle = bad < nn ? bad : wild < nn ? wild : -1;
     if (bad < nn)
         return sph_fail((sph_sim *)sim, SPH_ERR_NONFINITE,
                         "Improved Euler correction produced a non-finite value (or non-positive density) at particle %ld",
                         bad);
+    if (wild < nn) {
+        const material *m = &sim->materials[material_of[wild]];
+        double v2 = 0.0;
+        for (int i = 0; i < dim; ++i)
+            v2 += v[wild * xs + i] * v[wild * xs + i];
+        if (sim->watch_speed > 0.0 && v2 > pow(sim->watch_speed * m->c_p, 2))
+            return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
+                            "particle %ld moves at %g m/s, more than %g times the P-wave speed %g m/s (watchdog)",
+                            wild, sqrt(v2), sim->watch_speed, m->c_p);
+        return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
+                        "particle %ld has density ratio rho/rho0 = %g outside [%g, %g] (watchdog)",
+                        wild, rho[wild] / m->rho0, sim->watch_rho_min, sim->watch_rho_max);
+    }
     return SPH_OK;
+}
+
+sph_status sph_heun_predict(const sph_sim *sim, size_t n, double dt, double *x,
+                            double *v, double *rho, double *S, const sph_rates *r,
+                            const unsigned char *integrate_motion, double *saved)
+{
+    return predict_external(sim, n, dt, x, v, sim ? (size_t)sim->dim : 0, rho, S, r,
+                            integrate_motion, saved, 1);
+}
+
+sph_status sph_heun_correct(const sph_sim *sim, size_t n, double dt, double *x,
+                            double *v, double *rho, double *S, const sph_rates *r,
+                            const unsigned char *integrate_motion, const double *saved)
+{
+    return correct_external(sim, n, dt, x, v, sim ? (size_t)sim->dim : 0, rho, S, r,
+                            integrate_motion, saved, 1, NULL, NULL);
+}
+
+static sph_status check_stride(const sph_sim *sim, size_t stride)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (stride < (size_t)sim->dim)
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "stride=%zu is smaller than the dimension %d",
+                        stride, sim->dim);
+    return SPH_OK;
+}
+
+sph_status sph_heun_predict_strided(const sph_sim *sim, size_t n, double dt, double *x,
+                                    double *v, size_t stride, double *rho, double *S,
+                                    const sph_rates *r, const unsigned char *integrate_motion,
+                                    double *saved)
+{
+    sph_status st = check_stride(sim, stride);
+    return st ? st : predict_external(sim, n, dt, x, v, stride, rho, S, r, integrate_motion, saved, 0);
+}
+
+sph_status sph_heun_correct_strided(const sph_sim *sim, size_t n, double dt, double *x,
+                                    double *v, size_t stride, double *rho, double *S,
+                                    const sph_rates *r, const unsigned char *integrate_motion,
+                                    const int *material_of, const double *saved, long *particle)
+{
+    if (particle)
+        *particle = -1;
+    sph_status st = check_stride(sim, stride);
+    if (st)
+        return st;
+    if (n > 0 && !material_of)
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_heun_correct_strided: material must not be NULL");
+    for (size_t a = 0; a < n; ++a)
+        if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
+            return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT,
+                            "sph_heun_correct_strided: particle %zu has material %d, but %d materials are defined",
+                            a, material_of[a], sim->n_materials);
+    return correct_external(sim, n, dt, x, v, stride, rho, S, r, integrate_motion, saved, 0,
+                            material_of, particle);
 }
 
 /* ------------------------------------------------- the simulation's run */
@@ -200,7 +307,7 @@ sph_status sim_prepare(sph_sim *sim)
 static sph_status evaluate(sph_sim *sim)
 {
     sph_neighbours nb = {sim->nl.offsets, sim->nl.indices, NULL, NULL};
-    rate_call call = {sim->n, sim->n, sim->x, sim->v, sim->rho, sim->S, sim->mass,
+    rate_call call = {sim->n, sim->n, sim->x, sim->v, sim->rho, sim->S, sim->mass, (size_t)sim->dim,
                       sim->material_of, &nb, 1, sim->dv_dt, sim->drho_dt,
                       sim->dS_dt, sim->fx.xsph ? sim->dx_dt : NULL};
     sph_status st = rates_run(sim, &call);
@@ -262,27 +369,6 @@ sph_status sph_rigid_force_apply(const sph_sim *sim, size_t n, const double *app
             dv_dt[a * dim + i] = a_body[i];
     }
     return SPH_OK;
-}
-
-/* The watchdog's bounds for one material; a zero setting switches a bound
- * off.  Prescribed particles (integrate = 0) are not held to the speed. */
-static void watchdog_bounds(const sph_sim *sim, const material *m, int integrate,
-                            double *vmax2, double *rho_lo, double *rho_hi)
-{
-    *vmax2 = integrate && sim->watch_speed > 0.0
-                 ? (sim->watch_speed * m->c_p) * (sim->watch_speed * m->c_p)
-                 : INFINITY;
-    *rho_lo = sim->watch_rho_min * m->rho0;
-    *rho_hi = sim->watch_rho_max > 0.0 ? sim->watch_rho_max * m->rho0 : INFINITY;
-}
-
-static inline int watchdog_trips(int dim, const double *v, double rho, double vmax2,
-                                 double rho_lo, double rho_hi)
-{
-    double v2 = 0.0;
-    for (int i = 0; i < dim; ++i)
-        v2 += v[i] * v[i];
-    return v2 > vmax2 || rho < rho_lo || rho > rho_hi;
 }
 
 sph_status sph_watchdog_check(const sph_sim *sim, size_t n, const double *v, const double *rho,
@@ -389,8 +475,8 @@ static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
         for (long a = 0; a < n; ++a) {
             for (int i = 0; i < dim; ++i)
                 sim->x_saved[a * dim + i] = sim->x[a * dim + i];
-            predict_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r,
-                             bs[body_of[a]].integrate, &s);
+            predict_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, (size_t)dim, sim->rho, sim->S, &r,
+                             bs[body_of[a]].integrate, 1, &s);
             if (bs[body_of[a]].rotate)
                 rotate_particle(dim, &bs[body_of[a]], sim->x_saved + a * dim, sim->x + a * dim, sim->v + a * dim);
         }
@@ -399,8 +485,8 @@ static sph_status stage(sph_sim *sim, double dt, int corrector, double *moved)
 #pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild) reduction(max : max_moved)
         for (long a = 0; a < n; ++a) {
             const body_stage *b = &bs[body_of[a]];
-            double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, sim->rho, sim->S, &r,
-                                        b->integrate, &s);
+            double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, (size_t)dim, sim->rho,
+                                        sim->S, &r, b->integrate, 1, &s);
             if (b->rotate && !isnan(d))
                 d = rotate_particle(dim, b, sim->x_saved + a * dim, sim->x + a * dim, sim->v + a * dim);
             if (isnan(d)) {

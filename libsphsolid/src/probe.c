@@ -10,7 +10,7 @@
 
 /* Add the kernel-weighted contributions of particles [0, n) at `point`:
  * sums = (sum w, sum w vm, sum w P, sum w S...), w = V_b W(p - r_b). */
-static void probe_accumulate(const sph_sim *sim, size_t n, const double *x,
+static void probe_accumulate(const sph_sim *sim, size_t n, const double *x, size_t stride,
                              const double *rho, const double *S, const double *mass,
                              const int *material_of, const double *point, double *sums)
 {
@@ -20,7 +20,7 @@ static void probe_accumulate(const sph_sim *sim, size_t n, const double *x,
     for (size_t b = 0; b < n; ++b) {
         double r2 = 0.0;
         for (int i = 0; i < dim; ++i) {
-            double d = point[i] - x[b * dim + i];
+            double d = point[i] - x[b * stride + i];
             if (sim->has_domain && sim->periodic[i]) {
                 const double L = sim->hi[i] - sim->lo[i];
                 if (d > 0.5 * L) d -= L;
@@ -59,7 +59,7 @@ static void probe_finish(const sph_sim *sim, const double *sums, double *values)
 void probe_sample_point(sph_sim *sim, const double *point, double *values)
 {
     double sums[3 + 6] = {0};
-    probe_accumulate(sim, sim->n, sim->x, sim->rho, sim->S, sim->mass, sim->material_of, point, sums);
+    probe_accumulate(sim, sim->n, sim->x, (size_t)sim->dim, sim->rho, sim->S, sim->mass, sim->material_of, point, sums);
     probe_finish(sim, sums, values);
 }
 
@@ -78,7 +78,11 @@ sph_status sph_probe_accumulate(const sph_sim *sim, const sph_particles *p,
         if (p->material[b] < 0 || p->material[b] >= sim->n_materials)
             return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: particle %zu has material %d, but %d materials are defined",
                             b, p->material[b], sim->n_materials);
-    probe_accumulate(sim, p->n_local, p->x, p->rho, p->S, p->mass, p->material, point, sums);
+    const size_t stride = p->stride ? p->stride : (size_t)sim->dim;
+    if (stride < (size_t)sim->dim)
+        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: stride=%zu is smaller than the dimension %d",
+                        stride, sim->dim);
+    probe_accumulate(sim, p->n_local, p->x, stride, p->rho, p->S, p->mass, p->material, point, sums);
     return SPH_OK;
 }
 

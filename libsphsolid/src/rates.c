@@ -32,6 +32,7 @@ typedef struct engine {
     int dim, ncomp, nsym, stride, threads;
     size_t n_local, n_total;
     const double *x, *v, *rho, *S, *mass;
+    size_t xs;                  /* doubles between particles in x and v */
     const int *material_of;
     const material *materials;
     const size_t *offsets;
@@ -88,7 +89,7 @@ static inline void neighbours_of(const engine *e, size_t a, const int **list,
 static inline double separation(const engine *e, const double *xa, size_t b,
                                 const int dim, const int periodic, double *r_ab)
 {
-    const double *xb = e->x + b * (size_t)dim;
+    const double *xb = e->x + b * e->xs;
     double r2 = 0.0;
     for (int i = 0; i < dim; ++i) {
         double d = xa[i] - xb[i];
@@ -126,8 +127,8 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
     const int periodic = e->periodic;   /* scalar gather only: a runtime flag */
     const int nsym = dim == 2 ? 3 : 6;
     const int stride = nsym + 1;
-    const double *xa = e->x + a * (size_t)dim;
-    const double *va = e->v + a * (size_t)dim;
+    const double *xa = e->x + a * e->xs;
+    const double *va = e->v + a * e->xs;
     const double *Pa = e->pair_data + a * (size_t)stride;
     const double rho_a = e->rho[a];
     const double c_a = viscosity ? e->materials[e->material_of[a]].c0 : 0.0;
@@ -153,7 +154,7 @@ static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
             const size_t b = (size_t)list[k0 + k];
             double r_ab[3];
             separation(e, xa, b, dim, periodic, r_ab);
-            const double *vb = e->v + b * (size_t)dim;
+            const double *vb = e->v + b * e->xs;
             const double *Pb = e->pair_data + b * (size_t)stride;
             for (int i = 0; i < dim; ++i) {
                 r[i][k] = r_ab[i];
@@ -330,8 +331,8 @@ static void pass_pair_data(const engine *e, double *pair_data, double *R)
 static ALWAYS_INLINE void particle_xsph(const engine *e, size_t a, const int dim,
                                         const int kernel)
 {
-    const double *xa = e->x + a * (size_t)dim;
-    const double *va = e->v + a * (size_t)dim;
+    const double *xa = e->x + a * e->xs;
+    const double *va = e->v + a * e->xs;
     const double rho_a = e->rho[a];
     double u[3] = {0.0, 0.0, 0.0};
     const int *list;
@@ -347,7 +348,7 @@ static ALWAYS_INLINE void particle_xsph(const engine *e, size_t a, const int dim
             separation(e, xa, b, dim, e->periodic, r_ab);
             for (int i = 0; i < dim; ++i) {
                 r[i][k] = r_ab[i];
-                vr[i][k] = va[i] - e->v[b * (size_t)dim + i];
+                vr[i][k] = va[i] - e->v[b * e->xs + i];
             }
             m[k] = e->mass[b];
             rho_mean[k] = 0.5 * (rho_a + e->rho[b]);
@@ -411,7 +412,7 @@ static void pass_body_forces(const engine *e)
             if (gravity)
                 acc += e->fx.g[i];
             if (damping)
-                acc -= e->fx.damping_rate * e->v[(size_t)a * dim + i];
+                acc -= e->fx.damping_rate * e->v[(size_t)a * e->xs + i];
             e->dv_dt[(size_t)a * dim + i] = acc;
         }
 }
@@ -454,6 +455,7 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
     e.n_local = call->n_local;
     e.n_total = call->n_total;
     e.x = call->x;
+    e.xs = call->stride;
     e.v = call->v;
     e.rho = call->rho;
     e.S = call->S;
@@ -506,6 +508,9 @@ sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p,
     if (p->n_local > p->n_total)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: n_local=%zu exceeds n_total=%zu",
                         p->n_local, p->n_total);
+    const size_t stride = p->stride ? p->stride : (size_t)sim->dim;
+    if (stride < (size_t)sim->dim)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: stride=%zu is smaller than the dimension %d", stride, sim->dim);
     if (p->n_total > 0 && (!p->x || !p->v || !p->rho || !p->S || !p->mass || !p->material))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: a particle array (x, v, rho, S, mass, material) is NULL");
     if (p->n_local > 0 && (!rates->dv_dt || !rates->drho_dt || !rates->dS_dt))
@@ -521,7 +526,7 @@ sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p,
         if (!(p->rho[i] > 0.0))
             return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: particle %zu has density rho=%g (must be > 0)", i, p->rho[i]);
     }
-    rate_call call = {p->n_local, p->n_total, p->x, p->v, p->rho, p->S, p->mass,
+    rate_call call = {p->n_local, p->n_total, p->x, p->v, p->rho, p->S, p->mass, stride,
                       p->material, nb, 0, rates->dv_dt, rates->drho_dt,
                       rates->dS_dt, rates->dx_dt};
     sph_status st = rates_run(sim, &call);

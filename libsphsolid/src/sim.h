@@ -121,6 +121,7 @@ void neighbour_free(neighbour_list *nl);
 typedef struct rate_call {
     size_t n_local, n_total;
     const double *x, *v, *rho, *S, *mass;
+    size_t stride;          /* of x and v */
     const int *material;
     const sph_neighbours *neighbours;
     int periodic;           /* apply minimum image with sim's domain */

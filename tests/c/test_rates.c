@@ -19,7 +19,7 @@ static rates_buf evaluate(sph_sim *sim)
     r.dv = calloc(n * sim->dim, sizeof(double));
     r.drho = calloc(n, sizeof(double));
     r.dS = calloc(n * sim->ncomp, sizeof(double));
-    sph_particles p = {n, n, sim->x, sim->v, sim->rho, sim->S, sim->mass, sim->material_of};
+    sph_particles p = {n, n, sim->x, sim->v, sim->rho, sim->S, sim->mass, sim->material_of, 0};
     sph_neighbours nb = {sim->nl.offsets, sim->nl.indices, NULL, NULL};
     sph_rates out = {r.dv, r.drho, r.dS, NULL};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &out));
@@ -247,6 +247,86 @@ static void artificial_stress_exponent_paths_agree(void **state)
     free_rates(r[1]);
 }
 
+/* The low-level entry points on arrays 3 doubles apart (LAMMPS's layout in
+ * 2D) give the rates and Improved Euler stages of the dense arrays, to the
+ * bit; the strided stages leave the x and v of prescribed particles to the
+ * caller, and their corrector applies the watchdog. */
+static void strided_entry_points_match_the_dense_ones(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(8, 6, 1e-3);
+    perturb(sim, 5u);
+    check(sim, sph_run(sim, 0));
+    const size_t n = sim->n;
+    double *x3 = calloc(3 * n, sizeof *x3), *v3 = calloc(3 * n, sizeof *v3);
+    for (size_t a = 0; a < n; ++a)
+        for (int i = 0; i < 2; ++i) {
+            x3[3 * a + i] = sim->x[2 * a + i];
+            v3[3 * a + i] = sim->v[2 * a + i];
+        }
+    rates_buf dense = evaluate(sim);
+    double *dv = calloc(2 * n, sizeof *dv), *drho = calloc(n, sizeof *drho), *dS = calloc(4 * n, sizeof *dS);
+    int *indices = malloc(sim->nl.offsets[n] * sizeof *indices);
+    memcpy(indices, sim->nl.indices, sim->nl.offsets[n] * sizeof *indices);
+    sph_particles p = {n, n, x3, v3, sim->rho, sim->S, sim->mass, sim->material_of, 3};
+    sph_neighbours nb = {sim->nl.offsets, indices, NULL, NULL};
+    sph_rates r3 = {dv, drho, dS, NULL};
+    check(sim, sph_rates_evaluate(sim, &p, &nb, &r3));
+    assert_memory_equal(dv, dense.dv, 2 * n * sizeof *dv);
+    assert_memory_equal(dS, dense.dS, 4 * n * sizeof *dS);
+
+    /* stages: particle 0 prescribed (another code moves it) */
+    unsigned char *integrate = malloc(n);
+    memset(integrate, 1, n);
+    integrate[0] = 0;
+    double *x2 = malloc(2 * n * sizeof *x2), *v2 = malloc(2 * n * sizeof *v2);
+    double *rho2 = malloc(n * sizeof *rho2), *S2 = malloc(4 * n * sizeof *S2);
+    double *rho3 = malloc(n * sizeof *rho3), *S3 = malloc(4 * n * sizeof *S3);
+    memcpy(x2, sim->x, 2 * n * sizeof *x2);
+    memcpy(v2, sim->v, 2 * n * sizeof *v2);
+    memcpy(rho2, sim->rho, n * sizeof *rho2);
+    memcpy(rho3, sim->rho, n * sizeof *rho3);
+    memcpy(S2, sim->S, 4 * n * sizeof *S2);
+    memcpy(S3, sim->S, 4 * n * sizeof *S3);
+    double *saved2 = malloc(7 * n * sizeof *saved2), *saved3 = malloc(7 * n * sizeof *saved3);
+    const double dt = 1e-8;
+    sph_rates rd = {dense.dv, dense.drho, dense.dS, NULL};
+    check(sim, sph_heun_predict(sim, n, dt, x2, v2, rho2, S2, &rd, integrate, saved2));
+    check(sim, sph_heun_predict_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate, saved3));
+    long bad = 0;
+    check(sim, sph_heun_correct(sim, n, dt, x2, v2, rho2, S2, &rd, integrate, saved2));
+    check(sim, sph_heun_correct_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate,
+                                        sim->material_of, saved3, &bad));
+    assert_int_equal(bad, -1);
+    for (size_t a = 0; a < n; ++a) {
+        for (int i = 0; i < 2; ++i) {
+            if (a == 0) {  /* left to the caller by the strided stages */
+                assert_true(x3[i] == sim->x[i] && v3[i] == sim->v[i]);
+                assert_true(x2[i] != sim->x[i]);   /* the dense ones advance it */
+            } else {
+                assert_true(x3[3 * a + i] == x2[2 * a + i]);
+                assert_true(v3[3 * a + i] == v2[2 * a + i]);
+            }
+        }
+        assert_true(rho3[a] == rho2[a]);
+    }
+    assert_memory_equal(S3, S2, 4 * n * sizeof *S2);
+    /* the watchdog: an integrated particle at 5 c_p is named */
+    check(sim, sph_heun_predict_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate, saved3));
+    v3[3 * 7] = 5.0 * sqrt((PAPER_K + 4.0 * PAPER_MU / 3.0) / PAPER_RHO0);
+    assert_int_equal(sph_heun_correct_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate,
+                                              sim->material_of, saved3, &bad), SPH_ERR_UNSTABLE);
+    assert_int_equal(bad, 7);
+    assert_non_null(strstr(sph_errmsg(sim), "particle 7"));
+    assert_int_equal(sph_heun_predict_strided(sim, n, dt, x3, v3, 1, rho3, S3, &rd, integrate, saved3),
+                     SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "stride=1"));
+    free(x3); free(v3); free(dv); free(drho); free(dS); free(indices); free(integrate);
+    free(x2); free(v2); free(rho2); free(S2); free(rho3); free(S3); free(saved2); free(saved3);
+    free_rates(dense);
+    sph_destroy(sim);
+}
+
 /* Total energy drift of a free block vibrating in its lowest mode
  * (v_x = V sin(pi x / L)) after `duration`, integrated with time step dt. */
 static double energy_drift(double dt_factor, double duration, double *kinetic_share)
@@ -374,6 +454,7 @@ int main(void)
         cmocka_unit_test(jaumann_rate_keeps_stress_magnitude_under_rotation),
         cmocka_unit_test(momentum_of_isolated_body_is_conserved),
         cmocka_unit_test(artificial_stress_exponent_paths_agree),
+        cmocka_unit_test(strided_entry_points_match_the_dense_ones),
         cmocka_unit_test(energy_is_conserved_without_viscosity),
         cmocka_unit_test(uniform_translation_changes_nothing),
     };
