@@ -115,6 +115,24 @@ def _negative_pressure():
                                     motion=build.Pressure(-1e5))])
 
 
+def _rotation_vector_in_2d():
+    sphsolid.Scene(2, [build.rectangle((0, 0.01), (0, 0.01), 1e-3, rock(),
+                                       motion=build.Rotation((0.0, 0.0, 5.0), (0.0, 0.0)))])
+
+
+def _rotation_centre_wrong_shape():
+    sphsolid.Scene(2, [build.rectangle((0, 0.01), (0, 0.01), 1e-3, rock(),
+                                       motion=build.Rotation(5.0, (0.0,)))])
+
+
+def _rotation_about_x_in_2d_refused_by_the_library():
+    # the library names the component: in 2D only omega_z
+    scene = sphsolid.Scene(2, [build.rectangle((0, 0.01), (0, 0.01), 1e-3, rock())])
+    centre = sphsolid._lib.as_doubles([0.0, 0.0], 2, "centre")
+    omega = sphsolid._lib.as_doubles([1.0, 0.0, 0.0], 3, "omega")
+    scene._check(sphsolid._lib.lib.sph_set_rotation(scene.handle, 0, centre, omega), "rotation")
+
+
 def _duplicate_body_name():
     sphsolid.Scene(2, [specimen(), build.rectangle((0.1, 0.2), (0, 0.1),
                                                    2e-3, rock())])
@@ -145,6 +163,9 @@ CASES = [
     (_negative_steps, ValueError, r"steps"),
     (_negative_pressure, ValueError, r"Pressure\.pressure"),
     (_duplicate_body_name, ValueError, r"specimen"),
+    (_rotation_vector_in_2d, ValueError, r"Rotation\.omega"),
+    (_rotation_centre_wrong_shape, ValueError, r"Rotation\.centre"),
+    (_rotation_about_x_in_2d_refused_by_the_library, ValueError, r"omega_x=1"),
 ]
 
 
