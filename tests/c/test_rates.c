@@ -318,6 +318,16 @@ static void strided_entry_points_match_the_dense_ones(void **state)
                                               sim->material_of, saved3, &bad), SPH_ERR_UNSTABLE);
     assert_int_equal(bad, 7);
     assert_non_null(strstr(sph_errmsg(sim), "particle 7"));
+    /* the same test on dense arrays, on its own */
+    check(sim, sph_watchdog_check(sim, n, v2, rho2, sim->material_of, integrate, &bad));
+    assert_int_equal(bad, -1);
+    v2[2 * 7 + 1] = v3[3 * 7];
+    assert_int_equal(sph_watchdog_check(sim, n, v2, rho2, sim->material_of, integrate, &bad),
+                     SPH_ERR_UNSTABLE);
+    assert_int_equal(bad, 7);
+    v2[2 * 0 + 1] = v3[3 * 7];   /* a prescribed particle is not held to the speed */
+    v2[2 * 7 + 1] = 0.0;
+    check(sim, sph_watchdog_check(sim, n, v2, rho2, sim->material_of, integrate, &bad));
     assert_int_equal(sph_heun_predict_strided(sim, n, dt, x3, v3, 1, rho3, S3, &rd, integrate, saved3),
                      SPH_ERR_ARGUMENT);
     assert_non_null(strstr(sph_errmsg(sim), "stride=1"));
