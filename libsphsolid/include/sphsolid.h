@@ -73,7 +73,7 @@ SPH_API void sph_destroy(sph_sim *sim);
 SPH_API const char *sph_errmsg(const sph_sim *sim);
 /* Static name of a status code. */
 SPH_API const char *sph_status_name(sph_status status);
-/* "0.1.0" and the compiled-in options, e.g. "0.1.0 openmp hdf5". */
+/* The version and the compiled-in options, e.g. "0.2.0 openmp hdf5". */
 SPH_API const char *sph_version(void);
 
 SPH_API int sph_dimension(const sph_sim *sim);

@@ -46,7 +46,7 @@ const char *sph_status_name(sph_status status)
 
 const char *sph_version(void)
 {
-    return "0.1.0"
+    return SPHSOLID_VERSION
 #ifdef _OPENMP
            " openmp"
 #endif

@@ -24,7 +24,7 @@ from .probes import PAPER_PROBES, Probes
 from .scene import Scene
 from . import scenes
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 __all__ = ["Material", "Scene", "Body", "Free", "Fixed", "Velocity", "Force",
            "Pressure", "Rotation", "block", "rectangle", "box", "plate", "piston", "disc",
