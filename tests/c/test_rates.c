@@ -397,6 +397,44 @@ static void uniform_translation_changes_nothing(void **state)
     sph_destroy(sim);
 }
 
+/* XSPH (Monaghan 1989): dx_a/dt = v_a - eps sum_b m_b / rho_ab W_ab v_ab.
+ * One particle moving at V among particles at rest, all at rho0: it is
+ * slowed to V (1 - eps sum_b V_b W_ab) and each neighbour is carried along
+ * at eps V_a W_ab V, with the kernel sums done here from the kernel's
+ * formula. */
+static void xsph_velocity_of_one_moving_particle(void **state)
+{
+    (void)state;
+    const double eps = 0.5, V = 2.0, dx = 1e-3;
+    sph_sim *sim = free_block_2d(9, 9, dx);
+    check(sim, sph_effect(sim, "xsph", "epsilon=0.5"));
+    check(sim, sph_run(sim, 0));
+    const size_t n = sim->n, mover = 40;   /* the centre of the 9 x 9 block */
+    sim->v[2 * mover] = V;
+    double *dv = calloc(2 * n, sizeof *dv), *drho = calloc(n, sizeof *drho);
+    double *dS = calloc(4 * n, sizeof *dS), *u = calloc(2 * n, sizeof *u);
+    sph_particles p = {n, n, sim->x, sim->v, sim->rho, sim->S, sim->mass, sim->material_of, 0};
+    sph_neighbours nb = {sim->nl.offsets, sim->nl.indices, NULL, NULL};
+    sph_rates out = {dv, drho, dS, u};
+    check(sim, sph_rates_evaluate(sim, &p, &nb, &out));
+    const double h = sim->h, volume = dx * dx;
+    const double norm = kernel_cubic_sigma(2) / (h * h);
+    double sum = 0.0;
+    for (size_t b = 0; b < n; ++b) {
+        if (b == mover)
+            continue;
+        const double r = hypot(sim->x[2 * b] - sim->x[2 * mover], sim->x[2 * b + 1] - sim->x[2 * mover + 1]);
+        const double W = norm * kernel_cubic_w(r / h);
+        sum += volume * W;
+        assert_close(u[2 * b], eps * volume * W * V, 1e-12 * V, "neighbour carried along");
+        assert_close(u[2 * b + 1], 0.0, 1e-15, "neighbour, y");
+    }
+    assert_true(sum > 0.5);
+    assert_close(u[2 * mover], V * (1.0 - eps * sum), 1e-12 * V, "moving particle slowed");
+    assert_close(u[2 * mover + 1], 0.0, 1e-15, "moving particle, y");
+    free(dv); free(drho); free(dS); free(u);
+    sph_destroy(sim);
+}
 
 /* 3D: with kernel_correction the velocity gradient of a linear field is
  * exact at every particle, and the stress rate is paper eq. (6) with it,
@@ -467,6 +505,7 @@ int main(void)
         cmocka_unit_test(strided_entry_points_match_the_dense_ones),
         cmocka_unit_test(energy_is_conserved_without_viscosity),
         cmocka_unit_test(uniform_translation_changes_nothing),
+        cmocka_unit_test(xsph_velocity_of_one_moving_particle),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
