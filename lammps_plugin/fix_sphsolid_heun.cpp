@@ -124,6 +124,7 @@ void FixSPHSolidHeun::init_rigid_bodies()
 /* every atom of a fix sphsolid/force group gets the body's acceleration */
 void FixSPHSolidHeun::apply_rigid_bodies()
 {
+  if (rigid.empty()) return;
   const int nlocal = atom->nlocal;
   const int dim = pair->dimension();
   const int *mask = atom->mask;

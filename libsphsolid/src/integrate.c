@@ -117,6 +117,24 @@ static inline int watchdog_trips(int dim, const double *v, double rho, double vm
     return v2 > vmax2 || rho < rho_lo || rho > rho_hi;
 }
 
+/* The watchdog's report for particle a of external arrays, which tripped
+ * it: its speed if that is above the bound, else its density ratio. */
+static sph_status watchdog_report(const sph_sim *sim, long a, int dim, const double *v_a,
+                                  double rho_a, const material *m, int integrate)
+{
+    double vmax2, rho_lo, rho_hi, v2 = 0.0;
+    watchdog_bounds(sim, m, integrate, &vmax2, &rho_lo, &rho_hi);
+    for (int i = 0; i < dim; ++i)
+        v2 += v_a[i] * v_a[i];
+    if (v2 > vmax2)
+        return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
+                        "particle %ld moves at %g m/s, more than %g times the P-wave speed %g m/s (watchdog)",
+                        a, sqrt(v2), sim->watch_speed, m->c_p);
+    return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
+                    "particle %ld has density ratio rho/rho0 = %g outside [%g, %g] (watchdog)",
+                    a, rho_a / m->rho0, sim->watch_rho_min, sim->watch_rho_max);
+}
+
 /* The external stages: `move` 1 advances every position (sph_heun_*), 0
  * leaves the prescribed particles' x and v to the caller (*_strided). */
 static sph_status predict_external(const sph_sim *sim, size_t n, double dt, double *x, double *v,
@@ -171,19 +189,10 @@ static sph_status correct_external(const sph_sim *sim, size_t n, double dt, doub
         return sph_fail((sph_sim *)sim, SPH_ERR_NONFINITE,
                         "Improved Euler correction produced a non-finite value (or non-positive density) at particle %ld",
                         bad);
-    if (wild < nn) {
-        const material *m = &sim->materials[material_of[wild]];
-        double v2 = 0.0;
-        for (int i = 0; i < dim; ++i)
-            v2 += v[wild * xs + i] * v[wild * xs + i];
-        if (sim->watch_speed > 0.0 && v2 > pow(sim->watch_speed * m->c_p, 2))
-            return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
-                            "particle %ld moves at %g m/s, more than %g times the P-wave speed %g m/s (watchdog)",
-                            wild, sqrt(v2), sim->watch_speed, m->c_p);
-        return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
-                        "particle %ld has density ratio rho/rho0 = %g outside [%g, %g] (watchdog)",
-                        wild, rho[wild] / m->rho0, sim->watch_rho_min, sim->watch_rho_max);
-    }
+    if (wild < nn)
+        return watchdog_report(sim, wild, dim, v + wild * xs, rho[wild],
+                               &sim->materials[material_of[wild]],
+                               integrate_motion ? integrate_motion[wild] : 1);
     return SPH_OK;
 }
 
@@ -391,16 +400,8 @@ sph_status sph_watchdog_check(const sph_sim *sim, size_t n, const double *v, con
         if (!watchdog_trips(dim, v + a * dim, rho[a], vmax2, rho_lo, rho_hi))
             continue;
         *particle = (long)a;
-        double v2 = 0.0;
-        for (int i = 0; i < dim; ++i)
-            v2 += v[a * dim + i] * v[a * dim + i];
-        if (v2 > vmax2)
-            return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
-                            "particle %zu moves at %g m/s, more than %g times the P-wave speed %g m/s (watchdog)",
-                            a, sqrt(v2), sim->watch_speed, m->c_p);
-        return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
-                        "particle %zu has density ratio rho/rho0 = %g outside [%g, %g] (watchdog)",
-                        a, rho[a] / m->rho0, sim->watch_rho_min, sim->watch_rho_max);
+        return watchdog_report(sim, (long)a, dim, v + a * dim, rho[a], m,
+                               integrate_motion ? integrate_motion[a] : 1);
     }
     return SPH_OK;
 }
