@@ -21,7 +21,19 @@
  *    stress SPH_STRESS_COMPONENTS(dim) doubles per particle in the order
  *    (xx, yy, zz, xy) in 2D and (xx, yy, zz, xy, xz, yz) in 3D.  In 2D the
  *    model is plane strain: eps_dot_zz = 0 while S_zz evolves.
- *  - Pointers returned by sph_field() stay valid until a body is added.
+ *  - A function taking `const sph_sim *` only reads the handle and never
+ *    sets its message; every call that can fail takes `sph_sim *`.
+ *  - Lifetime of returned pointers:
+ *      sph_field():                    until a body is added or the handle
+ *                                      is destroyed;
+ *      sph_errmsg():                   until the next call on the handle;
+ *      sph_body_info_get() name:       until a body is added or the handle
+ *                                      is destroyed;
+ *      sph_probe_name():               until a probe is added or the handle
+ *                                      is destroyed;
+ *      sph_failure() quantity, sph_status_name(), sph_version(),
+ *      sph_effect_names() and every other name the library returns:
+ *                                      static, valid for the whole program.
  */
 #ifndef SPHSOLID_H
 #define SPHSOLID_H
@@ -107,7 +119,7 @@ typedef struct sph_material_info {
     double c_p;             /* plane/3D P-wave speed sqrt((K + 4mu/3)/rho0) */
 } sph_material_info;
 
-SPH_API sph_status sph_material_info_get(const sph_sim *sim, int material,
+SPH_API sph_status sph_material_info_get(sph_sim *sim, int material,
                                  sph_material_info *info);
 
 /* ---------------------------------------------------------------- bodies */
@@ -173,10 +185,10 @@ typedef struct sph_body_info {
     double spacing;
 } sph_body_info;
 
-SPH_API sph_status sph_body_info_get(const sph_sim *sim, int body,
+SPH_API sph_status sph_body_info_get(sph_sim *sim, int body,
                              sph_body_info *info);
 /* Body index by name, or a SPH_ERR_ARGUMENT naming the unknown name. */
-SPH_API sph_status sph_body_find(const sph_sim *sim, const char *name, int *body);
+SPH_API sph_status sph_body_find(sph_sim *sim, const char *name, int *body);
 
 /* ----------------------------------------------------- domain and kernel */
 
@@ -262,7 +274,7 @@ SPH_API sph_status sph_set_watchdog(sph_sim *sim, double max_speed_over_cp,
  * sim; integrate_motion as for sph_heun_correct, NULL for all): returns
  * SPH_ERR_UNSTABLE, with *particle the lowest offending index and a message
  * naming speed or density ratio, or SPH_OK (*particle = -1). */
-SPH_API sph_status sph_watchdog_check(const sph_sim *sim, size_t n,
+SPH_API sph_status sph_watchdog_check(sph_sim *sim, size_t n,
                                       const double *v, const double *rho,
                                       const int *material,
                                       const unsigned char *integrate_motion,
@@ -274,8 +286,9 @@ SPH_API sph_status sph_watchdog_check(const sph_sim *sim, size_t n,
  *
  * Where a run stopped on a non-finite value or a domain exit: step, global
  * particle index, body and quantity name ("position", "velocity",
- * "density", "deviatoric stress", "speed", "density ratio").  Returns SPH_ERR_STATE if the last run
- * did not fail that way. */
+ * "density", "deviatoric stress", "speed", "density ratio").  Returns
+ * SPH_ERR_STATE if the last run did not fail that way; either way the
+ * handle's message (the failed run's) is left as it is. */
 SPH_API sph_status sph_failure(const sph_sim *sim, long *step, long *particle,
                        int *body, const char **quantity);
 
@@ -299,7 +312,7 @@ SPH_API sph_status sph_field(sph_sim *sim, sph_field_id field, double **data,
 /* Copy any field (stored or derived) into `out` (rows*cols doubles). */
 SPH_API sph_status sph_field_copy(sph_sim *sim, sph_field_id field, double *out);
 /* Body index of each particle (n ints). */
-SPH_API sph_status sph_body_ids(const sph_sim *sim, int *out);
+SPH_API sph_status sph_body_ids(sph_sim *sim, int *out);
 
 /* von Mises stress of one full 3D Cauchy stress from deviatoric stress:
  * sqrt(3/2 S:S). */
@@ -433,12 +446,12 @@ SPH_API sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *particl
  * particles whose velocity is prescribed: their velocity is left alone
  * while their position still advances by dt v and their density and stress
  * evolve (pass NULL to integrate all). */
-SPH_API sph_status sph_heun_predict(const sph_sim *sim, size_t n, double dt,
+SPH_API sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt,
                             double *x, double *v, double *rho, double *S,
                             const sph_rates *rates,
                             const unsigned char *integrate_motion,
                             double *saved);
-SPH_API sph_status sph_heun_correct(const sph_sim *sim, size_t n, double dt,
+SPH_API sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt,
                             double *x, double *v, double *rho, double *S,
                             const sph_rates *rates,
                             const unsigned char *integrate_motion,
@@ -452,10 +465,10 @@ SPH_API sph_status sph_heun_correct(const sph_sim *sim, size_t n, double dt,
  * common acceleration (applied + sum m dv/dt) / total mass, with `applied`
  * the external force on the whole body (dim entries).  `member` (n
  * entries, non-zero for members) may be NULL: all n are members. */
-SPH_API sph_status sph_rigid_force_sum(const sph_sim *sim, size_t n,
+SPH_API sph_status sph_rigid_force_sum(sph_sim *sim, size_t n,
                                        const double *mass, const double *dv_dt,
                                        const unsigned char *member, double *sums);
-SPH_API sph_status sph_rigid_force_apply(const sph_sim *sim, size_t n,
+SPH_API sph_status sph_rigid_force_apply(sph_sim *sim, size_t n,
                                          const double *applied, const double *sums,
                                          const unsigned char *member, double *dv_dt);
 
@@ -467,13 +480,13 @@ SPH_API sph_status sph_rigid_force_apply(const sph_sim *sim, size_t n,
  * (sph_set_watchdog) to the integrated particles, `material` giving each
  * particle's material: on SPH_ERR_UNSTABLE or SPH_ERR_NONFINITE,
  * *particle is the first particle concerned (else -1). */
-SPH_API sph_status sph_heun_predict_strided(const sph_sim *sim, size_t n, double dt,
+SPH_API sph_status sph_heun_predict_strided(sph_sim *sim, size_t n, double dt,
                                             double *x, double *v, size_t stride,
                                             double *rho, double *S,
                                             const sph_rates *rates,
                                             const unsigned char *integrate_motion,
                                             double *saved);
-SPH_API sph_status sph_heun_correct_strided(const sph_sim *sim, size_t n, double dt,
+SPH_API sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt,
                                             double *x, double *v, size_t stride,
                                             double *rho, double *S,
                                             const sph_rates *rates,
@@ -484,7 +497,7 @@ SPH_API sph_status sph_heun_correct_strided(const sph_sim *sim, size_t n, double
 /* Derived fields of external particles (n of them, material indices of
  * sim): pressure P (n), full Cauchy stress sigma = -P I + S (n * ncomp) and
  * von Mises stress (n).  Any output may be NULL. */
-SPH_API sph_status sph_derived_fields(const sph_sim *sim, size_t n,
+SPH_API sph_status sph_derived_fields(sph_sim *sim, size_t n,
                                       const double *rho, const double *S,
                                       const int *material, double *pressure,
                                       double *stress, double *von_mises);
@@ -494,10 +507,10 @@ SPH_API sph_status sph_derived_fields(const sph_sim *sim, size_t n,
  * (SPH_PROBE_VALUES(dim) + 1 doubles, zeroed by the caller; add the sums of
  * all ranks together), then turn the total into values with
  * sph_probe_finish().  Gives the same values as sph_probe_sample(). */
-SPH_API sph_status sph_probe_accumulate(const sph_sim *sim,
+SPH_API sph_status sph_probe_accumulate(sph_sim *sim,
                                         const sph_particles *particles,
                                         const double *point, double *sums);
-SPH_API sph_status sph_probe_finish(const sph_sim *sim, const double *sums,
+SPH_API sph_status sph_probe_finish(sph_sim *sim, const double *sums,
                                     double *values);
 
 #ifdef __cplusplus

@@ -83,16 +83,16 @@ static inline double correct_particle(int dim, int ncomp, double dt, size_t a,
     return ok ? sqrt(moved2) : NAN;
 }
 
-static sph_status check_stage_args(const sph_sim *sim, size_t n, double dt,
+static sph_status check_stage_args(sph_sim *sim, size_t n, double dt,
                                    double *x, double *v, double *rho, double *S,
                                    const sph_rates *r, const double *saved)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!(dt > 0.0) || !isfinite(dt))
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "dt=%g: must be finite and > 0", dt);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "dt=%g: must be finite and > 0", dt);
     if (n > 0 && (!x || !v || !rho || !S || !r || !saved || !r->dv_dt || !r->drho_dt || !r->dS_dt))
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "Improved Euler stage: an array argument is NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "Improved Euler stage: an array argument is NULL");
     return SPH_OK;
 }
 
@@ -119,7 +119,7 @@ static inline int watchdog_trips(int dim, const double *v, double rho, double vm
 
 /* The watchdog's report for particle a of external arrays, which tripped
  * it: its speed if that is above the bound, else its density ratio. */
-static sph_status watchdog_report(const sph_sim *sim, long a, int dim, const double *v_a,
+static sph_status watchdog_report(sph_sim *sim, long a, int dim, const double *v_a,
                                   double rho_a, const material *m, int integrate)
 {
     double vmax2, rho_lo, rho_hi, v2 = 0.0;
@@ -127,17 +127,17 @@ static sph_status watchdog_report(const sph_sim *sim, long a, int dim, const dou
     for (int i = 0; i < dim; ++i)
         v2 += v_a[i] * v_a[i];
     if (v2 > vmax2)
-        return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
+        return sph_fail(sim, SPH_ERR_UNSTABLE,
                         "particle %ld moves at %g m/s, more than %g times the P-wave speed %g m/s (watchdog)",
                         a, sqrt(v2), sim->watch_speed, m->c_p);
-    return sph_fail((sph_sim *)sim, SPH_ERR_UNSTABLE,
+    return sph_fail(sim, SPH_ERR_UNSTABLE,
                     "particle %ld has density ratio rho/rho0 = %g outside [%g, %g] (watchdog)",
                     a, rho_a / m->rho0, sim->watch_rho_min, sim->watch_rho_max);
 }
 
 /* The external stages: `move` 1 advances every position (sph_heun_*), 0
  * leaves the prescribed particles' x and v to the caller (*_strided). */
-static sph_status predict_external(const sph_sim *sim, size_t n, double dt, double *x, double *v,
+static sph_status predict_external(sph_sim *sim, size_t n, double dt, double *x, double *v,
                                    size_t xs, double *rho, double *S, const sph_rates *r,
                                    const unsigned char *integrate_motion, double *saved, int move_all)
 {
@@ -156,7 +156,7 @@ static sph_status predict_external(const sph_sim *sim, size_t n, double dt, doub
     return SPH_OK;
 }
 
-static sph_status correct_external(const sph_sim *sim, size_t n, double dt, double *x, double *v,
+static sph_status correct_external(sph_sim *sim, size_t n, double dt, double *x, double *v,
                                    size_t xs, double *rho, double *S, const sph_rates *r,
                                    const unsigned char *integrate_motion, const double *saved,
                                    int move_all, const int *material_of, long *particle)
@@ -186,7 +186,7 @@ static sph_status correct_external(const sph_sim *sim, size_t n, double dt, doub
     if (particle)
         *particle = bad < nn ? bad : wild < nn ? wild : -1;
     if (bad < nn)
-        return sph_fail((sph_sim *)sim, SPH_ERR_NONFINITE,
+        return sph_fail(sim, SPH_ERR_NONFINITE,
                         "Improved Euler correction produced a non-finite value (or non-positive density) at particle %ld",
                         bad);
     if (wild < nn)
@@ -196,7 +196,7 @@ static sph_status correct_external(const sph_sim *sim, size_t n, double dt, doub
     return SPH_OK;
 }
 
-sph_status sph_heun_predict(const sph_sim *sim, size_t n, double dt, double *x,
+sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt, double *x,
                             double *v, double *rho, double *S, const sph_rates *r,
                             const unsigned char *integrate_motion, double *saved)
 {
@@ -204,7 +204,7 @@ sph_status sph_heun_predict(const sph_sim *sim, size_t n, double dt, double *x,
                             integrate_motion, saved, 1);
 }
 
-sph_status sph_heun_correct(const sph_sim *sim, size_t n, double dt, double *x,
+sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt, double *x,
                             double *v, double *rho, double *S, const sph_rates *r,
                             const unsigned char *integrate_motion, const double *saved)
 {
@@ -212,17 +212,17 @@ sph_status sph_heun_correct(const sph_sim *sim, size_t n, double dt, double *x,
                             integrate_motion, saved, 1, NULL, NULL);
 }
 
-static sph_status check_stride(const sph_sim *sim, size_t stride)
+static sph_status check_stride(sph_sim *sim, size_t stride)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (stride < (size_t)sim->dim)
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "stride=%zu is smaller than the dimension %d",
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "stride=%zu is smaller than the dimension %d",
                         stride, sim->dim);
     return SPH_OK;
 }
 
-sph_status sph_heun_predict_strided(const sph_sim *sim, size_t n, double dt, double *x,
+sph_status sph_heun_predict_strided(sph_sim *sim, size_t n, double dt, double *x,
                                     double *v, size_t stride, double *rho, double *S,
                                     const sph_rates *r, const unsigned char *integrate_motion,
                                     double *saved)
@@ -231,7 +231,7 @@ sph_status sph_heun_predict_strided(const sph_sim *sim, size_t n, double dt, dou
     return st ? st : predict_external(sim, n, dt, x, v, stride, rho, S, r, integrate_motion, saved, 0);
 }
 
-sph_status sph_heun_correct_strided(const sph_sim *sim, size_t n, double dt, double *x,
+sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, double *x,
                                     double *v, size_t stride, double *rho, double *S,
                                     const sph_rates *r, const unsigned char *integrate_motion,
                                     const int *material_of, const double *saved, long *particle)
@@ -242,10 +242,10 @@ sph_status sph_heun_correct_strided(const sph_sim *sim, size_t n, double dt, dou
     if (st)
         return st;
     if (n > 0 && !material_of)
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_heun_correct_strided: material must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_heun_correct_strided: material must not be NULL");
     for (size_t a = 0; a < n; ++a)
         if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
-            return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT,
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
                             "sph_heun_correct_strided: particle %zu has material %d, but %d materials are defined",
                             a, material_of[a], sim->n_materials);
     return correct_external(sim, n, dt, x, v, stride, rho, S, r, integrate_motion, saved, 0,
@@ -339,13 +339,13 @@ static sph_status evaluate(sph_sim *sim)
     return SPH_OK;
 }
 
-sph_status sph_rigid_force_sum(const sph_sim *sim, size_t n, const double *mass,
+sph_status sph_rigid_force_sum(sph_sim *sim, size_t n, const double *mass,
                                const double *dv_dt, const unsigned char *member, double *sums)
 {
     if (!sim || !sums)
         return SPH_ERR_ARGUMENT;
     if (n > 0 && (!mass || !dv_dt))
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_rigid_force_sum: mass and dv_dt must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_sum: mass and dv_dt must not be NULL");
     const int dim = sim->dim;
     for (size_t a = 0; a < n; ++a) {
         if (member && !member[a])
@@ -357,15 +357,15 @@ sph_status sph_rigid_force_sum(const sph_sim *sim, size_t n, const double *mass,
     return SPH_OK;
 }
 
-sph_status sph_rigid_force_apply(const sph_sim *sim, size_t n, const double *applied,
+sph_status sph_rigid_force_apply(sph_sim *sim, size_t n, const double *applied,
                                  const double *sums, const unsigned char *member, double *dv_dt)
 {
     if (!sim || !applied || !sums)
         return SPH_ERR_ARGUMENT;
     if (n > 0 && !dv_dt)
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_rigid_force_apply: dv_dt must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_apply: dv_dt must not be NULL");
     if (!(sums[0] > 0.0) || !isfinite(sums[0]))
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT,
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "sph_rigid_force_apply: total mass %g of the body must be finite and > 0", sums[0]);
     const int dim = sim->dim;
     double a_body[3] = {0.0, 0.0, 0.0};
@@ -380,7 +380,7 @@ sph_status sph_rigid_force_apply(const sph_sim *sim, size_t n, const double *app
     return SPH_OK;
 }
 
-sph_status sph_watchdog_check(const sph_sim *sim, size_t n, const double *v, const double *rho,
+sph_status sph_watchdog_check(sph_sim *sim, size_t n, const double *v, const double *rho,
                               const int *material_of, const unsigned char *integrate_motion,
                               long *particle)
 {
@@ -388,11 +388,11 @@ sph_status sph_watchdog_check(const sph_sim *sim, size_t n, const double *v, con
         return SPH_ERR_ARGUMENT;
     *particle = -1;
     if (n > 0 && (!v || !rho || !material_of))
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: v, rho and material must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: v, rho and material must not be NULL");
     const int dim = sim->dim;
     for (size_t a = 0; a < n; ++a) {
         if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
-            return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: particle %zu has material %d, but %d materials are defined",
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: particle %zu has material %d, but %d materials are defined",
                             a, material_of[a], sim->n_materials);
         const material *m = &sim->materials[material_of[a]];
         double vmax2, rho_lo, rho_hi;

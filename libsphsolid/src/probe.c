@@ -63,35 +63,35 @@ void probe_sample_point(sph_sim *sim, const double *point, double *values)
     probe_finish(sim, sums, values);
 }
 
-sph_status sph_probe_accumulate(const sph_sim *sim, const sph_particles *p,
+sph_status sph_probe_accumulate(sph_sim *sim, const sph_particles *p,
                                 const double *point, double *sums)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!p || !point || !sums)
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: particles, point and sums must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: particles, point and sums must not be NULL");
     if (sim->h <= 0.0)
-        return sph_fail((sph_sim *)sim, SPH_ERR_STATE, "sph_probe_accumulate: the smoothing length is not set (sph_set_spacing)");
+        return sph_fail(sim, SPH_ERR_STATE, "sph_probe_accumulate: the smoothing length is not set (sph_set_spacing)");
     if (p->n_local > 0 && (!p->x || !p->rho || !p->S || !p->mass || !p->material))
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: a particle array is NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: a particle array is NULL");
     for (size_t b = 0; b < p->n_local; ++b)
         if (p->material[b] < 0 || p->material[b] >= sim->n_materials)
-            return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: particle %zu has material %d, but %d materials are defined",
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: particle %zu has material %d, but %d materials are defined",
                             b, p->material[b], sim->n_materials);
     const size_t stride = p->stride ? p->stride : (size_t)sim->dim;
     if (stride < (size_t)sim->dim)
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: stride=%zu is smaller than the dimension %d",
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: stride=%zu is smaller than the dimension %d",
                         stride, sim->dim);
     probe_accumulate(sim, p->n_local, p->x, stride, p->rho, p->S, p->mass, p->material, point, sums);
     return SPH_OK;
 }
 
-sph_status sph_probe_finish(const sph_sim *sim, const double *sums, double *values)
+sph_status sph_probe_finish(sph_sim *sim, const double *sums, double *values)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!sums || !values)
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_probe_finish: sums and values must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_probe_finish: sums and values must not be NULL");
     probe_finish(sim, sums, values);
     return SPH_OK;
 }

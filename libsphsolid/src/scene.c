@@ -144,12 +144,12 @@ sph_status sph_add_material_K_nu(sph_sim *sim, double K, double nu, double rho0,
     return add_material(sim, K, 3.0 * K * (1.0 - 2.0 * nu) / (2.0 * (1.0 + nu)), rho0, id);
 }
 
-sph_status sph_material_info_get(const sph_sim *sim, int id, sph_material_info *info)
+sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
 {
     if (!sim || !info)
         return SPH_ERR_ARGUMENT;
     if (id < 0 || id >= sim->n_materials)
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "material=%d: %d materials are defined", id, sim->n_materials);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "material=%d: %d materials are defined", id, sim->n_materials);
     const material *m = &sim->materials[id];
     info->bulk_modulus = m->K;
     info->shear_modulus = m->mu;
@@ -503,11 +503,11 @@ sph_status sph_set_body_velocity(sph_sim *sim, int id, const double *v)
 size_t sph_particle_count(const sph_sim *sim) { return sim ? sim->n : 0; }
 int sph_body_count(const sph_sim *sim) { return sim ? sim->n_bodies : 0; }
 
-sph_status sph_body_info_get(const sph_sim *sim, int id, sph_body_info *info)
+sph_status sph_body_info_get(sph_sim *sim, int id, sph_body_info *info)
 {
     if (!sim || !info)
         return SPH_ERR_ARGUMENT;
-    if (check_body((sph_sim *)sim, id))
+    if (check_body(sim, id))
         return SPH_ERR_ARGUMENT;
     const body *b = &sim->bodies[id];
     info->name = b->name;
@@ -519,7 +519,7 @@ sph_status sph_body_info_get(const sph_sim *sim, int id, sph_body_info *info)
     return SPH_OK;
 }
 
-sph_status sph_body_find(const sph_sim *sim, const char *name, int *id)
+sph_status sph_body_find(sph_sim *sim, const char *name, int *id)
 {
     if (!sim || !id)
         return SPH_ERR_ARGUMENT;
@@ -528,7 +528,7 @@ sph_status sph_body_find(const sph_sim *sim, const char *name, int *id)
             *id = i;
             return SPH_OK;
         }
-    return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "no body named '%s'", name ? name : "(null)");
+    return sph_fail(sim, SPH_ERR_ARGUMENT, "no body named '%s'", name ? name : "(null)");
 }
 
 /* ----------------------------------------------------- domain and kernel */
@@ -604,18 +604,18 @@ sph_status sph_set_spacing(sph_sim *sim, double dx)
     return sph_ok(sim);
 }
 
-sph_status sph_derived_fields(const sph_sim *sim, size_t n, const double *rho,
+sph_status sph_derived_fields(sph_sim *sim, size_t n, const double *rho,
                               const double *S, const int *material_of,
                               double *pressure, double *stress, double *von_mises)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (n > 0 && (!rho || !S || !material_of))
-        return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_derived_fields: rho, S and material must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_derived_fields: rho, S and material must not be NULL");
     const int dim = sim->dim, nc = sim->ncomp;
     for (size_t a = 0; a < n; ++a) {
         if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
-            return sph_fail((sph_sim *)sim, SPH_ERR_ARGUMENT, "sph_derived_fields: particle %zu has material %d, but %d materials are defined",
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_derived_fields: particle %zu has material %d, but %d materials are defined",
                             a, material_of[a], sim->n_materials);
         const material *m = &sim->materials[material_of[a]];
         const double P = eos_pressure(m->c0_squared, rho[a], m->rho0);
@@ -813,10 +813,14 @@ sph_status sph_field_copy(sph_sim *sim, sph_field_id field, double *out)
     return sph_ok(sim);
 }
 
-sph_status sph_body_ids(const sph_sim *sim, int *out)
+sph_status sph_body_ids(sph_sim *sim, int *out)
 {
-    if (!sim || !out)
+    if (!sim)
         return SPH_ERR_ARGUMENT;
+    if (!out && sim->n > 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_body_ids: out must not be NULL");
+    if (sim->n == 0)
+        return SPH_OK;
     memcpy(out, sim->body_of, sim->n * sizeof(int));
     return SPH_OK;
 }

@@ -263,6 +263,36 @@ static int stop_at_five(const sph_sim *sim, void *user)
     return sph_step_count(sim) >= 5;
 }
 
+/* Calls on external arrays take a writable handle and leave their message
+ * on it like every other call. */
+static void failing_low_level_calls_leave_a_message(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int m;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &m));
+    check(sim, sph_set_spacing(sim, 1e-3));
+    double x[2] = {0}, v[2] = {0}, rho = PAPER_RHO0, S[4] = {0}, saved[7];
+    double dv[2] = {0}, drho = 0, dS[4] = {0};
+    sph_rates r = {.dv_dt = dv, .drho_dt = &drho, .dS_dt = dS, .dx_dt = NULL};
+    assert_refused(sim, sph_heun_predict(sim, 1, -1.0, x, v, &rho, S, &r, NULL, saved),
+                   SPH_ERR_ARGUMENT, "dt=-1");
+    assert_refused(sim, sph_heun_correct_strided(sim, 1, 1e-7, x, v, 1, &rho, S, &r, NULL,
+                                                 &m, saved, NULL),
+                   SPH_ERR_ARGUMENT, "stride=1");
+    const int bad_material = 5;
+    assert_refused(sim, sph_derived_fields(sim, 1, &rho, S, &bad_material, NULL, NULL, NULL),
+                   SPH_ERR_ARGUMENT, "material 5");
+    sph_material_info info;
+    assert_refused(sim, sph_material_info_get(sim, 3, &info), SPH_ERR_ARGUMENT, "material=3");
+    assert_refused(sim, sph_body_find(sim, "anvil", &m), SPH_ERR_ARGUMENT, "'anvil'");
+    double lo[3] = {0, 0, 0}, hi[3] = {2e-3, 2e-3, 0};
+    int body;
+    check(sim, sph_add_block(sim, "block", m, lo, hi, 1e-3, &body));
+    assert_refused(sim, sph_body_ids(sim, NULL), SPH_ERR_ARGUMENT, "out");
+    sph_destroy(sim);
+}
+
 static void run_until_lands_on_time_and_callback_can_stop(void **state)
 {
     (void)state;
@@ -293,6 +323,7 @@ int main(void)
         cmocka_unit_test(rigid_force_body_obeys_newton_in_parts),
         cmocka_unit_test(results_do_not_depend_on_thread_count),
         cmocka_unit_test(run_until_lands_on_time_and_callback_can_stop),
+        cmocka_unit_test(failing_low_level_calls_leave_a_message),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
