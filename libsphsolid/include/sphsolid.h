@@ -357,7 +357,18 @@ SPH_API sph_status sph_output_open(sph_sim *sim, const char *path,
                            long snapshot_interval, long probe_interval);
 /* Write a snapshot of the current state now. */
 SPH_API sph_status sph_output_snapshot(sph_sim *sim);
+/* Close the output file.  The state at closing is written first as a last
+ * frame (and a last probe sample) unless the current step is already in
+ * the file, so the file always ends with the final state; then the XDMF
+ * companion is written beside it (sph_write_xdmf). */
 SPH_API sph_status sph_output_close(sph_sim *sim);
+
+/* Write the XDMF companion of an output file for ParaView and VTK:
+ * `run.h5` -> `run.xmf` in the same folder (one grid per frame: positions,
+ * velocity, density, pressure, von Mises, deviatoric stress components,
+ * body), pointing into the HDF5 file.  `sim` only receives the error
+ * message and may be NULL. */
+SPH_API sph_status sph_write_xdmf(sph_sim *sim, const char *h5_path);
 
 /* Number of snapshot frames in a file written by sph_output_open(). */
 SPH_API sph_status sph_read_frame_count(sph_sim *sim, const char *path, long *frames);
@@ -501,6 +512,13 @@ SPH_API sph_status sph_derived_fields(sph_sim *sim, size_t n,
                                       const double *rho, const double *S,
                                       const int *material, double *pressure,
                                       double *stress, double *von_mises);
+
+/* Elastic energy of each of n external particles [J; J per metre of depth
+ * in 2D]: m (u_vol(rho) + S:S / (4 mu rho)), the per-particle terms that
+ * sph_energy() sums (`energy`: n doubles). */
+SPH_API sph_status sph_energy_fields(sph_sim *sim, size_t n, const double *mass,
+                                     const double *rho, const double *S,
+                                     const int *material, double *energy);
 
 /* Probe interpolation split for distributed particles: add the
  * contributions of particles [0, n_local) to `sums`

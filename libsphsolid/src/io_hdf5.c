@@ -423,12 +423,21 @@ sph_status sph_output_close(sph_sim *sim)
         return SPH_ERR_ARGUMENT;
     if (!sim->out)
         return sph_fail(sim, SPH_ERR_STATE, "no output file is open");
-    herr_t e = H5Fclose(sim->out->file);
-    free(sim->out);
+    struct output_file *o = sim->out;
+    /* the final state is always in the file, then the XDMF companion */
+    sph_status st = o->last_snapshot_step != sim->step ? write_snapshot(sim) : SPH_OK;
+    if (!st && o->probe_interval > 0 && o->last_probe_step != sim->step)
+        st = write_probes(sim);
+    char path[sizeof o->path];
+    memcpy(path, o->path, sizeof path);
+    herr_t e = H5Fclose(o->file);
+    free(o);
     sim->out = NULL;
+    if (st)
+        return st;
     if (e < 0)
         return sph_fail(sim, SPH_ERR_IO, "closing the output file failed");
-    return sph_ok(sim);
+    return sph_write_xdmf(sim, path);
 }
 
 /* ------------------------------------------------------------ read back */

@@ -8,8 +8,9 @@ density, pressure, deviatoric_stress and von_mises, static ``mass``,
 ``body`` and ``material`` arrays, ``/parameters`` (bodies, materials,
 effects) and ``/observables/probes``.
 
-An XDMF file written beside it on close (``piston.h5`` -> ``piston.xmf``)
-lets ParaView open the particles and fields over time directly.
+The library writes an XDMF file beside it on close (``piston.h5`` ->
+``piston.xmf``) that lets ParaView open the particles and fields over time
+directly; :func:`write_xdmf` (``sphsolid xdmf FILE.h5``) rewrites it.
 """
 from __future__ import annotations
 
@@ -46,6 +47,12 @@ class Frame:
     masses: np.ndarray               # [kg] (n,)
     body_ids: np.ndarray             # (n,) int
     spacing: float = 0.0             # [m] nominal particle spacing
+
+    def __repr__(self):
+        top = float(self.von_mises.max()) if len(self.von_mises) else 0.0
+        return (f"Frame({self.index}, t={self.time:.6g} s, step {self.step}, "
+                f"{len(self.positions):,} particles, max von Mises "
+                f"{top:.4g} Pa)")
 
     @classmethod
     def from_scene(cls, scene, index: int = 0) -> "Frame":
@@ -89,7 +96,9 @@ class Trajectory:
         dyn.run(until=1e-3)
         traj.close()                     # also writes piston.xmf
 
-    Frame 0 (the state when opened) is written at once. Probes registered
+    Frame 0 (the state when opened) is written at once; closing writes the
+    state at that moment as a last frame unless it is already the last one,
+    so the file always ends with the final state. Probes registered
     in the scene before opening are sampled every ``probe_interval`` steps
     into ``/observables/probes``.
 
@@ -110,7 +119,8 @@ class Trajectory:
     probe_interval : int
         Steps between probe samples (0: none).
     xdmf : bool
-        Write the XDMF sidecar on close (default True).
+        Keep the XDMF companion the library writes on close (default True;
+        False removes it).
     """
 
     def __init__(self, path, mode: str = "r", scene=None,
@@ -177,15 +187,19 @@ class Trajectory:
             self.write()
 
     def close(self) -> None:
-        """Close the file (and write the XDMF sidecar when writing)."""
+        """Close the file; when writing, the library first adds the current
+        state as a last frame (if not already written) and then writes the
+        XDMF companion."""
         if self._closed:
             return
         self._closed = True
         if self.mode == "w":
+            _require_library_clock(self.scene)
+            self.scene.calc.sync()
             _lib.check(lib.sph_output_close(self.scene.handle),
                        self.scene.handle, f"Trajectory {str(self.path)!r}")
-            if self.xdmf:
-                write_xdmf(self.path)
+            if not self.xdmf:
+                self.xdmf_path.unlink(missing_ok=True)
         elif self._file is not None:
             self._file.close()
 
@@ -222,6 +236,15 @@ class Trajectory:
 
     def __bool__(self) -> bool:
         return True       # an open trajectory is truthy, even when empty
+
+    def __repr__(self):
+        state = "closed" if self._closed else f"mode {self.mode!r}"
+        if self.mode == "r" and not self._closed:
+            times = self.times
+            span = (f", {len(times)} frames, t = {times[0]:.6g} .. "
+                    f"{times[-1]:.6g} s" if len(times) else ", no frames")
+            state += f"{span}, {self._all['position/value'].shape[1]:,} particles"
+        return f"Trajectory({str(self.path)!r}, {state})"
 
     def __len__(self) -> int:
         self._readable()
@@ -376,77 +399,20 @@ def _attr(value):
 
 
 def write_xdmf(h5_path) -> Path:
-    """Write the XDMF sidecar of a libsphsolid HDF5 file for ParaView.
+    """Write (or rewrite) the XDMF companion of a libsphsolid HDF5 file
+    for ParaView: ``run.h5`` -> ``run.xmf`` (the library's
+    ``sph_write_xdmf``, which ``sph_output_close`` also calls).
 
     One grid per frame (a temporal collection) of polyvertex cells, with
     velocity as a vector, density, pressure, von Mises stress and body as
     scalars, and each deviatoric stress component as a scalar
     (``S_xx``, ``S_yy``, ...); the data stay in the HDF5 file.
     """
-    import h5py
-    h5_path = Path(h5_path)
-    with h5py.File(h5_path, "r") as f:
-        a = f["particles/all"]
-        times = a["position/time"][:]
-        n, dim = a["position/value"].shape[1:]
-        ncomp = a["deviatoric_stress/value"].shape[2]
-        order = _attr(f["parameters"].attrs.get(
-            "stress_order", "xx yy zz xy xz yz")).split()[:ncomp]
-    href = h5_path.name
-    frames = len(times)
-
-    def slab(name, index, width=None, column=None):
-        """Frame ``index`` of /particles/all/<name>/value: all columns
-        (``width``), one column, or a scalar series."""
-        if width is None and column is None:
-            shape, full = (n,), (frames, n)
-            start, count = (index, 0), (1, n)
-        elif column is None:
-            shape, full = (n, width), (frames, n, width)
-            start, count = (index, 0, 0), (1, n, width)
-        else:
-            shape, full = (n,), (frames, n, ncomp)
-            start, count = (index, 0, column), (1, n, 1)
-        rank = len(full)
-        text = lambda values: " ".join(str(v) for v in values)
-        return (f'<DataItem ItemType="HyperSlab" Dimensions="{text(shape)}" '
-                f'Type="HyperSlab">\n'
-                f'  <DataItem Dimensions="3 {rank}" Format="XML">'
-                f'{text(start)} {text((1,) * rank)} {text(count)}'
-                f'</DataItem>\n'
-                f'  <DataItem Dimensions="{text(full)}" NumberType="Float" '
-                f'Precision="8" Format="HDF">{href}:/particles/all/{name}/'
-                f'value</DataItem>\n</DataItem>')
-
-    def attribute(name, kind, item):
-        return (f'<Attribute Name="{name}" AttributeType="{kind}" '
-                f'Center="Node">\n{item}\n</Attribute>')
-
-    grids = []
-    for i, t in enumerate(times):
-        fields = [attribute("velocity", "Vector", slab("velocity", i, dim))]
-        fields += [attribute(name, "Scalar", slab(name, i))
-                   for name in ("density", "pressure", "von_mises")]
-        fields += [attribute(f"S_{component}", "Scalar",
-                             slab("deviatoric_stress", i, column=c))
-                   for c, component in enumerate(order)]
-        fields.append(attribute(
-            "body", "Scalar",
-            f'<DataItem Dimensions="{n}" NumberType="Int" Precision="4" '
-            f'Format="HDF">{href}:/particles/all/body</DataItem>'))
-        grids.append(
-            f'<Grid Name="frame {i}" GridType="Uniform">\n'
-            f'<Time Value="{float(t)!r}"/>\n'
-            f'<Topology TopologyType="Polyvertex" NumberOfElements="{n}" '
-            f'NodesPerElement="1"/>\n'
-            f'<Geometry GeometryType="{"XY" if dim == 2 else "XYZ"}">\n'
-            f'{slab("position", i, dim)}\n</Geometry>\n'
-            + "\n".join(fields) + '\n</Grid>')
-    text = ('<?xml version="1.0" ?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n'
-            '<Xdmf Version="2.0">\n<Domain>\n'
-            '<Grid Name="particles" GridType="Collection" '
-            'CollectionType="Temporal">\n' + "\n".join(grids) +
-            '\n</Grid>\n</Domain>\n</Xdmf>\n')
-    out = h5_path.with_suffix(".xmf")
-    out.write_text(text)
-    return out
+    h5_path = Path(os.fspath(h5_path))
+    handle = _lib.new_handle(2)          # only carries the error message
+    try:
+        _lib.check(lib.sph_write_xdmf(handle, _lib.encode_path(h5_path)),
+                   handle, "write_xdmf")
+    finally:
+        lib.sph_destroy(handle)
+    return h5_path.with_suffix(".xmf")
