@@ -131,7 +131,7 @@ typedef struct rate_call {
 sph_status rates_run(sph_sim *sim, const rate_call *call);
 int sim_threads(const sph_sim *sim);
 
-/* scene.c */
+/* bodies.c (sim_support, sim_shrink_to_fit, rotation_velocity); integrate.c (sim_prepare) */
 double sim_support(const sph_sim *sim);
 sph_status sim_prepare(sph_sim *sim);
 void sim_shrink_to_fit(sph_sim *sim);

@@ -178,6 +178,24 @@ def _info(args) -> int:
     return 0
 
 
+def _validation_module(name):
+    """A module of the validation study, which lives in the checkout's
+    top-level ``validation/`` (not in the installed package): found from the
+    current directory or its parents."""
+    import importlib
+    import sys
+    try:
+        return importlib.import_module(f"validation.{name}")
+    except ImportError:
+        pass
+    for root in (Path.cwd(), *Path.cwd().parents):
+        if (root / "validation" / f"{name}.py").is_file():
+            sys.path.insert(0, str(root))
+            return importlib.import_module(f"validation.{name}")
+    raise SystemExit("sphsolid study: run it from a checkout of libsphsolid "
+                     "(the study lives in its top-level validation/ folder)")
+
+
 def main(argv=None) -> int:
     from ._lib import UnsupportedError
     args = _parser().parse_args(argv)
@@ -185,7 +203,7 @@ def main(argv=None) -> int:
         if args.command == "info":
             return _info(args)
         if args.command == "study":
-            from .study import run_paper
+            run_paper = _validation_module("study").run_paper
             run_paper(args.out, quick=args.quick,
                       log=lambda m: print(m, flush=True))
             return 0

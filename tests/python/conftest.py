@@ -12,6 +12,9 @@ except ImportError:
     sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
     import sphsolid  # noqa: F401
 
+# The validation study (top-level validation/) is imported from the checkout.
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+
 
 @pytest.fixture
 def rock():

@@ -8,7 +8,8 @@ import math
 import numpy as np
 
 import sphsolid
-from sphsolid import ImprovedEuler, Probes, Scene, build, scenes, study
+from sphsolid import ImprovedEuler, Probes, Scene, build, scenes
+from validation import study
 
 
 def _standing_wave_error(dx, rock):

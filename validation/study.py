@@ -25,12 +25,12 @@ from pathlib import Path
 
 import numpy as np
 
-from . import build, scenes
-from .calculators import CLibrary
-from .dynamics import ImprovedEuler
-from .probes import Probes
-from .scene import Scene
-from .trajectory import Frame
+from sphsolid import build, scenes
+from sphsolid.calculators import CLibrary
+from sphsolid.dynamics import ImprovedEuler
+from sphsolid.probes import Probes
+from sphsolid.scene import Scene
+from sphsolid.trajectory import Frame
 
 __all__ = ["lattice_gradient_moment", "standing_wave", "strip_front",
            "piston_scene", "piston_run", "richardson", "arrival_times",
@@ -318,7 +318,7 @@ def effect_costs(dx: float = 1e-3, steps: int = 100, repeats: int = 3,
                  threads: int = 1, workdir: Path | None = None) -> list:
     """Wall time per step of the paper scene with each effect on alone
     (median of ``repeats``), after one warm-up step."""
-    from .trajectory import Trajectory
+    from sphsolid.trajectory import Trajectory
     cases = [("none", {}, None),
              ("artificial_viscosity", {"alpha": 1.0, "beta": 0.0}, None),
              ("artificial_stress", {"epsilon": 0.3, "n": 4}, None),
@@ -469,7 +469,7 @@ def _steady_text(t2, slope2, t5, slope5, shape) -> str:
 
 def run_paper(out: Path, quick: bool = False, log=print) -> dict:
     """Everything in docs/validation.md: figures, tables, results.json."""
-    from .figures import probe_curves, von_mises_map
+    from sphsolid.figures import probe_curves, von_mises_map
     plt = _plt()
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -1,0 +1,93 @@
+/* Materials: linear elastic solids, their moduli and wave speeds. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernel.h"
+#include "sim.h"
+
+/* ------------------------------------------------------------- materials */
+
+static sph_status add_material(sph_sim *sim, double K, double mu, double rho0,
+                               int *id)
+{
+    if (!(K > 0.0) || !isfinite(K))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "bulk modulus K=%g: must be finite and > 0", K);
+    if (!(mu >= 0.0) || !isfinite(mu))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "shear modulus mu=%g: must be finite and >= 0", mu);
+    if (!(rho0 > 0.0) || !isfinite(rho0))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "reference density rho0=%g: must be finite and > 0", rho0);
+    material *m = realloc(sim->materials, (size_t)(sim->n_materials + 1) * sizeof *m);
+    if (!m)
+        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate a material");
+    sim->materials = m;
+    material *mat = &m[sim->n_materials];
+    mat->K = K;
+    mat->mu = mu;
+    mat->rho0 = rho0;
+    mat->c0_squared = K / rho0;
+    mat->c0 = sqrt(mat->c0_squared);
+    mat->c_p = sqrt((K + 4.0 * mu / 3.0) / rho0);
+    if (id)
+        *id = sim->n_materials;
+    sim->n_materials++;
+    return sph_ok(sim);
+}
+
+static sph_status check_poisson(sph_sim *sim, double nu)
+{
+    if (!(nu > -1.0 && nu < 0.5))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "Poisson ratio nu=%g: must be in (-1, 0.5)", nu);
+    return SPH_OK;
+}
+
+sph_status sph_add_material_K_mu(sph_sim *sim, double K, double mu, double rho0, int *id)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    return add_material(sim, K, mu, rho0, id);
+}
+
+sph_status sph_add_material_E_nu(sph_sim *sim, double E, double nu, double rho0, int *id)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!(E > 0.0) || !isfinite(E))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "Young's modulus E=%g: must be finite and > 0", E);
+    if (check_poisson(sim, nu))
+        return SPH_ERR_ARGUMENT;
+    return add_material(sim, E / (3.0 * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu)), rho0, id);
+}
+
+sph_status sph_add_material_K_nu(sph_sim *sim, double K, double nu, double rho0, int *id)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!(K > 0.0) || !isfinite(K))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "bulk modulus K=%g: must be finite and > 0", K);
+    if (check_poisson(sim, nu))
+        return SPH_ERR_ARGUMENT;
+    /* isotropic elasticity: mu = 3K (1 - 2 nu) / (2 (1 + nu)) */
+    return add_material(sim, K, 3.0 * K * (1.0 - 2.0 * nu) / (2.0 * (1.0 + nu)), rho0, id);
+}
+
+sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
+{
+    if (!sim || !info)
+        return SPH_ERR_ARGUMENT;
+    if (id < 0 || id >= sim->n_materials)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "material=%d: %d materials are defined", id, sim->n_materials);
+    const material *m = &sim->materials[id];
+    info->bulk_modulus = m->K;
+    info->shear_modulus = m->mu;
+    info->rho0 = m->rho0;
+    /* eq. (10) of the paper prints (3K/mu + 2) in the denominator; the
+     * isotropic-elasticity relation that (E, nu) -> (K, mu) inverts is
+     * nu = (3K - 2mu) / (2 (3K + mu)) = (3K/mu - 2) / (2 (3K/mu + 1)). */
+    info->poisson_ratio = (3.0 * m->K - 2.0 * m->mu) / (2.0 * (3.0 * m->K + m->mu));
+    info->youngs_modulus = 9.0 * m->K * m->mu / (3.0 * m->K + m->mu);
+    info->c0 = m->c0;
+    info->c_p = m->c_p;
+    return SPH_OK;
+}
+
