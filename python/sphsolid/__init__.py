@@ -23,13 +23,15 @@ from .material import Material
 from .probes import PAPER_PROBES, Probes
 from .scene import Scene
 from . import scenes
+from . import plan          # sphsolid.plan(factory, error=...) plans a run
 
 __version__ = "0.2.0"
 
 __all__ = ["Material", "Scene", "Body", "Free", "Fixed", "Velocity", "Force",
            "Pressure", "Rotation", "block", "rectangle", "box", "plate", "piston", "disc",
            "ring", "Calculator", "CLibrary", "ImprovedEuler", "Probes",
-           "PAPER_PROBES", "Trajectory", "scenes", "effect_names", "version",
+           "PAPER_PROBES", "Trajectory", "scenes", "plan", "effect_names",
+           "version",
            "library_path", "SimulationError", "StoppedError",
            "UnsupportedError"]
 

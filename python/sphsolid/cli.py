@@ -4,6 +4,11 @@
     sphsolid gravity [--dx 2mm] [--until 60ms] [--damping 2000] [--out DIR]
     sphsolid info FILE.h5
     sphsolid study paper [--out docs/validation] [--quick]
+    sphsolid plan piston|gravity|strip --error 3% [--until 0.3ms]
+                  [--norm max|rms] [--threads N] [--max-seconds S]
+                  --out plan.json
+    sphsolid plan --deck in.deck --var dx --probe A [--probe B ...] --error 5%
+    sphsolid piston --plan plan.json [--error-estimate] ...
 
 Lengths and times take an optional unit: ``--dx 2mm``, ``--until 0.3ms``
 (plain numbers are metres and seconds).
@@ -88,9 +93,138 @@ def _parser() -> argparse.ArgumentParser:
     study.add_argument("--out", type=Path, default=Path("docs/validation"))
     study.add_argument("--quick", action="store_true",
                        help="coarser and shorter: a few minutes")
+    _plan_parser(sub)
+    for scene_parser in (piston, gravity):
+        _run_plan_options(scene_parser)
     info = sub.add_parser("info", help="describe an HDF5 output file")
     info.add_argument("file", type=Path)
     return parser
+
+
+def _fraction(text: str) -> float:
+    """'3%' -> 0.03, '0.03' -> 0.03."""
+    value = text.strip()
+    try:
+        if value.endswith("%"):
+            return float(value[:-1]) / 100.0
+        return float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: expected a fraction (0.03) or a percentage "
+            "(3%)") from None
+
+
+def _spacings(text: str) -> list[float]:
+    return [quantity(part) for part in text.split(",") if part.strip()]
+
+
+def _plan_parser(sub) -> None:
+    """``sphsolid plan``: the planner on a project scene or a LAMMPS deck."""
+    plan = sub.add_parser(
+        "plan", help="cheapest settings for a requested error (calibration "
+        "runs, error and cost models); writes plan.json")
+    plan.add_argument("scene", nargs="?", choices=("piston", "gravity",
+                                                   "strip"),
+                      help="project scene (or --deck)")
+    plan.add_argument("--error", type=_fraction, required=True,
+                      help="requested error, e.g. 3%% or 0.03")
+    plan.add_argument("--until", type=quantity, default=None,
+                      help="end time (default: the scene's)")
+    plan.add_argument("--norm", choices=("max", "rms"), default="max",
+                      help="max: largest deviation over the reference's "
+                      "peak; rms: RMS deviation over its RMS (default max)")
+    plan.add_argument("--threads", type=int, default=None,
+                      help="threads of the planned run (and the calibration)")
+    plan.add_argument("--max-seconds", type=float, default=None,
+                      help="wall-time budget of the planned run [s]")
+    plan.add_argument("--ladder", type=_spacings, default=None,
+                      help="calibration spacings, e.g. 4mm,3mm,2mm")
+    plan.add_argument("--out", type=Path, default=Path("plan.json"))
+    deck = plan.add_argument_group("LAMMPS decks")
+    deck.add_argument("--deck", type=Path, default=None,
+                      help="plan a LAMMPS input deck through the plugin")
+    deck.add_argument("--var", default="dx",
+                      help="the deck's spacing variable (default dx)")
+    deck.add_argument("--time-var", default="t_end",
+                      help="the deck's end-time variable (default t_end)")
+    deck.add_argument("--probe", action="append", default=[],
+                      help="a sphsolid/probe compute of the deck (repeat)")
+    deck.add_argument("--set", action="append", default=[],
+                      metavar="NAME=V1,V2",
+                      help="another deck variable to choose from (repeat)")
+
+
+def _run_plan_options(parser) -> None:
+    parser.add_argument("--plan", type=Path, default=None,
+                        help="run the settings of a plan.json from "
+                        "'sphsolid plan' (spacing, h/dx, kernel, "
+                        "integrator, effects)")
+    parser.add_argument("--error-estimate", action="store_true",
+                        help="error band on every probe series from shadow "
+                        "runs at 2dx and 4dx (about +14 %% in 2D); written "
+                        "as *_error_Pa columns and /observables/"
+                        "probes_error, drawn in the probe figure")
+
+
+def _plan(args, argv) -> int:
+    from . import plan as planner
+    log = lambda message: print(message, flush=True)  # noqa: E731
+    if args.deck is not None:
+        from .plan_deck import plan_deck
+        result = plan_deck(args.deck, error=args.error, until=args.until,
+                           probes=args.probe, variable=args.var,
+                           time_variable=args.time_var, norm=args.norm,
+                           threads=args.threads, max_seconds=args.max_seconds,
+                           ladder=args.ladder, choices=args.set, log=log)
+    else:
+        if args.scene is None:
+            raise ValueError("sphsolid plan: name a scene (piston, gravity, "
+                             "strip) or give --deck")
+        spec = planner.project_scenes()[args.scene]
+        until = args.until or spec.until
+        result = planner.plan(
+            spec.factory, error=args.error, until=until, probes=spec.probes,
+            quantity=spec.quantity, norm=args.norm, threads=args.threads,
+            max_seconds=args.max_seconds,
+            ladder=args.ladder or spec.ladder,
+            window=spec.window(until) if spec.window else None,
+            scene=args.scene, log=log)
+    print()
+    print(result.summary())
+    result.save(args.out)
+    print(f"wrote {args.out}")
+    return 0 if result.feasible else 3
+
+
+def _planned_scene(args, name: str, argv):
+    """The scene of ``--plan plan.json`` (its spacing, h/dx, kernel,
+    integrator and effects); ``--threads`` and ``--until`` override."""
+    from . import plan as planner
+    loaded = planner.Plan.load(args.plan)
+    if not loaded.feasible:
+        raise ValueError(f"{args.plan}: the plan was refused: "
+                         f"{loaded.reason}")
+    if loaded.scene and loaded.scene != name:
+        raise ValueError(f"{args.plan} plans the {loaded.scene!r} scene, "
+                         f"not {name!r}")
+    if "--until" not in argv and loaded.request.get("until"):
+        args.until = float(loaded.request["until"])
+    args.dx = loaded.dx
+    if name == "piston":
+        factory = lambda dx, **kw: planner.piston_factory(  # noqa: E731
+            dx, speed=args.speed, **kw)
+    else:
+        factory = lambda dx, **kw: planner.gravity_factory(  # noqa: E731
+            dx, g=args.g, **kw)
+    scene = loaded.build(factory, threads=args.threads,
+                         calculator=args.backend == "c")
+    args._plan = loaded
+    print(f"plan {args.plan}: {loaded.setting.label()}, dx = "
+          f"{loaded.dx * 1e3:.4g} mm; predicted error "
+          f"{loaded.predicted_error * 100:.2f} % (at most "
+          f"{loaded.error_upper * 100:.2f} %), predicted wall time "
+          f"{loaded.predicted_seconds:.3g} s")
+    return scene
 
 
 def _run_scene(args, scene, name: str) -> int:
@@ -102,7 +236,7 @@ def _run_scene(args, scene, name: str) -> int:
     if args.backend == "lammps":
         from .lammps import Lammps
         scene.calc = Lammps(threads=args.threads)
-    elif args.threads is not None:
+    elif args.threads is not None and getattr(scene, "_calc", None) is None:
         from .calculators import CLibrary
         scene.calc = CLibrary(threads=args.threads)
     probes = Probes(scene, scenes.PAPER_PROBES)
@@ -147,15 +281,29 @@ def _run_scene(args, scene, name: str) -> int:
     print(f"{dyn.nsteps} steps to t = {dyn.time * 1e3:.6g} ms in {wall:.2f} s"
           f" ({len(scene) * dyn.nsteps / max(wall, 1e-9) / 1e6:.3g} M "
           "particle-steps/s)")
+    planned = getattr(args, "_plan", None)
+    if planned is not None and planned.predicted_seconds:
+        print(f"the plan predicted {planned.predicted_seconds:.3g} s for this"
+              f" run: measured {wall:.3g} s "
+              f"({(wall / planned.predicted_seconds - 1) * 100:+.0f} %)")
     csv = args.out / f"{name}_probes.csv"
-    probes.write_csv(csv)
+    estimate = _error_estimate(args, probes, planned) if not interrupted \
+        else None
+    if estimate is not None:
+        estimate.write_csv(csv)
+        if h5 is not None:
+            estimate.write_hdf5(h5)
+    else:
+        probes.write_csv(csv)
     outputs = ([h5, traj.xdmf_path] if traj is not None else []) + [csv]
     if len(probes.times):
         outputs.append(probe_curves(
             probes.times, {n: probes[n]["von_mises"] for n in probes.names},
             args.out / f"{name}_probes.png",
             title=f"{name}: von Mises stress at probes, dx = "
-                  f"{args.dx * 1e3:g} mm ({args.backend})"))
+                  f"{args.dx * 1e3:g} mm ({args.backend})",
+            bands=None if estimate is None else
+            {n: estimate.bands[n]["von_mises"] for n in probes.names}))
     specimen = [b.name for b in scene.bodies].index("specimen")
     if traj is not None:
         with Trajectory(h5) as reader:
@@ -169,6 +317,24 @@ def _run_scene(args, scene, name: str) -> int:
     for path in outputs:
         print(f"wrote {path}")
     return 130 if interrupted else 0
+
+
+def _error_estimate(args, probes, planned):
+    """``--error-estimate``: shadow runs at 2dx (and 4dx for the order)."""
+    if not getattr(args, "error_estimate", False) or len(probes.times) < 2:
+        return None
+    from .estimate import ErrorEstimate
+    estimate = ErrorEstimate(
+        probes, threads=args.threads,
+        integrator=planned.setting.integrator if planned else None)
+    print("error estimate: shadow runs at 2dx and 4dx ...", flush=True)
+    estimate.compute()
+    worst = max(estimate.relative(n) for n in probes.names)
+    print(f"error estimate: observed order {estimate.order['von_mises']:.2f}"
+          f", largest band {worst * 100:.2f} % of the peak (von Mises); "
+          f"shadow runs {estimate.shadow_seconds:.2f} s "
+          f"({estimate.cost_fraction * 100:.0f} % of the particle-steps)")
+    return estimate
 
 
 def _info(args) -> int:
@@ -198,10 +364,13 @@ def _validation_module(name):
 
 def main(argv=None) -> int:
     from ._lib import UnsupportedError
+    argv = list(sys.argv[1:] if argv is None else argv)
     args = _parser().parse_args(argv)
     try:
         if args.command == "info":
             return _info(args)
+        if args.command == "plan":
+            return _plan(args, argv)
         if args.command == "study":
             run_paper = _validation_module("study").run_paper
             run_paper(args.out, quick=args.quick,
@@ -210,7 +379,10 @@ def main(argv=None) -> int:
         from . import scenes
         viscosity = ({"alpha": args.viscosity, "beta": 0.0}
                      if args.viscosity > 0 else None)
-        if args.command == "piston":
+        if getattr(args, "plan", None) is not None:
+            args._frames = 4 if args.command == "piston" else 3
+            scene = _planned_scene(args, args.command, argv)
+        elif args.command == "piston":
             args._frames = 4
             scene = scenes.uniaxial_piston(args.dx, velocity=args.speed,
                                            viscosity=viscosity)

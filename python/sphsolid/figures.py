@@ -131,7 +131,8 @@ def von_mises_map(frames, path, mask=None, vmax: float | None = None,
 def probe_curves(times: Sequence[float],
                  series: Mapping[str, Sequence[float]], path,
                  quantity: str = "von Mises stress",
-                 title: str | None = None):
+                 title: str | None = None,
+                 bands: Mapping[str, Sequence[float]] | None = None):
     """Probe time series (like the paper's Figs 6-9) as a PNG.
 
     Parameters
@@ -141,6 +142,9 @@ def probe_curves(times: Sequence[float],
     path : str or Path
     quantity : str
         Label of the y axis (its unit is added).
+    bands : mapping of label to array [Pa], optional
+        Half-widths of an error band per series (e.g. from
+        :class:`sphsolid.estimate.ErrorEstimate`), drawn shaded.
 
     Returns
     -------
@@ -161,7 +165,14 @@ def probe_curves(times: Sequence[float],
     tname, tscale = time_unit(times.max() if len(times) else 0.0)
     fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
     for label, values in series.items():
-        ax.plot(times / tscale, np.asarray(values) / scale, label=label)
+        line, = ax.plot(times / tscale, np.asarray(values) / scale,
+                        label=label)
+        if bands is not None and label in bands:
+            half = np.asarray(bands[label], float)
+            ax.fill_between(times / tscale, (np.asarray(values) - half) / scale,
+                            (np.asarray(values) + half) / scale,
+                            color=line.get_color(), alpha=0.25, linewidth=0,
+                            label=f"{label} error band")
     ax.set_xlabel(f"time [{tname}]")
     ax.set_ylabel(f"{quantity} [{unit}]")
     ax.grid(True, alpha=0.3)

@@ -54,6 +54,8 @@ class Probes:
     def __init__(self, scene, points: Mapping[str, Sequence[float]] = None):
         self.scene = scene
         self.names: list[str] = []
+        #: {name: point [m]} of every probe
+        self.points: dict[str, tuple] = {}
         self._index: dict[str, int] = {}
         self.values = value_names(scene.dimension)
         self._times: list[float] = []
@@ -82,6 +84,7 @@ class Probes:
                    self.scene.handle, f"probe {name!r}")
         self._index[name] = index.value
         self.names.append(name)
+        self.points[name] = tuple(coords[:])
 
     def sample(self) -> dict[str, dict[str, float]]:
         """Values at every probe now: {name: {value name: value [Pa]}}."""

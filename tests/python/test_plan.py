@@ -1,0 +1,238 @@
+"""The planner and the per-run error estimate (sphsolid.plan, .estimate).
+
+The physics checks use the laterally periodic strip hit by the piston,
+whose exact answer is derived here: linear acoustics in uniaxial strain,
+sigma_yy = -rho0 c_p v behind a front that leaves the piston face at
+t = 0 and travels down at c_p = sqrt((K + 4 mu / 3) / rho0).
+"""
+from __future__ import annotations
+
+import csv
+import math
+
+import numpy as np
+import pytest
+
+from sphsolid import metrics, scenes
+from sphsolid import plan as planner
+
+STRIP = planner.project_scenes()["strip"]
+#: a short ladder and window keep the planner test fast
+LADDER = (2e-3, 1.4e-3, 1e-3)
+
+
+def exact_strip(names, grid):
+    """sigma_yy at the strip probes: 0 before the front reaches the probe
+    at t = (H - y) / c_p, -rho0 c_p v after (until the reflection from the
+    plate, which reaches y at (H + y) / c_p, after the window)."""
+    rock = scenes.paper_material()
+    jump = -rock.rho0 * rock.c_p * scenes.PISTON_SPEED
+    out = {}
+    for name in names:
+        y = planner.STRIP_PROBES[name][1]
+        assert grid[-1] < (planner.STRIP_HEIGHT + y) / rock.c_p
+        out[name] = np.where(grid > (planner.STRIP_HEIGHT - y) / rock.c_p,
+                             jump, 0.0)
+    return out
+
+
+def strip_error(dx, setting, norm="max"):
+    """Achieved error of one strip run against the exact solution."""
+    run = planner.ladder_run(STRIP.factory, dx, setting, STRIP.until,
+                             STRIP.probes, STRIP.quantity, 1)
+    assert run.failed is None
+    grid = metrics.time_grid(0.0, STRIP.until)
+    series = {n: metrics.on_grid(run.times, run.series[n], grid)
+              for n in run.series}
+    return metrics.worst_deviation(series, exact_strip(series, grid), grid,
+                                   norm)
+
+
+# --------------------------------------------------------- error model
+@pytest.mark.parametrize("order", [0.7, 1.0, 2.0])
+def test_error_model_recovers_a_known_order_from_a_synthetic_series(order):
+    # f(dx) = f* + C dx^p g(t): the differences of consecutive levels
+    # carry p exactly, whatever g is
+    t = np.linspace(0, 1e-4, 400)
+    limit = np.sin(2 * np.pi * t / 4e-5) * 1e6
+    g = np.cos(2 * np.pi * t / 3e-5) + 0.3
+    spacings = [4e-3, 3e-3, 2e-3, 1.5e-3]
+    series = [limit + 50.0 * (dx * 1e3) ** order * 1e3 * g
+              for dx in spacings]
+    scale = metrics.scale_of(series[-1])     # one scale for all levels
+    diffs = [metrics.deviation(a, b, scale=scale)
+             for a, b in zip(series, series[1:])]
+    model = planner.fit_error_model(spacings, diffs)
+    assert model.order == pytest.approx(order, abs=0.01)
+    # and so the error of each level against the true limit
+    for dx, s in zip(spacings, series):
+        actual = metrics.deviation(s, limit, scale=scale)
+        assert model.predict(dx) == pytest.approx(actual, rel=0.03)
+    assert model.safety == (planner.SAFETY_GOOD if 0.5 <= order <= 2.1
+                            else planner.SAFETY_POOR)
+
+
+def test_error_model_rejects_too_few_or_non_decreasing_levels():
+    with pytest.raises(ValueError, match="3 or more"):
+        planner.fit_order([2e-3, 1e-3], [0.1])
+    with pytest.raises(ValueError, match="decrease"):
+        planner.fit_order([1e-3, 2e-3, 3e-3], [0.1, 0.05])
+
+
+def test_floor_is_the_limit_disagreement_of_the_odd_setting_out():
+    # three settings converging at order 1; the third to a limit 10 % of
+    # the peak away from the others'
+    t = np.linspace(0, 1, 200)
+    base = np.sin(2 * np.pi * t) + 2.0          # peak 3
+    spacings = [4e-3, 2e-3, 1e-3]
+    models, levels = [], []
+    for k, bias in enumerate((0.0, 0.0, 0.3)):
+        series = [base + bias + (0.02 + 0.01 * k) * dx * 1e3 * np.cos(t)
+                  for dx in spacings]
+        diffs = [metrics.deviation(a, b, scale=3.0)
+                 for a, b in zip(series, series[1:])]
+        models.append(planner.fit_error_model(spacings, diffs))
+        levels.append([{"A": s} for s in series])
+    floors = planner.consistency_floors(models, levels)
+    assert floors[0] < 0.01 and floors[1] < 0.01
+    assert floors[2] == pytest.approx(0.1, abs=0.01)
+    # one setting alone has nothing to disagree with
+    assert planner.consistency_floors(models[:1], levels[:1]) == [0.0]
+
+
+# -------------------------------------------------------------- planner
+@pytest.fixture(scope="module")
+def strip_plan():
+    return planner.plan(STRIP.factory, error=0.3, until=STRIP.until,
+                        probes=STRIP.probes, quantity=STRIP.quantity,
+                        threads=1, ladder=LADDER, scene="strip")
+
+
+def test_planner_settings_meet_the_request_on_the_exact_strip(strip_plan):
+    assert strip_plan.feasible, strip_plan.reason
+    assert strip_plan.error_upper <= 0.3
+    achieved = strip_error(strip_plan.dx, strip_plan.setting)
+    assert achieved <= 0.3, (strip_plan.summary(), achieved)
+    # and the plan is not wildly pessimistic: the prediction's upper bound
+    # is within a factor 3 of what the run achieved
+    assert strip_plan.error_upper <= 3 * achieved
+
+
+def test_planner_switches_on_viscosity_for_the_piston_step(strip_plan):
+    # undamped Improved Euler: the probe series turn rough (measured)
+    found = {f.effect for f in strip_plan.findings}
+    assert "artificial_viscosity" in found
+    assert "damping" not in found and "kernel_correction" not in found
+    assert all(("artificial_viscosity" in dict(c.setting.effects))
+               for c in strip_plan.candidates
+               if c.setting.integrator == "improved_euler")
+
+
+def test_request_below_reach_is_refused_naming_the_reachable_error(
+        strip_plan, tmp_path):
+    refused = planner.plan(STRIP.factory, error=0.002, until=STRIP.until,
+                           probes=STRIP.probes, quantity=STRIP.quantity,
+                           threads=1, ladder=LADDER,
+                           candidates=[strip_plan.setting], detect=False)
+    assert not refused.feasible
+    assert refused.best_reachable_error > 0.002
+    assert f"{refused.best_reachable_error * 100:.2f} %" in refused.reason
+    with pytest.raises(ValueError, match="refused"):
+        refused.build(STRIP.factory)
+
+
+def test_refusal_below_the_observed_floor_says_so():
+    # two calibrated settings whose limits disagree by ~10 %: a 5 %
+    # request is below what either can promise
+    spacings = [4e-3, 2e-3, 1e-3]
+    model = planner.fit_error_model(spacings, [0.02, 0.01], floor=0.1)
+    cand = planner.Candidate(planner.Setting.make(), [], model=model,
+                             cost=planner.CostModel(0.0, 1e-6, 1))
+    error, reason = planner._refusal([cand], 0.05, None,
+                                     STRIP.factory, STRIP.until)
+    assert "below the observed error floor" in reason
+    assert error >= 0.1 and f"{error * 100:.2f} %" in reason
+
+
+def test_plan_file_round_trip(strip_plan, tmp_path):
+    path = strip_plan.save(tmp_path / "plan.json")
+    loaded = planner.Plan.load(path)
+    assert loaded.setting == strip_plan.setting
+    assert loaded.dx == strip_plan.dx
+    assert loaded.predicted_seconds == pytest.approx(
+        strip_plan.predicted_seconds)
+    assert loaded.predicted_error == pytest.approx(strip_plan.predicted_error)
+
+
+def test_bad_requests_name_the_value():
+    with pytest.raises(ValueError, match="error must be a fraction"):
+        planner.plan(STRIP.factory, error=3, until=1e-5, probes={},
+                     ladder=LADDER)
+    with pytest.raises(ValueError, match="norm"):
+        planner.plan(STRIP.factory, error=0.1, until=1e-5, probes={},
+                     norm="l1", ladder=LADDER)
+    with pytest.raises(ValueError, match="ladder"):
+        planner.plan(STRIP.factory, error=0.1, until=1e-5, probes={},
+                     ladder=[1e-3])
+
+
+# ------------------------------------------------------- error estimate
+def test_error_estimate_band_covers_the_strip_error():
+    from sphsolid import Probes
+    from sphsolid.estimate import ErrorEstimate
+    setting = planner.Setting.make(effects={"artificial_viscosity":
+                                            {"alpha": 1.0, "beta": 0.0}})
+    scene = planner.build_scene(STRIP.factory, 1e-3, setting, 1)
+    probes = Probes(scene, STRIP.probes)
+    dyn = planner.make_dynamics(scene, progress=False)
+    dyn.attach(probes, interval=1)
+    dyn.run(until=STRIP.until)
+    # the strip is 8 dx wide at every dx: shadows from the factory
+    estimate = ErrorEstimate(probes, scene_factory=lambda dx: (
+        planner.build_scene(STRIP.factory, dx, setting, 1))).compute()
+    grid = metrics.time_grid(0.0, STRIP.until)
+    exact = exact_strip(probes.names, grid)
+    for name in probes.names:
+        run = metrics.smooth(grid, np.interp(grid, probes.times,
+                                             probes[name]["sigma_yy"]))
+        actual = metrics.deviation(run, metrics.smooth(grid, exact[name]))
+        estimated = estimate.relative(name, "sigma_yy")
+        # the estimate bounds the error without being wildly pessimistic
+        assert actual <= estimated <= 4 * actual, (name, actual, estimated)
+    # the strip is one lattice row per 8 dx: shadows at 2dx and 4dx have
+    # 1/2 and 1/4 of the particles and of the steps (a 2D scene: 1/8, 1/64)
+    assert estimate.cost_fraction == pytest.approx(1 / 4 + 1 / 16, rel=0.1)
+
+
+def test_cli_runs_a_plan_and_writes_error_columns(tmp_path):
+    import h5py
+    from sphsolid.cli import main
+    setting = planner.Setting.make(effects={"artificial_viscosity":
+                                            {"alpha": 1.0, "beta": 0.0}})
+    fake = planner.Plan(request={"until": 0.05e-3}, feasible=True,
+                        setting=setting, dx=4e-3, threads=1,
+                        predicted_error=0.1, error_upper=0.12,
+                        predicted_seconds=1.0, scene="piston")
+    path = fake.save(tmp_path / "plan.json")
+    plain, estimated = tmp_path / "plain", tmp_path / "estimated"
+    assert main(["piston", "--plan", str(path), "--out", str(plain),
+                 "--times", "0.05ms"]) == 0
+    assert main(["piston", "--plan", str(path), "--out", str(estimated),
+                 "--times", "0.05ms", "--error-estimate"]) == 0
+    with open(plain / "piston_probes.csv") as f:
+        plain_header = next(csv.reader(f))
+    with open(estimated / "piston_probes.csv") as f:
+        rows = list(csv.reader(f))
+    header = rows[0]
+    # the probe columns are kept, the error columns follow them
+    assert header[:len(plain_header)] == plain_header
+    assert header[len(plain_header):] == [
+        c.replace("_Pa", "_error_Pa") for c in plain_header[2:]]
+    errors = np.array([[float(x) for x in r[len(plain_header):]]
+                       for r in rows[1:]])
+    assert np.all(errors >= 0) and np.any(errors > 0)
+    with h5py.File(estimated / "piston.h5") as f:
+        g = f["observables/probes_error"]
+        columns = len(plain_header[2:]) // 3
+        assert g["value"].shape == (len(rows) - 1, 3, columns)
+        assert math.isfinite(float(np.ravel(g.attrs["order"])[0]))
