@@ -440,12 +440,22 @@ def fit_error_model(spacings: Sequence[float], differences: Sequence[float],
                     floor: float = 0.0,
                     max_refinement: float = 4.0) -> ErrorModel:
     """:func:`fit_order` plus the GCI safety factor (Roache 1998; the
-    ranges of Eça & Hoekstra 2014): 1.25 when the observed order is in
+    ranges of Eça & Hoekstra 2014). With four or more levels the order of
+    the finest three is used when it is lower than the fit over all
+    (slowing convergence is not averaged away). Safety 1.25 when the
+    observed order is in
     [0.5, 2.1] and, with three or more differences, the log-residual is
     below 0.1; 3 otherwise (an order outside the range or scattered data
     make the power law a poor guide)."""
     h = np.asarray(spacings, float)
     q, c, resid = fit_order(h, differences)
+    if len(differences) >= 3:
+        # the finest three levels are the most asymptotic: if their own
+        # order is lower (convergence slowing down, e.g. towards a floor),
+        # it governs the extrapolation
+        q_local, c_local, _ = fit_order(h[-3:], differences[-2:])
+        if q_local < q:
+            q, c = q_local, c_local
     good = 0.5 <= q <= 2.1 and (len(differences) < 3 or resid < 0.1)
     return ErrorModel(q, c, SAFETY_GOOD if good else SAFETY_POOR,
                       float(floor), resid,

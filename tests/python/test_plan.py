@@ -103,16 +103,19 @@ def test_floor_is_the_limit_disagreement_of_the_odd_setting_out():
 # -------------------------------------------------------------- planner
 @pytest.fixture(scope="module")
 def strip_plan():
-    return planner.plan(STRIP.factory, error=0.3, until=STRIP.until,
+    # the RMS norm: the max norm of a front smoothed over 1 us converges at
+    # order ~0.4 on this ladder, which the planner (rightly) will not
+    # extrapolate far
+    return planner.plan(STRIP.factory, error=0.2, until=STRIP.until,
                         probes=STRIP.probes, quantity=STRIP.quantity,
-                        threads=1, ladder=LADDER, scene="strip")
+                        norm="rms", threads=1, ladder=LADDER, scene="strip")
 
 
 def test_planner_settings_meet_the_request_on_the_exact_strip(strip_plan):
     assert strip_plan.feasible, strip_plan.reason
-    assert strip_plan.error_upper <= 0.3
-    achieved = strip_error(strip_plan.dx, strip_plan.setting)
-    assert achieved <= 0.3, (strip_plan.summary(), achieved)
+    assert strip_plan.error_upper <= 0.2
+    achieved = strip_error(strip_plan.dx, strip_plan.setting, "rms")
+    assert achieved <= 0.2, (strip_plan.summary(), achieved)
     # and the plan is not wildly pessimistic: the prediction's upper bound
     # is within a factor 3 of what the run achieved
     assert strip_plan.error_upper <= 3 * achieved
