@@ -232,12 +232,47 @@ SPH_API const char *sph_effect_names(void);
 
 /* ------------------------------------------------------------ time steps */
 
-/* Largest stable step, h / max(c_p + |v|) over the particles (over the
+/* Time integrators, selected by name (default "improved_euler"):
+ *   "improved_euler"  Heun, two rate evaluations per step; the paper's
+ *                     scheme; wave problems need artificial viscosity
+ *   "leapfrog"        kick-drift-kick (velocity Verlet) with density and
+ *                     stress advanced by the half-step velocity: symplectic,
+ *                     stable without viscosity, two evaluations per step at
+ *                     a step up to 1.75 times Improved Euler's limit
+ * The stable and default steps below are the integrator's.  Selecting an
+ * integrator keeps a step set with sph_set_dt() if it is within the new
+ * integrator's stability limit, else fails (SPH_ERR_STATE). */
+SPH_API sph_status sph_set_integrator(sph_sim *sim, const char *name);
+/* Name of the handle's integrator (static storage). */
+SPH_API const char *sph_integrator_name(const sph_sim *sim);
+/* Space-separated list of known integrator names (static storage). */
+SPH_API const char *sph_integrator_names(void);
+
+typedef struct sph_integrator_info {
+    const char *name;          /* static storage */
+    const char *description;   /* one line, static storage */
+    int evaluations;           /* rate evaluations per step */
+    double stable_factor;      /* stable step = stable_factor h / max(c_p + |v|) */
+    double default_factor;     /* default step = default_factor h / max(c0),
+                                  capped at the stable step */
+    size_t saved_values;       /* doubles per particle of the `saved` buffer of
+                                  its low-level stages, for this handle's
+                                  dimension and effects */
+    int carries_rates;         /* 1: the rates at the end of a step start the
+                                  next (kept across runs and in checkpoints) */
+} sph_integrator_info;
+
+/* Describe integrator `name` (NULL: the handle's). */
+SPH_API sph_status sph_integrator_info_get(sph_sim *sim, const char *name,
+                                           sph_integrator_info *info);
+
+/* Largest stable step of the handle's integrator,
+ * stable_factor h / max(c_p + |v|) over the particles (over the
  * materials for a handle without particles; 0 while h is unknown). */
 SPH_API double sph_stable_dt(const sph_sim *sim);
-/* Default step 0.5 h / max(c0) (bodies' materials, or all materials of a
- * handle without bodies), capped at sph_stable_dt(): the paper's 0.261 us
- * at dx = 1 mm. */
+/* Default step default_factor h / max(c0) (bodies' materials, or all
+ * materials of a handle without bodies), capped at sph_stable_dt(): for
+ * Improved Euler 0.5 h/c0, the paper's 0.261 us at dx = 1 mm. */
 SPH_API double sph_default_dt(const sph_sim *sim);
 /* Set the step.  A step above sph_stable_dt() is refused unless
  * `allow_unstable` is non-zero. */
@@ -256,10 +291,15 @@ typedef int (*sph_progress_fn)(const sph_sim *sim, void *user);
 SPH_API sph_status sph_set_progress(sph_sim *sim, long interval, sph_progress_fn fn,
                             void *user);
 
-/* Advance by n Improved Euler steps. */
+/* Advance by n steps of the handle's integrator. */
 SPH_API sph_status sph_run(sph_sim *sim, long steps);
 /* Advance until time t (the last step is shortened to land on t). */
 SPH_API sph_status sph_run_until(sph_sim *sim, double t);
+/* How sph_run_until(sim, t) gets there from the current time with the
+ * current step dt: *whole steps of dt, then, if *last > 0, one shortened
+ * step of *last seconds that lands exactly on t. */
+SPH_API sph_status sph_steps_until(sph_sim *sim, double t, long *whole,
+                                   double *last);
 
 /* The watchdog stops a run (SPH_ERR_UNSTABLE) when a particle of a free
  * body moves faster than `max_speed_over_cp` times its material's P-wave
@@ -303,7 +343,9 @@ typedef enum sph_field_id {
     SPH_FIELD_PRESSURE = 5,          /* n         (derived) */
     SPH_FIELD_VON_MISES = 6,         /* n         (derived) */
     SPH_FIELD_STRESS = 7,            /* n x ncomp full Cauchy sigma (derived) */
-    SPH_FIELD_ACCELERATION = 8       /* n x dim   (derived, last rates) */
+    SPH_FIELD_ACCELERATION = 8       /* n x dim   (derived: dv/dt at the current
+                                        state, the integrator's if it has
+                                        them, else evaluated on demand) */
 } sph_field_id;
 
 /* Pointer to stored state (fields 0..4), with its shape. */

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "integrator.h"
 #include "kernel.h"
 #include "sim.h"
 
@@ -62,8 +63,14 @@ sph_status sph_field_copy(sph_sim *sim, sph_field_id field, double *out)
         }
         break;
     case SPH_FIELD_ACCELERATION:
-        if (!sim->dv_dt || !sim->rates_valid)
-            return sph_fail(sim, SPH_ERR_STATE, "acceleration: no rates evaluated for the current state (run a step first)");
+        /* the integrator's rates of this state, else evaluated now */
+        if (!(sim->rates_valid || carried_rates_valid(sim))) {
+            sph_status st = sim_prepare(sim);
+            if (st || (st = sim_evaluate(sim)))
+                return st;
+            sim->rates_valid = 1;
+            sim->carry_valid = 0;
+        }
         memcpy(out, sim->dv_dt, n * dim * sizeof(double));
         break;
     default:

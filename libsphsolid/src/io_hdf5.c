@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "integrator.h"
 #include "sim.h"
 
 #ifdef SPHSOLID_HAVE_HDF5
@@ -69,6 +70,27 @@ static int read_attr_long(hid_t obj, const char *name, long *v)
         return -1;
     hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
     herr_t e = H5Aread(a, H5T_NATIVE_LONG, v);
+    H5Aclose(a);
+    return e < 0 ? -1 : 0;
+}
+
+/* A fixed-length string attribute as attr_string writes it, into buf. */
+static int read_attr_string(hid_t obj, const char *name, char *buf, size_t size)
+{
+    if (H5Aexists(obj, name) <= 0)
+        return -1;
+    hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
+    hid_t type = H5Aget_type(a);
+    const size_t len = H5Tget_size(type);
+    herr_t e = -1;
+    if (H5Tget_class(type) == H5T_STRING && len < size) {
+        hid_t mem = H5Tcopy(H5T_C_S1);
+        H5Tset_size(mem, len);
+        e = H5Aread(a, mem, buf);
+        H5Tclose(mem);
+        buf[len] = '\0';
+    }
+    H5Tclose(type);
     H5Aclose(a);
     return e < 0 ? -1 : 0;
 }
@@ -252,7 +274,7 @@ static void write_static(sph_sim *sim, hid_t file)
     attr_double(par, "spacing", &sim->dx_ref, 1);
     attr_double(par, "dt", &sim->dt, 1);
     attr_string(par, "kernel", sim->kernel == SPH_KERNEL_CUBIC_SPLINE ? "cubic_spline" : "wendland_c2");
-    attr_string(par, "integrator", "improved_euler");
+    attr_string(par, "integrator", sim_integrator(sim)->name);
     {
         char fx[1024];
         effects_describe(&sim->fx, fx, sizeof fx);
@@ -591,6 +613,7 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
     attr_double(g, "time", &sim->t, 1);
     attr_double(g, "dt", &sim->dt, 1);
     attr_long(g, "dt_set", sim->dt_set);
+    attr_string(g, "integrator", sim_integrator(sim)->name);
     const hsize_t n = sim->n;
     hsize_t vec[2] = {n, (hsize_t)sim->dim}, ten[2] = {n, (hsize_t)sim->ncomp};
     write_dataset(g, "position", H5T_NATIVE_DOUBLE, 2, vec, sim->x);
@@ -608,6 +631,12 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
             memcpy(vectors + 3 * k, sim->bodies[k].centre, 3 * sizeof(double));
         write_dataset(g, "motion_centres", H5T_NATIVE_DOUBLE, 2, d, vectors);
         free(vectors);
+    }
+    if (sim_integrator(sim)->carries_rates && carried_rates_valid(sim)) {
+        /* the rates the next step starts from */
+        write_dataset(g, "rate_velocity", H5T_NATIVE_DOUBLE, 2, vec, sim->dv_dt);
+        write_dataset(g, "rate_density", H5T_NATIVE_DOUBLE, 1, &n, sim->drho_dt);
+        write_dataset(g, "rate_deviatoric_stress", H5T_NATIVE_DOUBLE, 2, ten, sim->dS_dt);
     }
     H5Gclose(g);
     const herr_t e = H5Fclose(f);
@@ -651,8 +680,15 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
             read_attr_long(g, "bodies", &nb) | read_attr_long(g, "step", &step) |
             read_attr_long(g, "dt_set", &dt_set) | read_attr_double(g, "time", &t) |
             read_attr_double(g, "dt", &dt);
+    char name[64] = "improved_euler";   /* checkpoints before integrators had names */
+    const integrator *in = NULL;
+    if (!e && H5Aexists(g, "integrator") > 0 && read_attr_string(g, "integrator", name, sizeof name))
+        e = 1;
     sph_status st = SPH_OK;
-    if (e) {
+    if (!e && !(in = integrator_find(name))) {
+        st = sph_fail(sim, SPH_ERR_IO, "checkpoint '%s' was written by integrator '%s', unknown here (known: %s)",
+                      path, name, sph_integrator_names());
+    } else if (e) {
         st = sph_fail(sim, SPH_ERR_IO, "checkpoint '%s' lacks its attributes", path);
     } else if (dim != sim->dim || (size_t)n != sim->n || nb != sim->n_bodies) {
         st = sph_fail(sim, SPH_ERR_ARGUMENT,
@@ -680,6 +716,24 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
             sim->dt_set = (int)dt_set;
             sim->nl.valid = 0;
             sim->rates_valid = 0;
+            sim->integ = in;
+            sim->carry_valid = 0;
+            if (in->carries_rates && H5Lexists(g, "rate_velocity", H5P_DEFAULT) > 0) {
+                double *dv = realloc(sim->dv_dt, sim->n * sim->dim * sizeof(double));
+                double *dr = realloc(sim->drho_dt, sim->n * sizeof(double));
+                double *dS = realloc(sim->dS_dt, sim->n * sim->ncomp * sizeof(double));
+                if (dv) sim->dv_dt = dv;
+                if (dr) sim->drho_dt = dr;
+                if (dS) sim->dS_dt = dS;
+                e = !dv || !dr || !dS;
+                e = e ? e : read_array(g, "rate_velocity", sim->n * sim->dim, sim->dv_dt);
+                e = e ? e : read_array(g, "rate_density", sim->n, sim->drho_dt);
+                e = e ? e : read_array(g, "rate_deviatoric_stress", sim->n * sim->ncomp, sim->dS_dt);
+                if (e)
+                    st = sph_fail(sim, SPH_ERR_IO, "cannot read the integrator's rates of checkpoint '%s'", path);
+                else
+                    carried_rates_set(sim);
+            }
         }
         free(vectors);
     }

@@ -15,7 +15,7 @@ size_t sph_memory_bytes(const sph_sim *sim)
     size_t bytes = sizeof *sim;
     bytes += cap * (2 * dim + 1 + nc + 1) * sizeof(double) + cap * 2 * sizeof(int);
     if (sim->saved)
-        bytes += n * (dim + 1 + nc + (sim->fx.xsph ? dim : 0)) * sizeof(double);
+        bytes += n * sim->saved_per * sizeof(double);
     if (sim->x_saved)
         bytes += n * dim * sizeof(double);
     if (sim->dv_dt)

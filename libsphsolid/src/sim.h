@@ -72,15 +72,19 @@ struct sph_sim {
     int *material_of;       /* per particle */
     int *body_of;           /* per particle */
 
-    /* integration */
+    /* integration (integrator.h) */
+    const struct integrator *integ;     /* NULL: the default, Improved Euler */
     double dt, t;
     int dt_set;
     long step;
-    double *saved;          /* Heun y_n: v, rho, S (and xsph velocity) */
+    double *saved;          /* the integrator's state at the start of a step */
+    size_t saved_per;       /* doubles per particle in saved */
     double *x_saved;        /* positions at the start of the step, so that a
                                failed step can be undone */
     double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
     int rates_valid;
+    int carry_valid;        /* the rates carried by the integrator belong to */
+    unsigned long long carry_print; /* the state with this fingerprint */
     neighbour_list nl;
 
     /* scratch of the rate engine, sized to scratch_n particles */
@@ -131,7 +135,7 @@ typedef struct rate_call {
 sph_status rates_run(sph_sim *sim, const rate_call *call);
 int sim_threads(const sph_sim *sim);
 
-/* bodies.c (sim_support, sim_shrink_to_fit, rotation_velocity); integrate.c (sim_prepare) */
+/* bodies.c (sim_support, sim_shrink_to_fit, rotation_velocity); run.c (sim_prepare) */
 double sim_support(const sph_sim *sim);
 sph_status sim_prepare(sph_sim *sim);
 void sim_shrink_to_fit(sph_sim *sim);

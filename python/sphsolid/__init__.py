@@ -18,7 +18,7 @@ from ._lib import (SimulationError, StoppedError, UnsupportedError,
 from .build import (Body, Fixed, Force, Free, Pressure, Rotation, Velocity,
                     block, box, disc, piston, plate, rectangle, ring)
 from .calculators import Calculator, CLibrary
-from .dynamics import ImprovedEuler
+from .dynamics import Dynamics, ImprovedEuler, Leapfrog
 from .material import Material
 from .probes import PAPER_PROBES, Probes
 from .scene import Scene
@@ -29,9 +29,9 @@ __version__ = "0.2.0"
 
 __all__ = ["Material", "Scene", "Body", "Free", "Fixed", "Velocity", "Force",
            "Pressure", "Rotation", "block", "rectangle", "box", "plate", "piston", "disc",
-           "ring", "Calculator", "CLibrary", "ImprovedEuler", "Probes",
-           "PAPER_PROBES", "Trajectory", "scenes", "plan", "effect_names",
-           "version",
+           "ring", "Calculator", "CLibrary", "Dynamics", "ImprovedEuler",
+           "Leapfrog", "Probes", "PAPER_PROBES", "Trajectory", "scenes", "plan",
+           "effect_names", "version",
            "library_path", "SimulationError", "StoppedError",
            "UnsupportedError"]
 

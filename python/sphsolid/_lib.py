@@ -112,6 +112,13 @@ class EnergyInfo(Structure):
                 ("momentum", c_double * 3)]
 
 
+class IntegratorInfo(Structure):
+    _fields_ = [("name", c_char_p), ("description", c_char_p),
+                ("evaluations", c_int), ("stable_factor", c_double),
+                ("default_factor", c_double), ("saved_values", c_size_t),
+                ("carries_rates", c_int)]
+
+
 class PaperScene(Structure):
     _fields_ = [("specimen", c_int), ("piston", c_int), ("plate", c_int),
                 ("material", c_int), ("probe_A", c_int), ("probe_B", c_int),
@@ -168,6 +175,13 @@ _PROTOTYPES = {
     "sph_set_progress": (c_int, [_sim, c_long, PROGRESS_FN, c_void_p]),
     "sph_run": (c_int, [_sim, c_long]),
     "sph_run_until": (c_int, [_sim, c_double]),
+    "sph_steps_until": (c_int, [_sim, c_double, POINTER(c_long),
+                                POINTER(c_double)]),
+    "sph_set_integrator": (c_int, [_sim, c_char_p]),
+    "sph_integrator_name": (c_char_p, [_sim]),
+    "sph_integrator_names": (c_char_p, []),
+    "sph_integrator_info_get": (c_int, [_sim, c_char_p,
+                                        POINTER(IntegratorInfo)]),
     "sph_failure": (c_int, [_sim, POINTER(c_long), POINTER(c_long),
                             POINTER(c_int), POINTER(c_char_p)]),
     "sph_field": (c_int, [_sim, c_int, POINTER(_dp), POINTER(c_size_t),
@@ -320,6 +334,21 @@ def effect_names() -> list[str]:
     return lib.sph_effect_names().decode().split()
 
 
+def integrator_names() -> list[str]:
+    """Integrator names the library knows (``sph_integrator_names``)."""
+    return lib.sph_integrator_names().decode().split()
+
+
+def steps_until(sim, t: float) -> tuple[int, float]:
+    """How ``sph_run_until(sim, t)`` gets to ``t``: whole steps of the
+    current dt, then one shortened step of the returned length (0: none)."""
+    whole = ctypes.c_long()
+    last = ctypes.c_double()
+    check(lib.sph_steps_until(sim, float(t), ctypes.byref(whole),
+                              ctypes.byref(last)), sim, "until")
+    return int(whole.value), float(last.value)
+
+
 def new_handle(dimension: int):
     """Create an ``sph_sim`` handle; raise ValueError on a bad dimension."""
     handle = c_void_p()
@@ -349,3 +378,10 @@ def as_doubles(values, n: int, name: str):
 
 def encode_path(path) -> bytes:
     return os.fsencode(os.fspath(path))
+
+
+def encode_name(name) -> bytes:
+    """A name for the library (it checks the value and names it)."""
+    if not isinstance(name, str):
+        raise ValueError(f"a name must be a string, got {name!r}")
+    return name.encode()

@@ -1,11 +1,15 @@
-"""Calculators: the backends that advance a scene in time.
+"""Calculators: the backends that evaluate a scene and run its integrator.
 
 All backends share one interface (:class:`Calculator`), so a script
-switches backend with one line (``scene.calc = ...``). The dynamics
-objects (:mod:`sphsolid.dynamics`) only talk to this interface.
+switches backend with one line (``scene.calc = ...``). As in ASE, a
+calculator evaluates (:meth:`Calculator.get_forces`,
+:meth:`Calculator.get_stress`, rates on demand) and a dynamics object
+(:mod:`sphsolid.dynamics`) integrates; the steps themselves are the C
+library's integrators, which the dynamics object selects by name and the
+calculator runs where the state lives (``sph_run``/``sph_run_until`` for
+:class:`CLibrary`, LAMMPS's ``run`` for :class:`~sphsolid.lammps.Lammps`).
 
-:class:`CLibrary` advances the scene's own libsphsolid handle with the
-library's Improved Euler driver (``sph_run``/``sph_run_until``).
+:class:`CLibrary` advances the scene's own libsphsolid handle.
 
 A LAMMPS backend (:class:`Lammps`, in :mod:`sphsolid.lammps`) advances
 the same scene through the ``lammps`` Python module and the plugin in
@@ -18,6 +22,8 @@ import ctypes
 import math
 from abc import ABC, abstractmethod
 from typing import Callable, Optional
+
+import numpy as np
 
 from . import _lib
 from ._lib import lib
@@ -39,8 +45,17 @@ class Calculator(ABC):
         The default step 0.5 h / c0 and the stability limit [s].
     set_dt(dt, allow_unstable=False)
         Set the step [s]; above the stability limit only when allowed.
+    set_integrator(name), integrator
+        Select the library integrator ("improved_euler", "leapfrog") by
+        name; its name.
+    steps_until(t)
+        Whole steps and the length of the last, shortened one that land on
+        time ``t`` (asked of the library, which takes them).
+    get_forces(), get_accelerations(), get_stress()
+        Evaluate at the current state: m dv/dt [N, per unit depth in 2D],
+        dv/dt [m/s^2] and the per-particle Cauchy stress [Pa].
     advance(steps, progress=None, interval=...)
-        Take ``steps`` Improved Euler steps. ``progress(step)`` is called
+        Take ``steps`` steps of the integrator. ``progress(step)`` is called
         every ``interval`` steps; if it returns True the run stops after a
         completed step and :class:`sphsolid.StoppedError` is raised.
     advance_until(t, progress=None, interval=...)
@@ -70,9 +85,43 @@ class Calculator(ABC):
         """Set the time step [s]."""
 
     @abstractmethod
+    def set_integrator(self, name: str) -> None:
+        """Select the library integrator ``name``."""
+
+    @property
+    def integrator(self) -> str:
+        """Name of the integrator in use."""
+        return lib.sph_integrator_name(self.scene.handle).decode()
+
+    def steps_until(self, t: float) -> tuple[int, float]:
+        """Whole steps of dt to time ``t``, then the length of one
+        shortened step landing on ``t`` (0: none), as the run takes them."""
+        self.sync()
+        return _lib.steps_until(self.scene.handle, t)
+
+    # -------------------------------------------------- evaluation (ASE)
+    def get_accelerations(self) -> np.ndarray:
+        """dv/dt at the current state [m/s^2], (n, dim): the integrator's
+        rates of this state, else evaluated now by the library."""
+        self.sync()
+        return self.scene.accelerations
+
+    def get_forces(self) -> np.ndarray:
+        """m dv/dt at the current state [N; N per metre of depth in 2D],
+        (n, dim)."""
+        return self.scene.masses[:, None] * self.get_accelerations()
+
+    def get_stress(self) -> np.ndarray:
+        """Per-particle Cauchy stress -P I + S [Pa], (n, ncomp), components
+        (xx, yy, zz, xy[, xz, yz]) (ASE's get_stress is one virial stress
+        of the whole system in Voigt order: see docs/python.md)."""
+        self.sync()
+        return self.scene.stress
+
+    @abstractmethod
     def advance(self, steps: int, progress: Progress = None,
                 interval: int = 10) -> None:
-        """Take ``steps`` Improved Euler steps."""
+        """Take ``steps`` steps of the integrator."""
 
     @abstractmethod
     def advance_until(self, t: float, progress: Progress = None,
@@ -141,6 +190,11 @@ class CLibrary(Calculator):
 
     def stable_dt(self) -> float:
         return lib.sph_stable_dt(self._handle)
+
+    def set_integrator(self, name: str) -> None:
+        self._check(lib.sph_set_integrator(self._handle,
+                                           _lib.encode_name(name)),
+                    "integrator")
 
     def set_dt(self, dt: float, allow_unstable: bool = False) -> None:
         try:

@@ -1,6 +1,7 @@
 """The ``sphsolid`` command: the paper's scenes and file inspection.
 
-    sphsolid piston  [--dx 1mm] [--until 0.3ms] [--backend c|lammps] [--out DIR]
+    sphsolid piston  [--dx 1mm] [--until 0.3ms] [--backend c|lammps]
+                     [--integrator improved_euler|leapfrog] [--out DIR]
     sphsolid gravity [--dx 2mm] [--until 60ms] [--damping 2000] [--out DIR]
     sphsolid info FILE.h5
     sphsolid study paper [--out docs/validation] [--quick]
@@ -56,7 +57,14 @@ def _common(parser, dx, until, frames):
     parser.add_argument("--threads", type=int, default=None,
                         help="OpenMP threads (default: OpenMP's)")
     parser.add_argument("--dt", type=quantity, default=None,
-                        help="time step (default 0.5 h/c0)")
+                        help="time step (default: the integrator's, "
+                             "0.5 h/c0 for improved_euler, h/c0 for "
+                             "leapfrog)")
+    from ._lib import integrator_names
+    parser.add_argument("--integrator", default="improved_euler",
+                        choices=integrator_names(),
+                        help="time integrator of the library (default "
+                             "improved_euler, the paper's)")
     parser.add_argument("--times", type=_times, default=None,
                         help="comma-separated times of the von Mises maps "
                              f"(default {frames} evenly to --until)")
@@ -228,7 +236,8 @@ def _planned_scene(args, name: str, argv):
 
 
 def _run_scene(args, scene, name: str) -> int:
-    from . import ImprovedEuler, Probes, scenes
+    from . import Probes, scenes
+    from .dynamics import dynamics_for
     from .figures import probe_curves, von_mises_map
     from .trajectory import Frame, Trajectory
 
@@ -240,15 +249,16 @@ def _run_scene(args, scene, name: str) -> int:
         from .calculators import CLibrary
         scene.calc = CLibrary(threads=args.threads)
     probes = Probes(scene, scenes.PAPER_PROBES)
-    dyn = ImprovedEuler(scene, dt=args.dt, progress=args.progress)
+    dyn = dynamics_for(args.integrator)(scene, dt=args.dt,
+                                        progress=args.progress)
     times = args.times or [args.until * (i + 1) / args._frames
                            for i in range(args._frames)]
     times = sorted(t for t in times if 0 < t <= args.until)
     counts = scene.body_counts()
     print(f"{name}: dx = {args.dx * 1e3:g} mm, "
           + ", ".join(f"{k} {v}" for k, v in counts.items())
-          + f" particles, dt = {dyn.dt * 1e6:.4g} us, until "
-          f"{args.until * 1e3:g} ms ({args.backend} backend)")
+          + f" particles, {args.integrator}, dt = {dyn.dt * 1e6:.4g} us, "
+          f"until {args.until * 1e3:g} ms ({args.backend} backend)")
     # The library writes the HDF5 file with its own clock, which only the C
     # backend advances; with LAMMPS the field maps come from copies.
     h5 = args.out / f"{name}.h5" if args.backend == "c" else None

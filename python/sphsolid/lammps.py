@@ -37,6 +37,8 @@ import numpy as np
 
 from ._lib import SimulationError, StoppedError, UnsupportedError, lib
 from ._lib import check as _check
+from ._lib import encode_name as _lib_encode
+from ._lib import steps_until as _steps_until
 from .calculators import Calculator, Progress
 
 __all__ = ["Lammps", "find_plugin", "plugin_directory", "available"]
@@ -159,6 +161,7 @@ class Lammps(Calculator):
         self._synced = None
         self._prepared = False
         self._moves = {}
+        self._fix = "sphsolid/heun"
 
     # ---------------------------------------------------------- building
     def bind(self, scene) -> None:
@@ -323,6 +326,26 @@ class Lammps(Calculator):
         return RuntimeError(f"LAMMPS backend, {what}: {text}")
 
     # -------------------------------------------------------- interface
+    #: the library integrator -> the plugin's fix that runs it
+    FIXES = {"improved_euler": "sphsolid/heun"}
+
+    def set_integrator(self, name: str) -> None:
+        fix = self.FIXES.get(name)
+        if fix is None:
+            _check(lib.sph_set_integrator(self.scene.handle,
+                                          _lib_encode(name)),
+                   self.scene.handle, "integrator")
+            raise UnsupportedError(f"LAMMPS backend: integrator {name!r} has "
+                                   f"no fix in the plugin (available: "
+                                   f"{', '.join(self.FIXES)})")
+        _check(lib.sph_set_integrator(self.scene.handle, _lib_encode(name)),
+               self.scene.handle, "integrator")
+        if fix != self._fix:
+            self.lmp.command("unfix heun")
+            self.lmp.command(f"fix heun free {fix}")
+            self._fix = fix
+            self._prepared = False
+
     def default_dt(self) -> float:
         return lib.sph_default_dt(self.scene.handle)
 
@@ -388,25 +411,21 @@ class Lammps(Calculator):
     def advance_until(self, t: float, progress: Progress = None,
                       interval: int = 10) -> None:
         t = float(t)
-        whole = max(0, math.ceil((t - self._time) / self._dt - 1e-9) - 1)
+        # the library's steps to t from its clock (which follows LAMMPS's)
+        whole, last = _steps_until(self.scene.handle, t)
         if whole:
             self.advance(whole, progress, interval)
-        left = t - self._time
-        if left > 1e-12 * self._dt:
+        if last > 0.0:                      # one shortened step lands on t
             dt = self._dt
-            if left < dt * (1 + 1e-9):      # one shortened step lands on t
-                self._timestep(left)
+            self._timestep(last)
+            self._prepared = False
+            try:
+                self._run(1, last)
+            finally:
+                self._timestep(dt)
                 self._prepared = False
-                try:
-                    self._run(1, left)
-                finally:
-                    self._timestep(dt)
-                    self._prepared = False
-            else:
-                self.advance_until(t, progress, interval)
-                return
-        self._time = t
-        self._set_library_clock()
+            self._time = t
+            self._set_library_clock()
 
     def sync(self) -> None:
         """Copy LAMMPS's state (ordered by atom ID) into the scene's arrays."""

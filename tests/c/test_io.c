@@ -77,11 +77,40 @@ static void checkpoint_resumes_bit_identically(void **state)
     remove(path);
 }
 
+/* The leapfrog carries the rates of the state from step to step: a
+ * checkpoint holds them (and the integrator's name), so the resumed run is
+ * bit for bit the straight one. */
+static void leapfrog_checkpoint_resumes_bit_identically(void **state)
+{
+    (void)state;
+    const char *path = "test_io_checkpoint_leapfrog.h5";
+    sph_sim *straight = paper(4e-3);
+    check(straight, sph_set_integrator(straight, "leapfrog"));
+    check(straight, sph_run(straight, 40));
+    check(straight, sph_checkpoint_write(straight, path));
+    check(straight, sph_run(straight, 60));
+
+    sph_sim *resumed = paper(4e-3);   /* Improved Euler until the checkpoint says otherwise */
+    check(resumed, sph_checkpoint_read(resumed, path));
+    assert_string_equal(sph_integrator_name(resumed), "leapfrog");
+    check(resumed, sph_run(resumed, 60));
+    const size_t n = sph_particle_count(straight);
+    assert_true(same(resumed->x, straight->x, 2 * n));
+    assert_true(same(resumed->v, straight->v, 2 * n));
+    assert_true(same(resumed->rho, straight->rho, n));
+    assert_true(same(resumed->S, straight->S, 4 * n));
+    assert_true(sph_time(resumed) == sph_time(straight));
+    sph_destroy(resumed);
+    sph_destroy(straight);
+    remove(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(snapshots_read_back_exactly),
         cmocka_unit_test(checkpoint_resumes_bit_identically),
+        cmocka_unit_test(leapfrog_checkpoint_resumes_bit_identically),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -128,3 +128,43 @@ def test_progress_bar_counts_every_step(coarse_piston, capsys):
     dyn.run(steps=55)
     err = capsys.readouterr().err
     assert "55/55" in err
+
+
+# ------------------------------------------------------------- Leapfrog
+def test_leapfrog_selects_the_library_integrator(coarse_piston):
+    dyn = sphsolid.Leapfrog(coarse_piston)
+    assert coarse_piston.calc.integrator == "leapfrog"
+    assert dyn.dt == pytest.approx(2 * sphsolid.ImprovedEuler(
+        scenes.uniaxial_piston(4e-3)).dt, rel=1e-12)   # h/c0 vs 0.5 h/c0
+    t_end = 6.3 * dyn.dt
+    assert dyn.run(until=t_end) == 7
+    assert coarse_piston.time == t_end
+    with pytest.raises(TypeError, match="base class"):
+        sphsolid.Dynamics(coarse_piston)
+    with pytest.raises(ValueError, match="integrator 'heun'"):
+        sphsolid.dynamics.dynamics_for("heun")
+
+
+def test_leapfrog_observer_chunks_equal_one_run():
+    """The rates the leapfrog carries from step to step survive the runs
+    its observers cut it into (and the scene's views being handed out)."""
+    a, b = scenes.uniaxial_piston(4e-3), scenes.uniaxial_piston(4e-3)
+    dyn_a, dyn_b = sphsolid.Leapfrog(a), sphsolid.Leapfrog(b)
+    dyn_a.run(steps=30)
+    dyn_b.attach(lambda: b.velocities, interval=7)
+    dyn_b.run(steps=30)
+    np.testing.assert_array_equal(a.velocities, b.velocities)
+    np.testing.assert_array_equal(a.deviatoric_stress, b.deviatoric_stress)
+
+
+def test_calculator_evaluates_forces_and_stress(coarse_piston):
+    """ASE's meaning: the calculator evaluates at the current state."""
+    calc = coarse_piston.calc
+    sphsolid.Leapfrog(coarse_piston).run(steps=5)
+    forces = calc.get_forces()
+    assert forces.shape == (len(coarse_piston), 2)
+    np.testing.assert_array_equal(
+        forces, coarse_piston.masses[:, None] * calc.get_accelerations())
+    assert np.abs(forces).max() > 0      # the piston squeezes the specimen
+    stress = calc.get_stress()
+    np.testing.assert_array_equal(stress, coarse_piston.stress)

@@ -1,0 +1,88 @@
+/*
+ * Time integrators as units.  Each integrator is one file (improved_euler.c,
+ * leapfrog.c) defining one `integrator` record, listed once in the registry
+ * of integrators.c.  The run driver (run.c), the stable and default steps,
+ * checkpoints and the low-level stage calls all go through the record.
+ *
+ * Shared pieces of a step on the handle's arrays (stages.c): per-body
+ * constants (motion, watchdog bounds, rotation), exact rotation arcs, and
+ * the failure report of a step that went non-finite or tripped the
+ * watchdog.
+ */
+#ifndef SPHSOLID_INTEGRATOR_H
+#define SPHSOLID_INTEGRATOR_H
+
+#include "sim.h"
+
+typedef struct integrator {
+    const char *name;
+    const char *description;       /* one line */
+    int evaluations;               /* rate evaluations per step */
+    /* largest stable step as a multiple of h / max(c_p + |v|) */
+    double stable_factor;
+    /* default step as a multiple of h / max(c0), capped at the stable step */
+    double default_factor;
+    /* doubles per particle the step saves at its start (besides positions),
+     * for undoing a failed step */
+    size_t (*saved_values)(int dim, int ncomp, int xsph);
+    /* advance the handle by dt; *moved receives a bound of any particle's
+     * displacement from its position at the start of the step (NAN-free on
+     * success).  On failure the step has been undone. */
+    sph_status (*step)(sph_sim *sim, double dt, double *moved);
+    /* 1 if the rates at the end of a step are the start of the next one
+     * (kept across runs and in checkpoints), 0 if every step starts with
+     * its own evaluation */
+    int carries_rates;
+} integrator;
+
+extern const integrator integrator_improved_euler;
+extern const integrator integrator_leapfrog;
+
+/* integrators.c */
+const integrator *integrator_find(const char *name);
+const integrator *sim_integrator(const sph_sim *sim);
+/* The carried rates belong to the current state: fingerprint of x, v, rho,
+ * S taken after the step that computed them. */
+unsigned long long state_fingerprint(const sph_sim *sim);
+void carried_rates_set(sph_sim *sim);
+int carried_rates_valid(const sph_sim *sim);
+
+/* run.c */
+sph_status sim_evaluate(sph_sim *sim);   /* rates at the handle's state, motions applied */
+sph_status sim_ensure_neighbours(sph_sim *sim, double extra_displacement);
+
+/* stages.c: per-body constants of a step */
+typedef struct body_stage {
+    int integrate;                  /* velocity integrated (free, force) */
+    int rotate;                     /* prescribed rotation by R about c */
+    double vmax2, rho_lo, rho_hi;   /* watchdog bounds */
+    double R[3][3], c[3];
+    const double *omega;
+} body_stage;
+
+/* Per-body records for a step whose rotations turn by |omega| dt_rotation:
+ * *out points to `small` (8 records) or to allocated memory (free with
+ * body_stages_free). */
+sph_status body_stages_make(sph_sim *sim, double dt_rotation, body_stage *small, body_stage **out);
+void body_stages_free(body_stage *bs, const body_stage *small);
+void body_stage_rotation(body_stage *b, double dt);
+/* x = c + R (x_n - c), v = omega x (x - c); returns |x - x_n|. */
+double rotate_particle(int dim, const body_stage *b, const double *x_n, double *x, double *v);
+void watchdog_bounds(const sph_sim *sim, const material *m, int integrate, double *vmax2,
+                     double *rho_lo, double *rho_hi);
+static inline int watchdog_trips(int dim, const double *v, double rho, double vmax2, double rho_lo,
+                                 double rho_hi)
+{
+    double v2 = 0.0;
+    for (int i = 0; i < dim; ++i)
+        v2 += v[i] * v[i];
+    return v2 > vmax2 || rho < rho_lo || rho > rho_hi;
+}
+/* The report of a failed step at t + dt: particle `bad` went non-finite
+ * (or non-positive density), else particle `wild` tripped the watchdog
+ * (-1: none).  Records sph_failure() and returns the status. */
+sph_status step_failure(sph_sim *sim, double dt, long bad, long wild);
+sph_status watchdog_report(sph_sim *sim, long a, int dim, const double *v_a, double rho_a,
+                           const material *m, int integrate);
+
+#endif

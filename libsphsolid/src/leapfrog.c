@@ -1,0 +1,217 @@
+/*
+ * Leapfrog (kick-drift-kick, velocity Verlet) with the density and the
+ * deviatoric stress advanced by the same half-step velocity that moves the
+ * positions.  With y = (rho, S) and D(x, v, y) their rates, f_n the rates
+ * at the end of the previous step:
+ *
+ *   v_{n+1/2} = v_n + dt/2 a_n                                   kick
+ *   x_{n+1/2} = x_n + dt/2 v_{n+1/2},  y~ = y_n + dt/2 D_n          (half drift)
+ *   D_{n+1/2} = D(x_{n+1/2}, v_{n+1/2}, y~)                      evaluation 1
+ *   x_{n+1}   = x_n + dt v_{n+1/2},    y_{n+1} = y_n + dt D_{n+1/2}  drift
+ *   a_{n+1}   = a(x_{n+1}, v_{n+1/2}, y_{n+1})                    evaluation 2
+ *   v_{n+1}   = v_{n+1/2} + dt/2 a_{n+1}                            kick
+ *
+ * The rates of evaluation 2 (a_{n+1}, D_{n+1}) start the next step, so they
+ * are carried from one run to the next (and written to checkpoints).
+ *
+ * Why two evaluations: rho and S are integrals of the velocity gradient, as
+ * positions are integrals of the velocity.  Advancing them with the
+ * velocity gradient of the very velocity v_{n+1/2} that drifts the
+ * positions keeps them a function of the positions in the linear regime, so
+ * the scheme is velocity Verlet for a potential energy of the positions:
+ * symplectic, with no drift of the total energy and a stability limit
+ * dt < 2/omega_max (docs/library.md).  That velocity is known only after the
+ * acceleration a(y_n) of the same step, so its gradient cannot come from the
+ * evaluation that gives the acceleration: a scheme with one evaluation per
+ * step either lags y behind x (energy grows in every mode, like Improved
+ * Euler without viscosity) or is a two-step method with a parasitic mode.
+ * The rate engine computes every rate in one pass, so each evaluation here
+ * is a whole one; half of each is used.
+ *
+ * Only y~ (the half-step density and stress used for the volumes and the
+ * Jaumann terms of evaluation 1) is predicted, from the rates at the start.
+ * Velocity-dependent accelerations (artificial viscosity, damping) are taken
+ * at v_{n+1/2}.  With XSPH the positions drift with the XSPH velocity of
+ * evaluation 1.  Prescribed velocities keep their velocity; prescribed
+ * rotations move on their exact arcs (half and whole angle); force-driven
+ * bodies kick with the body's acceleration.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "integrator.h"
+
+static size_t leapfrog_saved_values(int dim, int ncomp, int xsph)
+{
+    (void)xsph;
+    return (size_t)dim + 1 + (size_t)ncomp;    /* v_n, rho_n, S_n */
+}
+
+static void leapfrog_undo(sph_sim *sim)
+{
+    const size_t n = sim->n, dim = (size_t)sim->dim, nc = (size_t)sim->ncomp;
+    memcpy(sim->x, sim->x_saved, n * dim * sizeof(double));
+    memcpy(sim->v, sim->saved, n * dim * sizeof(double));
+    memcpy(sim->rho, sim->saved + n * dim, n * sizeof(double));
+    memcpy(sim->S, sim->saved + n * (dim + 1), n * nc * sizeof(double));
+}
+
+static sph_status leapfrog_step(sph_sim *sim, double dt, double *moved)
+{
+    const int dim = sim->dim, nc = sim->ncomp;
+    const long n = (long)sim->n;
+    double *x = sim->x, *v = sim->v, *rho = sim->rho, *S = sim->S, *x_n = sim->x_saved;
+    double *v_n = sim->saved, *rho_n = v_n + n * dim, *S_n = rho_n + n;
+    const int *body_of = sim->body_of;
+    sph_status st;
+    if (!sim->rates_valid && (st = sim_evaluate(sim)))
+        return st;
+    body_stage small[8], *bs;
+    if ((st = body_stages_make(sim, 0.5 * dt, small, &bs)))
+        return st;
+
+    /* kick, half drift, half-step density and stress */
+    double half = 0.0;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(max : half)
+    for (long a = 0; a < n; ++a) {
+        const body_stage *b = &bs[body_of[a]];
+        double *xa = x + a * dim, *va = v + a * dim;
+        double d2 = 0.0;
+        for (int i = 0; i < dim; ++i) {
+            x_n[a * dim + i] = xa[i];
+            v_n[a * dim + i] = va[i];
+            if (b->integrate)
+                va[i] += 0.5 * dt * sim->dv_dt[a * dim + i];
+        }
+        if (b->rotate) {
+            d2 = rotate_particle(dim, b, x_n + a * dim, xa, va);
+            d2 *= d2;
+        } else {
+            for (int i = 0; i < dim; ++i) {
+                const double step = 0.5 * dt * va[i];
+                xa[i] += step;
+                d2 += step * step;
+            }
+        }
+        rho_n[a] = rho[a];
+        rho[a] += 0.5 * dt * sim->drho_dt[a];
+        for (int c = 0; c < nc; ++c) {
+            S_n[a * nc + c] = S[a * nc + c];
+            S[a * nc + c] += 0.5 * dt * sim->dS_dt[a * nc + c];
+        }
+        if (d2 > half)
+            half = d2;
+    }
+    half = sqrt(half);
+    /* a list rebuilt here has a zero bound, which the caller's addition of
+     * the whole step's displacement from x_n then over-estimates */
+    if ((st = sim_ensure_neighbours(sim, half)) || (st = sim_evaluate(sim))) {
+        body_stages_free(bs, small);
+        leapfrog_undo(sim);
+        return st;
+    }
+
+    /* drift: whole step of positions, density and stress */
+    for (int k = 0; k < sim->n_bodies; ++k)
+        body_stage_rotation(&bs[k], dt);
+    const double *u = sim->fx.xsph ? sim->dx_dt : v;
+    double max_moved = 0.0;
+    long bad = n, wild = n;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild) reduction(max : max_moved)
+    for (long a = 0; a < n; ++a) {
+        const body_stage *b = &bs[body_of[a]];
+        double *xa = x + a * dim;
+        double d = 0.0, ok = 1.0;
+        if (b->rotate) {
+            double v_arc[3];
+            d = rotate_particle(dim, b, x_n + a * dim, xa, v_arc);
+        } else {
+            double d2 = 0.0;
+            for (int i = 0; i < dim; ++i) {
+                const double step = dt * (b->integrate ? u[a * dim + i] : v[a * dim + i]);
+                xa[i] = x_n[a * dim + i] + step;
+                d2 += step * step;
+            }
+            d = sqrt(d2);
+        }
+        for (int i = 0; i < dim; ++i)
+            ok *= isfinite(xa[i]);
+        rho[a] = rho_n[a] + dt * sim->drho_dt[a];
+        ok *= isfinite(rho[a]) && rho[a] > 0.0;
+        for (int c = 0; c < nc; ++c) {
+            S[a * nc + c] = S_n[a * nc + c] + dt * sim->dS_dt[a * nc + c];
+            ok *= isfinite(S[a * nc + c]);
+        }
+        if (!ok) {
+            if (a < bad)
+                bad = a;
+        } else if ((rho[a] < b->rho_lo || rho[a] > b->rho_hi) && a < wild) {
+            wild = a;    /* the watchdog's density bounds, before anything overflows */
+        }
+        if (d > max_moved)
+            max_moved = d;
+    }
+    if (bad < n || wild < n) {
+        st = step_failure(sim, dt, bad < n ? bad : -1, wild < n ? wild : -1);
+        body_stages_free(bs, small);
+        leapfrog_undo(sim);
+        return st;
+    }
+    if ((st = sim_evaluate(sim))) {
+        body_stages_free(bs, small);
+        leapfrog_undo(sim);
+        return st;
+    }
+
+    /* kick; rotating particles take the velocity of their new position */
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild)
+    for (long a = 0; a < n; ++a) {
+        const body_stage *b = &bs[body_of[a]];
+        double *va = v + a * dim;
+        double ok = 1.0;
+        if (b->integrate)
+            for (int i = 0; i < dim; ++i)
+                va[i] += 0.5 * dt * sim->dv_dt[a * dim + i];
+        else if (b->rotate)
+            rotation_velocity(dim, b->omega, b->c, x + a * dim, va);
+        for (int i = 0; i < dim; ++i)
+            ok *= isfinite(va[i]);
+        if (!ok) {
+            if (a < bad)
+                bad = a;
+        } else if (watchdog_trips(dim, va, rho[a], b->vmax2, b->rho_lo, b->rho_hi) && a < wild) {
+            wild = a;
+        }
+    }
+    body_stages_free(bs, small);
+    if (bad < n || wild < n) {
+        st = step_failure(sim, dt, bad < n ? bad : -1, wild < n ? wild : -1);
+        leapfrog_undo(sim);
+        return st;
+    }
+    *moved = max_moved;
+    return SPH_OK;
+}
+
+/* Linear stability of the scheme: velocity Verlet is stable for
+ * dt omega_max < 2.  Linearised about a lattice at rest, the SPH gradient of
+ * a plane wave exp(i k.x) is i g(k) with g(k) = sum_b V_b sin(k.r_ab)
+ * grad W(r_ab), for the velocity gradient and the momentum equation alike,
+ * so omega(k) = c_p |g(k)| for the fastest (longitudinal) wave and
+ * dt < 2 / (c_p max_k |g(k)|).  On the square lattice max |g| h = 1.07 for
+ * the cubic spline and 1.10 for Wendland C2 at h/dx = 1.2, 1.07 and 1.13 at
+ * h/dx = 1.5 (docs/library.md); the factor below, 2 / 1.13 rounded down,
+ * covers both kernels and ratios, with |v| added to c_p as for Improved
+ * Euler. */
+const integrator integrator_leapfrog = {
+    .name = "leapfrog",
+    .description = "kick-drift-kick leapfrog (velocity Verlet), density and stress advanced with the "
+                   "half-step velocity: symplectic, stable without viscosity up to 1.75 h/(c_p + |v|)",
+    .evaluations = 2,
+    .stable_factor = 1.75,
+    .default_factor = 1.0,
+    .saved_values = leapfrog_saved_values,
+    .step = leapfrog_step,
+    .carries_rates = 1,
+};

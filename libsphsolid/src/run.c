@@ -1,0 +1,286 @@
+/*
+ * The run driver: storage for the handle's integrator, one rate evaluation
+ * with the bodies' motions applied, and the loop of steps (landing exactly
+ * on a time, periodic wrap and domain check, neighbour list upkeep, output,
+ * progress, undo of a failed step).  The step itself is the integrator's
+ * (integrator.h).
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "integrator.h"
+
+sph_status sim_prepare(sph_sim *sim)
+{
+    if (sim->failed == -1)
+        return sph_fail(sim, SPH_ERR_STATE, "this handle was created with an invalid dimension");
+    if (sim->n == 0)
+        return sph_fail(sim, SPH_ERR_STATE, "the simulation has no particles: add a body first");
+    if (!sim->dt_set)
+        sim->dt = sph_default_dt(sim);
+    sim_shrink_to_fit(sim);
+    const size_t n = sim->n;
+    const int dim = sim->dim, nc = sim->ncomp;
+    const size_t saved_per = sim_integrator(sim)->saved_values(dim, nc, sim->fx.xsph);
+    double *saved = saved_per == sim->saved_per && sim->saved ? sim->saved
+                                                            : realloc(sim->saved, n * saved_per * sizeof(double));
+    double *dv = realloc(sim->dv_dt, n * dim * sizeof(double));
+    double *dr = realloc(sim->drho_dt, n * sizeof(double));
+    double *dS = realloc(sim->dS_dt, n * nc * sizeof(double));
+    double *xs = realloc(sim->x_saved, n * dim * sizeof(double));
+    if (xs) sim->x_saved = xs;
+    if (saved) {
+        sim->saved = saved;
+        sim->saved_per = saved_per;
+    }
+    if (dv) sim->dv_dt = dv;
+    if (dr) sim->drho_dt = dr;
+    if (dS) sim->dS_dt = dS;
+    if (!saved || !dv || !dr || !dS || !xs)
+        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate integrator storage for %zu particles", n);
+    if (sim->fx.xsph) {
+        if (!sim->dx_dt)
+            sim->carry_valid = 0;
+        double *dx = realloc(sim->dx_dt, n * dim * sizeof(double));
+        if (!dx)
+            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate XSPH velocities for %zu particles", n);
+        sim->dx_dt = dx;
+    } else {
+        free(sim->dx_dt);
+        sim->dx_dt = NULL;
+    }
+    for (int k = 0; k < sim->n_bodies; ++k)
+        for (int i = 0; i < dim && sim->bodies[k].motion == SPH_MOTION_ROTATION; ++i)
+            if (sim->has_domain && sim->periodic[i])
+                return sph_fail(sim, SPH_ERR_STATE,
+                                "body '%s' rotates (sph_set_rotation), which needs a domain without periodic axes (%c is periodic)",
+                                sim->bodies[k].name, "xyz"[i]);
+    sim->nl.skin = 0.25 * sim->h;
+    const double rc = 2.0 * sim->h + sim->nl.skin;
+    for (int i = 0; i < dim; ++i)
+        if (sim->has_domain && sim->periodic[i] && sim->hi[i] - sim->lo[i] < 2.0 * rc)
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "periodic length along %c is %g m, shorter than twice the neighbour cutoff 2h + skin = %g m",
+                            "xyz"[i], sim->hi[i] - sim->lo[i], rc);
+    if (!sim->nl.valid || sim->nl.n != n) {
+        sph_status st = neighbour_build(sim);
+        if (st)
+            return st;
+    }
+    return SPH_OK;
+}
+
+/* The neighbour list stays valid while every particle moved less than
+ * skin/2 since it was built; `extra` is a bound of a displacement about to
+ * be made on top of the recorded one. */
+sph_status sim_ensure_neighbours(sph_sim *sim, double extra)
+{
+    if (sim->nl.displacement_bound + extra > 0.5 * sim->nl.skin)
+        return neighbour_build(sim);
+    return SPH_OK;
+}
+
+sph_status sim_evaluate(sph_sim *sim)
+{
+    sph_neighbours nb = {sim->nl.offsets, sim->nl.indices, NULL, NULL};
+    rate_call call = {sim->n, sim->n, sim->x, sim->v, sim->rho, sim->S, sim->mass, (size_t)sim->dim,
+                      sim->material_of, &nb, 1, sim->dv_dt, sim->drho_dt,
+                      sim->dS_dt, sim->fx.xsph ? sim->dx_dt : NULL};
+    sph_status st = rates_run(sim, &call);
+    if (st)
+        return st;
+    /* Prescribed motions: no acceleration; force-driven bodies translate
+     * rigidly under the applied force plus the SPH forces on them. */
+    const int dim = sim->dim;
+    for (int k = 0; k < sim->n_bodies; ++k) {
+        const body *b = &sim->bodies[k];
+        if (b->motion == SPH_MOTION_FIXED || b->motion == SPH_MOTION_VELOCITY) {
+            memset(sim->dv_dt + b->first * dim, 0, b->count * dim * sizeof(double));
+        } else if (b->motion == SPH_MOTION_FORCE) {
+            double sums[4] = {0.0, 0.0, 0.0, 0.0};
+            double *dv = sim->dv_dt + b->first * dim;
+            sph_rigid_force_sum(sim, b->count, sim->mass + b->first, dv, NULL, sums);
+            sph_rigid_force_apply(sim, b->count, b->vector, sums, NULL, dv);
+        }
+    }
+    return SPH_OK;
+}
+
+static sph_status wrap_and_check_domain(sph_sim *sim)
+{
+    if (!sim->has_domain)
+        return SPH_OK;
+    const int dim = sim->dim;
+    for (size_t a = 0; a < sim->n; ++a)
+        for (int i = 0; i < dim; ++i) {
+            double *xi = &sim->x[a * dim + i];
+            if (sim->periodic[i]) {
+                const double L = sim->hi[i] - sim->lo[i];
+                if (*xi >= sim->hi[i])
+                    *xi -= L;
+                else if (*xi < sim->lo[i])
+                    *xi += L;
+            } else if (*xi < sim->lo[i] || *xi > sim->hi[i]) {
+                sim->failed = 1;
+                sim->fail_step = sim->step;
+                sim->fail_particle = (long)a;
+                sim->fail_body = sim->body_of[a];
+                sim->fail_quantity = "position";
+                return sph_fail(sim, SPH_ERR_DOMAIN,
+                                "step %ld (t = %.9g s): particle %zu of body '%s' left the domain along %c (%c=%g, domain [%g, %g])",
+                                sim->step, sim->t, a, sim->bodies[sim->body_of[a]].name,
+                                "xyz"[i], "xyz"[i], *xi, sim->lo[i], sim->hi[i]);
+            }
+        }
+    return SPH_OK;
+}
+
+/* A failed step has put back the state at its start (the last good state);
+ * write it to the output file if one is open. */
+static void after_undo(sph_sim *sim)
+{
+    sim->rates_valid = 0;
+    sim->carry_valid = 0;
+    if (sim->out) {
+        char message[SPH_ERRMSG_SIZE];
+        memcpy(message, sim->errmsg, sizeof message);
+        sph_output_snapshot(sim);
+        memcpy(sim->errmsg, message, sizeof message);
+    }
+}
+
+static sph_status one_step(sph_sim *sim, const integrator *in, double dt)
+{
+    double moved = 0.0;
+    sph_status st = in->step(sim, dt, &moved);
+    if (st) {
+        after_undo(sim);
+        return st;
+    }
+    sim->rates_valid = in->carries_rates;
+    sim->t += dt;
+    sim->step++;
+    if ((st = wrap_and_check_domain(sim)))
+        return st;
+    sim->nl.displacement_bound += moved;
+    if ((st = sim_ensure_neighbours(sim, 0.0)))
+        return st;
+    if (sim->out && (st = output_write_due(sim)))
+        return st;
+    return SPH_OK;
+}
+
+/* Whole steps of dt from the handle's time towards t, and the length of the
+ * last, shortened step that lands on t (0: none): the clock of the run,
+ * step by step, as run_steps advances it. */
+static void steps_until(const sph_sim *sim, double t, double dt, long *whole, double *last)
+{
+    double now = sim->t;
+    long n = 0;
+    *last = 0.0;
+    for (;;) {
+        const double left = t - now;
+        if (left <= 1e-12 * dt)
+            break;
+        if (left < dt * (1.0 + 1e-9)) {
+            *last = left;
+            break;
+        }
+        now += dt;
+        ++n;
+    }
+    *whole = n;
+}
+
+sph_status sph_steps_until(sph_sim *sim, double t, long *whole, double *last)
+{
+    if (!sim || !whole || !last)
+        return SPH_ERR_ARGUMENT;
+    if (!isfinite(t) || t < sim->t)
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "until t=%g s: must be finite and not before the current time %g s", t, sim->t);
+    const double dt = sph_dt(sim);
+    if (!(dt > 0.0))
+        return sph_fail(sim, SPH_ERR_STATE, "until t=%g s: the time step is not known yet (add a body)", t);
+    steps_until(sim, t, dt, whole, last);
+    return SPH_OK;
+}
+
+static sph_status run_steps(sph_sim *sim, long steps, double t_end)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    sph_status st = sim_prepare(sim);
+    if (st)
+        return st;
+    sim->failed = 0;
+    const integrator *in = sim_integrator(sim);
+    const double dt = sim->dt;
+    double last = 0.0;
+    if (steps < 0)
+        steps_until(sim, t_end, dt, &steps, &last);
+    if (in->carries_rates)
+        sim->rates_valid = carried_rates_valid(sim);
+    for (long done = 0; done < steps + (last > 0.0); ++done) {
+        const int shortened = done == steps;
+        if ((st = one_step(sim, in, shortened ? last : dt)))
+            return st;
+        if (shortened)
+            sim->t = t_end;
+        if (sim->progress && sim->progress_interval > 0 &&
+            sim->step % sim->progress_interval == 0 &&
+            sim->progress(sim, sim->progress_user)) {
+            if (in->carries_rates)
+                carried_rates_set(sim);
+            return sph_fail(sim, SPH_ERR_STOPPED, "stopped by the progress callback at step %ld (t = %.9g s)",
+                            sim->step, sim->t);
+        }
+    }
+    if (in->carries_rates && sim->rates_valid)
+        carried_rates_set(sim);
+    return sph_ok(sim);
+}
+
+sph_status sph_run(sph_sim *sim, long steps)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (steps < 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "steps=%ld: must be >= 0", steps);
+    return run_steps(sim, steps, 0.0);
+}
+
+sph_status sph_run_until(sph_sim *sim, double t)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!isfinite(t) || t < sim->t)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "until t=%g s: must be finite and not before the current time %g s", t, sim->t);
+    return run_steps(sim, -1, t);
+}
+
+sph_status sph_set_progress(sph_sim *sim, long interval, sph_progress_fn fn, void *user)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (fn && interval <= 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "progress interval=%ld: must be > 0", interval);
+    sim->progress_interval = interval;
+    sim->progress = fn;
+    sim->progress_user = user;
+    return sph_ok(sim);
+}
+
+sph_status sph_failure(const sph_sim *sim, long *step, long *particle, int *body_id, const char **quantity)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (sim->failed != 1)
+        return SPH_ERR_STATE;
+    if (step) *step = sim->fail_step;
+    if (particle) *particle = sim->fail_particle;
+    if (body_id) *body_id = sim->fail_body;
+    if (quantity) *quantity = sim->fail_quantity;
+    return SPH_OK;
+}
