@@ -862,6 +862,7 @@ class Plan:
     candidates: list = field(default_factory=list)
     calibration_seconds: float = 0.0
     scene: str = ""
+    effects_examined: bool = True
 
     # ------------------------------------------------------------ output
     def to_dict(self) -> dict:
@@ -937,7 +938,9 @@ class Plan:
                     if r.get("max_seconds") else "")
                  + f", threads {r.get('threads') or 'default'}"]
         lines.append("effects the scene calls for:")
-        if not any(f.effect for f in self.findings):
+        if not self.effects_examined:
+            lines.append("  not examined (the deck's own effects are kept)")
+        elif not any(f.effect for f in self.findings):
             lines.append("  none")
         for f in self.findings:
             cost = ("" if f.cost is None else f"; cost {f.cost * 100:+.0f} % "
@@ -1027,6 +1030,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
          max_refinement: float = 4.0, timing_checks: int = 3,
          refinements: int = 3, refine_best: int = 2,
          calibration_seconds: float | None = None,
+         cache: dict | None = None,
          scene: str = "", log: Callable[[str], None] | None = None) -> Plan:
     """The cheapest settings predicted to meet an error request.
 
@@ -1075,6 +1079,10 @@ def plan(scene_factory: Callable, error: float = 0.03,
     calibration_seconds : float, optional
         Budget of the calibration runs (default: no limit); a refinement
         that would exceed it is not run.
+    cache : dict, optional
+        Calibration runs by (dx, setting, until, quantity, threads), reused
+        and filled (several requests on one scene share their ladders; the
+        same factory and probes are assumed).
     log : callable(str), optional
         Progress messages.
 
@@ -1138,9 +1146,16 @@ def plan(scene_factory: Callable, error: float = 0.03,
         counter[0] += 1
         say(f"[{counter[0]}/{total}] {cand.setting.label()}, dx = "
             f"{dx * 1e3:.3g} mm ...")
+        key = (float(f"{dx:.6g}"), cand.setting, float(until), quantity,
+               threads)
         try:
-            run = ladder_run(scene_factory, dx, cand.setting, until, probes,
-                             quantity, threads)
+            if cache is not None and key in cache:
+                run = cache[key]
+            else:
+                run = ladder_run(scene_factory, dx, cand.setting, until,
+                                 probes, quantity, threads)
+                if cache is not None:
+                    cache[key] = run
         except UnsupportedError as unsupported:
             cand.note = f"left out: {unsupported}"
             say(f"  {cand.note}")
