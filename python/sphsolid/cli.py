@@ -218,6 +218,7 @@ def _planned_scene(args, name: str, argv):
     if "--until" not in argv and loaded.request.get("until"):
         args.until = float(loaded.request["until"])
     args.dx = loaded.dx
+    args.integrator = loaded.setting.integrator
     if name == "piston":
         factory = lambda dx, **kw: planner.piston_factory(  # noqa: E731
             dx, speed=args.speed, **kw)

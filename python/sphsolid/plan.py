@@ -264,6 +264,9 @@ def make_dynamics(scene, integrator: str = DEFAULT_INTEGRATOR, **kwargs):
     one, else the library's run driver through :class:`ImprovedEuler`'s
     schedule (which steps with the handle's integrator)."""
     from . import dynamics
+    lookup = getattr(dynamics, "dynamics_for", None)
+    if callable(lookup):
+        return lookup(integrator)(scene, **kwargs)
     for name in dir(dynamics):
         cls = getattr(dynamics, name)
         if (isinstance(cls, type) and getattr(cls, "integrator", None)
