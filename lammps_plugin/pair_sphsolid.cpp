@@ -33,7 +33,7 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 /* ---------------------------------------------------------------------- */
 
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
-    Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), kernel(-1), xsph(false),
+    Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false),
     sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0),
     nrates(-1)
 {
@@ -99,7 +99,7 @@ void PairSPHSolid::settings(int narg, char **arg)
   };
 
   h_over_dx = 0.0;    // 0: the library's default
-  kernel = -1;        // -1: the library's default
+  kernel.clear();     // empty: the library's default
   effects.clear();
   xsph = false;
 
@@ -115,15 +115,7 @@ void PairSPHSolid::settings(int narg, char **arg)
       iarg += 2;
     } else if (word == "kernel") {
       if (iarg + 1 >= narg) error->all(FLERR, "pair_style sphsolid: kernel needs a name");
-      const std::string name = arg[iarg + 1];
-      if (name == "cubic_spline")
-        kernel = SPH_KERNEL_CUBIC_SPLINE;
-      else if (name == "wendland_c2")
-        kernel = SPH_KERNEL_WENDLAND_C2;
-      else
-        error->all(FLERR,
-                   "pair_style sphsolid: unknown kernel '{}' (known: cubic_spline wendland_c2)",
-                   name);
+      kernel = arg[iarg + 1];    // the library judges the name
       iarg += 2;
     } else if (effect_names.count(word)) {
       if (word == "gravity")
@@ -154,7 +146,7 @@ void PairSPHSolid::settings(int narg, char **arg)
 
   // let the library validate the effects and parameters now, not at run time
   sph_sim *check = build_handle(true);
-  support = 2.0 * sph_smoothing_length(check);
+  support = sph_support_radius(check);
   sph_destroy(check);
 }
 
@@ -249,8 +241,8 @@ sph_sim *PairSPHSolid::build_handle(bool with_effects)
   if (!s) error->all(FLERR, "pair sphsolid: out of memory creating a library handle");
   if (status != SPH_OK) fail(s, status, "creating the library handle", true);
 
-  if (kernel >= 0) {
-    status = sph_set_kernel(s, (sph_kernel) kernel);
+  if (!kernel.empty()) {
+    status = sph_set_kernel_by_name(s, kernel.c_str());
     if (status != SPH_OK) fail(s, status, "kernel", true);
   }
   if (h_over_dx > 0.0) {
@@ -334,7 +326,7 @@ void PairSPHSolid::init_style()
   if (sim) sph_destroy(sim);
   sim = nullptr;
   sim = build_handle(true);
-  support = 2.0 * sph_smoothing_length(sim);
+  support = sph_support_radius(sim);
 
   state_fix = dynamic_cast<FixSPHSolidState *>(modify->get_fix_by_id(STATE_FIX_ID));
   if (!state_fix) {

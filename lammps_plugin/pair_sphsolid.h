@@ -93,8 +93,8 @@ class PairSPHSolid : public Pair {
   int dim;
   double spacing;        // nominal particle spacing dx [m]
   double h_over_dx;      // smoothing length / spacing
-  double support;        // kernel support 2h [m]
-  int kernel;            // sph_kernel
+  double support;        // kernel support radius [m] (sph_support_radius)
+  std::string kernel;    // kernel name; empty: the library's default
   bool xsph;             // XSPH effect on: the rates carry dx/dt
   std::vector<std::pair<std::string, std::string>> effects;    // name, "key=value ..."
   std::vector<SPHSolidMaterial> type_params;    // per atom type (index 0 unused)

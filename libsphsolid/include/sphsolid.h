@@ -199,15 +199,33 @@ SPH_API sph_status sph_body_find(sph_sim *sim, const char *name, int *body);
 SPH_API sph_status sph_set_domain(sph_sim *sim, const double lo[3], const double hi[3],
                           const int periodic[3]);
 
+/* Kernels are numbered from 0 without gaps; their names come from
+ * sph_kernel_name() (the registry is in the library, kernel.h). */
 typedef enum sph_kernel {
-    SPH_KERNEL_CUBIC_SPLINE = 0, /* Monaghan (1992), support 2h (default) */
-    SPH_KERNEL_WENDLAND_C2 = 1   /* Wendland C2, support 2h */
+    SPH_KERNEL_CUBIC_SPLINE = 0, /* "cubic_spline": Monaghan (1992), support 2h (default) */
+    SPH_KERNEL_WENDLAND_C2 = 1   /* "wendland_c2": Wendland (1995) C2, support 2h */
 } sph_kernel;
 
 SPH_API sph_status sph_set_kernel(sph_sim *sim, sph_kernel kernel);
+/* The same by name; an unknown name is an error listing the known ones. */
+SPH_API sph_status sph_set_kernel_by_name(sph_sim *sim, const char *name);
+/* Static name of a kernel, or NULL if `kernel` is not one. */
+SPH_API const char *sph_kernel_name(sph_kernel kernel);
+/* Kernel of that name, or -1 if there is none. */
+SPH_API int sph_kernel_from_name(const char *name);
+/* Space-separated list of kernel names, in the order of their numbers. */
+SPH_API const char *sph_kernel_names(void);
+/* The handle's kernel in the dimensionless form used by the rate engine:
+ * at n values of q = r/h, w = h^dim W(r) and dw_dq = h^(dim+1) dW/dr
+ * (either output may be NULL).  q must be finite and >= 0. */
+SPH_API sph_status sph_kernel_values(sph_sim *sim, size_t n, const double *q,
+                                     double *w, double *dw_dq);
 /* Smoothing length as a multiple of the first body's spacing (default 1.2). */
 SPH_API sph_status sph_set_smoothing_ratio(sph_sim *sim, double h_over_dx);
 SPH_API double sph_smoothing_length(const sph_sim *sim);
+/* Support radius of the kernel [m] (2h for the kernels so far); 0 while
+ * h is unknown. */
+SPH_API double sph_support_radius(const sph_sim *sim);
 /* Set the reference particle spacing (normally the first body's): h is
  * h_over_dx times it, and the artificial stress normalises by W(dx).  For
  * handles that evaluate rates of external particles and have no bodies. */
@@ -215,13 +233,13 @@ SPH_API sph_status sph_set_spacing(sph_sim *sim, double dx);
 
 /* --------------------------------------------------------------- effects */
 
-/* Switch an effect on, with its parameters as "key=value" words.
- *   "artificial_viscosity"  alpha=1 beta=0       Monaghan (1992)
- *   "artificial_stress"     epsilon=0.3 n=4      Gray et al. (2001)
- *   "gravity"               gx=0 gy=-9.81 gz=0   [m/s^2]
- *   "damping"               rate=1000            dv/dt -= rate * v [1/s]
- *   "xsph"                  epsilon=0.5          Monaghan (1989)
- * Unknown effects or keys are errors; the message names them.
+/* Switch an effect on, with its parameters as "key=value" words, e.g.
+ *   sph_effect(sim, "artificial_viscosity", "alpha=1 beta=0").
+ * The effects, their parameters, defaults and ranges are listed by
+ * sph_effect_count() / sph_effect_info_get() / sph_effect_parameter_get()
+ * (the table in docs/library.md is checked against them).  Unknown effects
+ * or keys, values out of range and missing required values are errors;
+ * the message names them.  A parameter not given takes its default.
  * Off (the default), an effect costs nothing in the pair loop. */
 SPH_API sph_status sph_effect(sph_sim *sim, const char *name, const char *parameters);
 SPH_API sph_status sph_effect_off(sph_sim *sim, const char *name);
@@ -229,6 +247,30 @@ SPH_API sph_status sph_effect_off(sph_sim *sim, const char *name);
 SPH_API int sph_effect_is_on(const sph_sim *sim, const char *name);
 /* Space-separated list of known effect names. */
 SPH_API const char *sph_effect_names(void);
+
+/* The effect registry.  Effects are numbered 0 .. sph_effect_count() - 1;
+ * the queries take no handle and return SPH_ERR_ARGUMENT (with no message)
+ * for an index out of range or a NULL output. */
+typedef struct sph_effect_info {
+    const char *name;
+    const char *description;   /* one line, with its reference */
+    int parameter_count;
+} sph_effect_info;
+
+typedef struct sph_effect_parameter {
+    const char *key;
+    const char *unit;          /* SI, "" when dimensionless */
+    const char *description;
+    double default_value;      /* NAN when the value must be given */
+    int required;              /* 1 when there is no default */
+    double min, max;           /* allowed range, +-HUGE_VAL when unbounded */
+    int min_inclusive, max_inclusive;
+} sph_effect_parameter;
+
+SPH_API int sph_effect_count(void);
+SPH_API sph_status sph_effect_info_get(int effect, sph_effect_info *info);
+SPH_API sph_status sph_effect_parameter_get(int effect, int parameter,
+                                            sph_effect_parameter *info);
 
 /* ------------------------------------------------------------ time steps */
 

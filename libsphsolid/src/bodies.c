@@ -8,7 +8,7 @@
 
 /* ---------------------------------------------------------------- bodies */
 
-double sim_support(const sph_sim *sim) { return 2.0 * sim->h; }
+double sim_support(const sph_sim *sim) { return kernel_support(sim->kernel) * sim->h; }
 
 static sph_status grow_particles(sph_sim *sim, size_t n)
 {

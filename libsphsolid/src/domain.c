@@ -39,8 +39,9 @@ sph_status sph_set_kernel(sph_sim *sim, sph_kernel kernel)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
-    if (kernel != SPH_KERNEL_CUBIC_SPLINE && kernel != SPH_KERNEL_WENDLAND_C2)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "kernel=%d: not a sph_kernel", (int)kernel);
+    if (!sph_kernel_name(kernel))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "kernel=%d: not a sph_kernel (known: %s)", (int)kernel,
+                        sph_kernel_names());
     sim->kernel = kernel;
     sim->rates_valid = 0;
     return sph_ok(sim);

@@ -127,23 +127,144 @@ int correct_velocity_gradient(int dim, const double *M, double L[3][3])
     return 1;
 }
 
-/* ------------------------------------------------------------ the table */
+/* ------------------------------------------------------------ the registry */
 
-typedef struct parameter {
+/* One parameter of an effect: its key, what it means, its default (NAN:
+ * must be given), its allowed range and where its value lives. */
+typedef struct parameter_def {
     const char *key;
-    double value;
-    int given;
-} parameter;
+    const char *unit;        /* "" when dimensionless */
+    const char *description;
+    double fallback;         /* the default; NAN when it must be given */
+    double min, max;         /* allowed range (+-HUGE_VAL: unbounded) */
+    int min_inclusive, max_inclusive;
+    size_t offset;           /* of the double in struct effects */
+} parameter_def;
 
-/* Parse "key=value key=value" against the allowed keys. */
-static sph_status parse_parameters(sph_sim *sim, const char *effect,
-                                   const char *text, parameter *params,
-                                   int nparams)
+#define FX(field) offsetof(effects, field)
+#define ANY -HUGE_VAL, HUGE_VAL, 0, 0        /* any finite value */
+#define NON_NEGATIVE 0.0, HUGE_VAL, 1, 0     /* [0, inf) */
+#define POSITIVE 0.0, HUGE_VAL, 0, 0         /* (0, inf) */
+#define FRACTION 0.0, 1.0, 0, 1              /* (0, 1] */
+
+static const parameter_def viscosity_parameters[] = {
+    {"alpha", "", "linear (bulk) coefficient", 1.0, NON_NEGATIVE, FX(alpha)},
+    {"beta", "", "quadratic (von Neumann-Richtmyer) coefficient", 0.0, NON_NEGATIVE, FX(beta)},
+};
+static const parameter_def artificial_stress_parameters[] = {
+    {"epsilon", "", "strength of the repulsion", 0.3, FRACTION, FX(stress_epsilon)},
+    {"n", "", "exponent of the pair factor (W_ab / W(dx))^n", 4.0, POSITIVE, FX(stress_exponent)},
+};
+static const parameter_def gravity_parameters[] = {
+    {"gx", "m/s^2", "acceleration along x", 0.0, ANY, FX(g) + 0 * sizeof(double)},
+    {"gy", "m/s^2", "acceleration along y", -9.81, ANY, FX(g) + 1 * sizeof(double)},
+    {"gz", "m/s^2", "acceleration along z (0 in 2D)", 0.0, ANY, FX(g) + 2 * sizeof(double)},
+};
+static const parameter_def damping_parameters[] = {
+    {"rate", "1/s", "damping rate", NAN, POSITIVE, FX(damping_rate)},
+};
+static const parameter_def xsph_parameters[] = {
+    {"epsilon", "", "fraction of the neighbours' mean velocity difference", 0.5, FRACTION, FX(xsph_epsilon)},
+};
+
+/* Rules beyond the ranges (values in the order of the parameters). */
+static sph_status gravity_rule(sph_sim *sim, const double *g)
 {
-    if (!text)
-        return SPH_OK;
-    const char *p = text;
-    while (*p) {
+    if (sim->dim == 2 && g[2] != 0.0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "gravity: gz=%g in a 2D simulation", g[2]);
+    return SPH_OK;
+}
+
+#define PARAMETERS(array) array, (int)(sizeof array / sizeof array[0])
+#define NO_PARAMETERS NULL, 0
+
+/* The effects: one row each, the only place an effect is named.
+ *   X(name, switch in struct effects, parameters, extra rule or NULL,
+ *     one-line description with its reference)
+ * The names list, describe text (HDF5 attribute), parsing, range checks
+ * and the public sph_effect_info_get()/sph_effect_parameter_get() all come
+ * from it. */
+#define SPH_EFFECTS(X)                                                                   \
+    X(artificial_viscosity, viscosity, PARAMETERS(viscosity_parameters), NULL,           \
+      "Monaghan (1992) artificial viscosity: a pressure Pi_ab between approaching "     \
+      "pairs; damps the high-frequency modes Improved Euler amplifies")                  \
+    X(artificial_stress, artificial_stress, PARAMETERS(artificial_stress_parameters),    \
+      NULL,                                                                              \
+      "Gray, Monaghan & Swift (2001) artificial stress: a repulsion between particles " \
+      "in tension, against the tensile instability")                                     \
+    X(gravity, gravity, PARAMETERS(gravity_parameters), gravity_rule,                    \
+      "uniform body force: dv/dt += g")                                                  \
+    X(damping, damping, PARAMETERS(damping_parameters), NULL,                            \
+      "velocity damping dv/dt -= rate v, for reaching a static state fast")             \
+    X(xsph, xsph, PARAMETERS(xsph_parameters), NULL,                                     \
+      "Monaghan (1989) XSPH: particles move with a velocity smoothed over their "       \
+      "neighbours")                                                                      \
+    X(kernel_correction, kernel_correction, NO_PARAMETERS, NULL,                         \
+      "Bonet & Lok (1999) kernel-gradient correction of the velocity gradient: exact "  \
+      "for linear fields, also at free surfaces")
+
+typedef struct effect_def {
+    const char *name;
+    size_t switch_offset;    /* of the int switch in struct effects */
+    const parameter_def *parameters;
+    int n_parameters;
+    sph_status (*rule)(sph_sim *sim, const double *values);
+    const char *description;
+} effect_def;
+
+#define EFFECT_ROW(name, on, parameters, rule, text) {#name, FX(on), parameters, rule, text},
+static const effect_def registry[] = {SPH_EFFECTS(EFFECT_ROW)};
+#undef EFFECT_ROW
+#define N_EFFECTS ((int)(sizeof registry / sizeof registry[0]))
+#define MAX_PARAMETERS 8
+
+#define EFFECT_WORD(name, on, parameters, rule, text) " " #name
+const char *sph_effect_names(void)
+{
+    return SPH_EFFECTS(EFFECT_WORD) + 1;
+}
+#undef EFFECT_WORD
+
+int sph_effect_count(void) { return N_EFFECTS; }
+
+sph_status sph_effect_info_get(int effect, sph_effect_info *info)
+{
+    if (effect < 0 || effect >= N_EFFECTS || !info)
+        return SPH_ERR_ARGUMENT;
+    const effect_def *e = &registry[effect];
+    info->name = e->name;
+    info->description = e->description;
+    info->parameter_count = e->n_parameters;
+    return SPH_OK;
+}
+
+sph_status sph_effect_parameter_get(int effect, int parameter, sph_effect_parameter *info)
+{
+    if (effect < 0 || effect >= N_EFFECTS || !info || parameter < 0 ||
+        parameter >= registry[effect].n_parameters)
+        return SPH_ERR_ARGUMENT;
+    const parameter_def *p = &registry[effect].parameters[parameter];
+    info->key = p->key;
+    info->unit = p->unit;
+    info->description = p->description;
+    info->default_value = p->fallback;
+    info->required = isnan(p->fallback);
+    info->min = p->min;
+    info->max = p->max;
+    info->min_inclusive = p->min_inclusive;
+    info->max_inclusive = p->max_inclusive;
+    return SPH_OK;
+}
+
+static double *value_at(effects *fx, size_t offset) { return (double *)((char *)fx + offset); }
+static int *switch_at(effects *fx, size_t offset) { return (int *)((char *)fx + offset); }
+
+/* Parse "key=value key=value" (also separated by commas) into values[],
+ * which hold the defaults on entry. */
+static sph_status parse_parameters(sph_sim *sim, const effect_def *e, const char *text,
+                                   double *values, int *given)
+{
+    for (const char *p = text ? text : ""; *p;) {
         while (*p == ' ' || *p == '\t' || *p == ',')
             ++p;
         if (!*p)
@@ -153,187 +274,122 @@ static sph_status parse_parameters(sph_sim *sim, const char *effect,
         if (!eq || eq > end)
             return sph_fail(sim, SPH_ERR_ARGUMENT,
                             "effect '%s': parameter '%.*s' is not of the form key=value",
-                            effect, (int)(end - p), p);
+                            e->name, (int)(end - p), p);
         const size_t klen = (size_t)(eq - p);
         int found = -1;
-        for (int i = 0; i < nparams; ++i)
-            if (strlen(params[i].key) == klen && strncmp(params[i].key, p, klen) == 0)
+        for (int i = 0; i < e->n_parameters; ++i)
+            if (strlen(e->parameters[i].key) == klen && strncmp(e->parameters[i].key, p, klen) == 0)
                 found = i;
         if (found < 0) {
             char known[256] = "";
-            for (int i = 0; i < nparams; ++i) {
-                strncat(known, params[i].key, sizeof known - strlen(known) - 2);
-                if (i + 1 < nparams)
+            for (int i = 0; i < e->n_parameters; ++i) {
+                strncat(known, e->parameters[i].key, sizeof known - strlen(known) - 3);
+                if (i + 1 < e->n_parameters)
                     strncat(known, ", ", sizeof known - strlen(known) - 1);
             }
             return sph_fail(sim, SPH_ERR_ARGUMENT,
                             "effect '%s': unknown parameter '%.*s' (known: %s)",
-                            effect, (int)klen, p, nparams ? known : "none");
+                            e->name, (int)klen, p, e->n_parameters ? known : "none");
         }
-        char *stop;
-        char number[64];
+        const char *key = e->parameters[found].key;
+        char number[64], *stop;
         const size_t vlen = (size_t)(end - eq - 1);
         if (vlen == 0 || vlen >= sizeof number)
             return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "effect '%s': parameter '%s' has no valid value",
-                            effect, params[found].key);
+                            "effect '%s': parameter '%s' has no valid value", e->name, key);
         memcpy(number, eq + 1, vlen);
         number[vlen] = '\0';
         const double value = strtod(number, &stop);
         if (*stop != '\0' || !isfinite(value))
             return sph_fail(sim, SPH_ERR_ARGUMENT,
                             "effect '%s': parameter %s='%s' is not a finite number",
-                            effect, params[found].key, number);
-        params[found].value = value;
-        params[found].given = 1;
+                            e->name, key, number);
+        values[found] = value;
+        given[found] = 1;
         p = end;
     }
     return SPH_OK;
 }
 
-static sph_status set_viscosity(sph_sim *sim, const char *text)
+/* The parameter's range as text: ">= 0", "> 0", "in (0, 1]". */
+static void range_text(const parameter_def *p, char *buf, size_t size)
 {
-    parameter p[] = {{"alpha", 1.0, 0}, {"beta", 0.0, 0}};
-    sph_status st = parse_parameters(sim, "artificial_viscosity", text, p, 2);
-    if (st)
-        return st;
-    if (p[0].value < 0.0 || p[1].value < 0.0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "artificial_viscosity: alpha=%g and beta=%g must be >= 0",
-                        p[0].value, p[1].value);
-    sim->fx.viscosity = 1;
-    sim->fx.alpha = p[0].value;
-    sim->fx.beta = p[1].value;
+    if (p->max == HUGE_VAL)
+        snprintf(buf, size, "%s %g", p->min_inclusive ? ">=" : ">", p->min);
+    else if (p->min == -HUGE_VAL)
+        snprintf(buf, size, "%s %g", p->max_inclusive ? "<=" : "<", p->max);
+    else
+        snprintf(buf, size, "in %c%g, %g%c", p->min_inclusive ? '[' : '(', p->min, p->max,
+                 p->max_inclusive ? ']' : ')');
+}
+
+static sph_status check_range(sph_sim *sim, const effect_def *e, const parameter_def *p,
+                              double value, int given)
+{
+    char range[64];
+    range_text(p, range, sizeof range);
+    const char *unit = p->unit[0] ? p->unit : NULL;
+    if (!given && isnan(value))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: %s=<value> must be given, %s%s%s%s", e->name,
+                        p->key, range, unit ? " [" : "", unit ? unit : "", unit ? "]" : "");
+    const int below = p->min_inclusive ? value < p->min : value <= p->min;
+    const int above = p->max_inclusive ? value > p->max : value >= p->max;
+    if (below || above)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: %s=%g must be %s%s%s%s", e->name, p->key, value,
+                        range, unit ? " [" : "", unit ? unit : "", unit ? "]" : "");
     return SPH_OK;
 }
 
-static sph_status set_artificial_stress(sph_sim *sim, const char *text)
-{
-    parameter p[] = {{"epsilon", 0.3, 0}, {"n", 4.0, 0}};
-    sph_status st = parse_parameters(sim, "artificial_stress", text, p, 2);
-    if (st)
-        return st;
-    if (p[0].value <= 0.0 || p[0].value > 1.0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "artificial_stress: epsilon=%g must be in (0, 1]", p[0].value);
-    if (p[1].value <= 0.0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "artificial_stress: n=%g must be > 0", p[1].value);
-    sim->fx.artificial_stress = 1;
-    sim->fx.stress_epsilon = p[0].value;
-    sim->fx.stress_exponent = p[1].value;
-    return SPH_OK;
-}
-
-static sph_status set_gravity(sph_sim *sim, const char *text)
-{
-    parameter p[] = {{"gx", 0.0, 0}, {"gy", -9.81, 0}, {"gz", 0.0, 0}};
-    sph_status st = parse_parameters(sim, "gravity", text, p, 3);
-    if (st)
-        return st;
-    if (sim->dim == 2 && p[2].value != 0.0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "gravity: gz=%g in a 2D simulation", p[2].value);
-    sim->fx.gravity = 1;
-    for (int i = 0; i < 3; ++i)
-        sim->fx.g[i] = p[i].value;
-    return SPH_OK;
-}
-
-static sph_status set_damping(sph_sim *sim, const char *text)
-{
-    parameter p[] = {{"rate", 0.0, 0}};
-    sph_status st = parse_parameters(sim, "damping", text, p, 1);
-    if (st)
-        return st;
-    if (!p[0].given || !(p[0].value > 0.0))
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "damping: rate=%g must be given and > 0 [1/s]", p[0].value);
-    sim->fx.damping = 1;
-    sim->fx.damping_rate = p[0].value;
-    return SPH_OK;
-}
-
-static sph_status set_xsph(sph_sim *sim, const char *text)
-{
-    parameter p[] = {{"epsilon", 0.5, 0}};
-    sph_status st = parse_parameters(sim, "xsph", text, p, 1);
-    if (st)
-        return st;
-    if (p[0].value <= 0.0 || p[0].value > 1.0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "xsph: epsilon=%g must be in (0, 1]", p[0].value);
-    sim->fx.xsph = 1;
-    sim->fx.xsph_epsilon = p[0].value;
-    return SPH_OK;
-}
-
-static sph_status set_kernel_correction(sph_sim *sim, const char *text)
-{
-    sph_status st = parse_parameters(sim, "kernel_correction", text, NULL, 0);
-    if (st)
-        return st;
-    sim->fx.kernel_correction = 1;
-    return SPH_OK;
-}
-
-typedef struct effect_entry {
-    const char *name;
-    sph_status (*set)(sph_sim *, const char *);
-    size_t switch_offset;   /* offset of the int switch in struct effects */
-} effect_entry;
-
-static const effect_entry effect_table[] = {
-    {"artificial_viscosity", set_viscosity, offsetof(effects, viscosity)},
-    {"artificial_stress", set_artificial_stress, offsetof(effects, artificial_stress)},
-    {"gravity", set_gravity, offsetof(effects, gravity)},
-    {"damping", set_damping, offsetof(effects, damping)},
-    {"xsph", set_xsph, offsetof(effects, xsph)},
-    {"kernel_correction", set_kernel_correction, offsetof(effects, kernel_correction)},
-};
-#define N_EFFECTS (sizeof effect_table / sizeof effect_table[0])
-
-const char *sph_effect_names(void)
-{
-    return "artificial_viscosity artificial_stress gravity damping xsph kernel_correction";
-}
-
-static const effect_entry *find_effect(const char *name)
+static const effect_def *find_effect(const char *name)
 {
     if (!name)
         return NULL;
-    for (size_t i = 0; i < N_EFFECTS; ++i)
-        if (strcmp(effect_table[i].name, name) == 0)
-            return &effect_table[i];
+    for (int i = 0; i < N_EFFECTS; ++i)
+        if (strcmp(registry[i].name, name) == 0)
+            return &registry[i];
     return NULL;
+}
+
+static sph_status unknown_effect(sph_sim *sim, const char *name)
+{
+    return sph_fail(sim, SPH_ERR_ARGUMENT, "unknown effect '%s' (known: %s)",
+                    name ? name : "(null)", sph_effect_names());
 }
 
 sph_status effects_set(sph_sim *sim, const char *name, const char *parameters)
 {
-    const effect_entry *e = find_effect(name);
+    const effect_def *e = find_effect(name);
     if (!e)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "unknown effect '%s' (known: %s)",
-                        name ? name : "(null)", sph_effect_names());
-    effects saved = sim->fx;
-    sph_status st = e->set(sim, parameters);
+        return unknown_effect(sim, name);
+    double values[MAX_PARAMETERS];
+    int given[MAX_PARAMETERS] = {0};
+    for (int i = 0; i < e->n_parameters; ++i)
+        values[i] = e->parameters[i].fallback;
+    sph_status st = parse_parameters(sim, e, parameters, values, given);
+    for (int i = 0; i < e->n_parameters && !st; ++i)
+        st = check_range(sim, e, &e->parameters[i], values[i], given[i]);
+    if (!st && e->rule)
+        st = e->rule(sim, values);
     if (st)
-        sim->fx = saved;
-    return st;
+        return st;
+    for (int i = 0; i < e->n_parameters; ++i)
+        *value_at(&sim->fx, e->parameters[i].offset) = values[i];
+    *switch_at(&sim->fx, e->switch_offset) = 1;
+    return SPH_OK;
 }
 
 sph_status effects_off(sph_sim *sim, const char *name)
 {
-    const effect_entry *e = find_effect(name);
+    const effect_def *e = find_effect(name);
     if (!e)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "unknown effect '%s' (known: %s)",
-                        name ? name : "(null)", sph_effect_names());
-    *(int *)((char *)&sim->fx + e->switch_offset) = 0;
+        return unknown_effect(sim, name);
+    *switch_at(&sim->fx, e->switch_offset) = 0;
     return SPH_OK;
 }
 
 int effects_is_on(const effects *fx, const char *name)
 {
-    const effect_entry *e = find_effect(name);
+    const effect_def *e = find_effect(name);
     if (!e)
         return -1;
     return *(const int *)((const char *)fx + e->switch_offset) != 0;
@@ -343,18 +399,15 @@ void effects_describe(const effects *fx, char *buf, size_t size)
 {
     buf[0] = '\0';
     size_t used = 0;
-#define APPEND(...) do { if (used < size) used += (size_t)snprintf(buf + used, size - used, __VA_ARGS__); } while (0)
-    if (fx->viscosity)
-        APPEND("artificial_viscosity alpha=%.17g beta=%.17g; ", fx->alpha, fx->beta);
-    if (fx->artificial_stress)
-        APPEND("artificial_stress epsilon=%.17g n=%.17g; ", fx->stress_epsilon, fx->stress_exponent);
-    if (fx->gravity)
-        APPEND("gravity gx=%.17g gy=%.17g gz=%.17g; ", fx->g[0], fx->g[1], fx->g[2]);
-    if (fx->damping)
-        APPEND("damping rate=%.17g; ", fx->damping_rate);
-    if (fx->xsph)
-        APPEND("xsph epsilon=%.17g; ", fx->xsph_epsilon);
-    if (fx->kernel_correction)
-        APPEND("kernel_correction; ");
-#undef APPEND
+    for (int i = 0; i < N_EFFECTS && used < size; ++i) {
+        const effect_def *e = &registry[i];
+        if (!effects_is_on(fx, e->name))
+            continue;
+        used += (size_t)snprintf(buf + used, size - used, "%s", e->name);
+        for (int k = 0; k < e->n_parameters && used < size; ++k)
+            used += (size_t)snprintf(buf + used, size - used, " %s=%.17g", e->parameters[k].key,
+                                     *(const double *)((const char *)fx + e->parameters[k].offset));
+        if (used < size)
+            used += (size_t)snprintf(buf + used, size - used, "; ");
+    }
 }

@@ -273,7 +273,7 @@ static void write_static(sph_sim *sim, hid_t file)
     attr_double(par, "smoothing_length", &sim->h, 1);
     attr_double(par, "spacing", &sim->dx_ref, 1);
     attr_double(par, "dt", &sim->dt, 1);
-    attr_string(par, "kernel", sim->kernel == SPH_KERNEL_CUBIC_SPLINE ? "cubic_spline" : "wendland_c2");
+    attr_string(par, "kernel", sph_kernel_name((sph_kernel)sim->kernel));
     attr_string(par, "integrator", sim_integrator(sim)->name);
     {
         char fx[1024];

@@ -14,6 +14,8 @@
 
 #include <math.h>
 
+#include "sphsolid.h"
+
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
@@ -69,21 +71,55 @@ static inline double kernel_wendland_f(double q)
     return -5.0 * t * t * t;
 }
 
-/* Dispatch by kernel id (0 cubic spline, 1 Wendland C2); with a constant
- * id the branch folds away. */
+/* The kernel registry: one row per kernel, the only place a kernel is
+ * named.  Columns: the sph_kernel value, its name, the prefix of its
+ * functions (PREFIX_w, PREFIX_f, PREFIX_sigma above) and its support in
+ * units of h.  The dispatch below, the names the library reports and the
+ * rate-loop variants are generated from it. */
+#define SPH_KERNELS(X)                                                        \
+    X(SPH_KERNEL_CUBIC_SPLINE, cubic_spline, kernel_cubic, 2.0)               \
+    X(SPH_KERNEL_WENDLAND_C2, wendland_c2, kernel_wendland, 2.0)
+
+/* Dispatch by kernel id; with a constant id the switch folds away. */
 static inline double kernel_w(int kernel, double q)
 {
-    return kernel == 0 ? kernel_cubic_w(q) : kernel_wendland_w(q);
+    switch (kernel) {
+#define KERNEL_CASE(id, name, prefix, support) case id: return prefix##_w(q);
+        SPH_KERNELS(KERNEL_CASE)
+#undef KERNEL_CASE
+    }
+    return 0.0;
 }
 
 static inline double kernel_f(int kernel, double q)
 {
-    return kernel == 0 ? kernel_cubic_f(q) : kernel_wendland_f(q);
+    switch (kernel) {
+#define KERNEL_CASE(id, name, prefix, support) case id: return prefix##_f(q);
+        SPH_KERNELS(KERNEL_CASE)
+#undef KERNEL_CASE
+    }
+    return 0.0;
 }
 
 static inline double kernel_sigma(int kernel, int dim)
 {
-    return kernel == 0 ? kernel_cubic_sigma(dim) : kernel_wendland_sigma(dim);
+    switch (kernel) {
+#define KERNEL_CASE(id, name, prefix, support) case id: return prefix##_sigma(dim);
+        SPH_KERNELS(KERNEL_CASE)
+#undef KERNEL_CASE
+    }
+    return 0.0;
+}
+
+/* Support radius in units of h. */
+static inline double kernel_support(int kernel)
+{
+    switch (kernel) {
+#define KERNEL_CASE(id, name, prefix, support) case id: return support;
+        SPH_KERNELS(KERNEL_CASE)
+#undef KERNEL_CASE
+    }
+    return 0.0;
 }
 
 #endif

@@ -14,7 +14,8 @@ calls for, advance it with :class:`ImprovedEuler`, watch it with
     dyn.run(until=0.3e-3)
 """
 from ._lib import (SimulationError, StoppedError, UnsupportedError,
-                   effect_names, library_path, version)
+                   effect_names, effect_registry, kernel_names, kernel_values,
+                   library_path, version)
 from .build import (Body, Fixed, Force, Free, Pressure, Rotation, Velocity,
                     block, box, disc, piston, plate, rectangle, ring)
 from .calculators import Calculator, CLibrary
@@ -31,7 +32,8 @@ __all__ = ["Material", "Scene", "Body", "Free", "Fixed", "Velocity", "Force",
            "Pressure", "Rotation", "block", "rectangle", "box", "plate", "piston", "disc",
            "ring", "Calculator", "CLibrary", "Dynamics", "ImprovedEuler",
            "Leapfrog", "Probes", "PAPER_PROBES", "Trajectory", "scenes", "plan",
-           "effect_names", "version",
+           "effect_names", "effect_registry", "kernel_names", "kernel_values",
+           "version",
            "library_path", "SimulationError", "StoppedError",
            "UnsupportedError"]
 

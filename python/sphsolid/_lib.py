@@ -46,8 +46,6 @@ STATUS = {0: "SPH_OK", 1: "SPH_ERR_ARGUMENT", 2: "SPH_ERR_MEMORY",
 # sph_motion
 MOTION_FREE, MOTION_FIXED, MOTION_VELOCITY, MOTION_FORCE = 0, 1, 2, 3
 MOTION_ROTATION = 4
-# sph_kernel
-KERNELS = {"cubic_spline": 0, "wendland_c2": 1}
 # sph_field_id
 FIELD_POSITION = 0
 FIELD_VELOCITY = 1
@@ -119,6 +117,18 @@ class IntegratorInfo(Structure):
                 ("carries_rates", c_int)]
 
 
+class EffectInfo(Structure):
+    _fields_ = [("name", c_char_p), ("description", c_char_p),
+                ("parameter_count", c_int)]
+
+
+class EffectParameter(Structure):
+    _fields_ = [("key", c_char_p), ("unit", c_char_p),
+                ("description", c_char_p), ("default_value", c_double),
+                ("required", c_int), ("min", c_double), ("max", c_double),
+                ("min_inclusive", c_int), ("max_inclusive", c_int)]
+
+
 class PaperScene(Structure):
     _fields_ = [("specimen", c_int), ("piston", c_int), ("plate", c_int),
                 ("material", c_int), ("probe_A", c_int), ("probe_B", c_int),
@@ -164,6 +174,15 @@ _PROTOTYPES = {
     "sph_effect_off": (c_int, [_sim, c_char_p]),
     "sph_effect_is_on": (c_int, [_sim, c_char_p]),
     "sph_effect_names": (c_char_p, []),
+    "sph_effect_count": (c_int, []),
+    "sph_effect_info_get": (c_int, [c_int, POINTER(EffectInfo)]),
+    "sph_effect_parameter_get": (c_int, [c_int, c_int,
+                                         POINTER(EffectParameter)]),
+    "sph_set_kernel_by_name": (c_int, [_sim, c_char_p]),
+    "sph_kernel_name": (c_char_p, [c_int]),
+    "sph_kernel_from_name": (c_int, [c_char_p]),
+    "sph_kernel_names": (c_char_p, []),
+    "sph_kernel_values": (c_int, [_sim, c_size_t, _dp, _dp, _dp]),
     "sph_stable_dt": (c_double, [_sim]),
     "sph_default_dt": (c_double, [_sim]),
     "sph_set_dt": (c_int, [_sim, c_double, c_int]),
@@ -349,6 +368,60 @@ def steps_until(sim, t: float) -> tuple[int, float]:
     return int(whole.value), float(last.value)
 
 
+def kernel_names() -> list[str]:
+    """Kernel names the library knows, in the order of their numbers."""
+    return lib.sph_kernel_names().decode().split()
+
+
+def kernel_values(kernel: str, q, dimension: int = 2):
+    """The library's kernel at q = r/h (array-like, >= 0), in the
+    dimensionless form of ``sph_kernel_values``: returns (w, dw_dq) with
+    W(r) = w / h^dimension and dW/dr = dw_dq / h^(dimension + 1)."""
+    import numpy as np
+    q = np.ascontiguousarray(q, dtype=np.float64)
+    w = np.empty_like(q)
+    dw_dq = np.empty_like(q)
+    handle = new_handle(dimension)
+    try:
+        check(lib.sph_set_kernel_by_name(handle, as_name(kernel, "kernel")),
+              handle, "kernel")
+        check(lib.sph_kernel_values(handle, q.size, q.ctypes.data_as(_dp),
+                                    w.ctypes.data_as(_dp),
+                                    dw_dq.ctypes.data_as(_dp)),
+              handle, "kernel_values")
+    finally:
+        lib.sph_destroy(handle)
+    return w, dw_dq
+
+
+def effect_registry() -> dict:
+    """The library's effect registry: for each effect name, its one-line
+    ``description`` and its ``parameters``, each a dict with ``unit``,
+    ``description``, ``default`` (None when it must be given), ``min``,
+    ``max`` (+-inf when unbounded), ``min_inclusive`` and
+    ``max_inclusive``."""
+    out = {}
+    info = EffectInfo()
+    for e in range(lib.sph_effect_count()):
+        check(lib.sph_effect_info_get(e, ctypes.byref(info)), None,
+              "sph_effect_info_get")
+        parameters = {}
+        for k in range(info.parameter_count):
+            p = EffectParameter()
+            check(lib.sph_effect_parameter_get(e, k, ctypes.byref(p)), None,
+                  "sph_effect_parameter_get")
+            parameters[p.key.decode()] = {
+                "unit": p.unit.decode(),
+                "description": p.description.decode(),
+                "default": None if p.required else p.default_value,
+                "min": p.min, "max": p.max,
+                "min_inclusive": bool(p.min_inclusive),
+                "max_inclusive": bool(p.max_inclusive)}
+        out[info.name.decode()] = {"description": info.description.decode(),
+                                   "parameters": parameters}
+    return out
+
+
 def new_handle(dimension: int):
     """Create an ``sph_sim`` handle; raise ValueError on a bad dimension."""
     handle = c_void_p()
@@ -374,6 +447,27 @@ def as_doubles(values, n: int, name: str):
     if len(seq) != n:
         raise ValueError(f"{name} must have {n} entries, got {len(seq)}")
     return (c_double * n)(*seq)
+
+
+def as_double(value, name: str) -> float:
+    """A Python number as a float (the library judges its value); other
+    types are a ValueError naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        try:
+            import numpy
+            if isinstance(value, (numpy.integer, numpy.floating)):
+                return float(value)
+        except ImportError:
+            pass
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    return float(value)
+
+
+def as_name(value, name: str) -> bytes:
+    """A name (str) as bytes for the library, which judges it."""
+    if not isinstance(value, str):
+        raise ValueError(f"{name} must be a name (str), got {value!r}")
+    return value.encode()
 
 
 def encode_path(path) -> bytes:

@@ -283,9 +283,10 @@ def _check_material(material):
 
 
 def _check_name(name):
-    if not isinstance(name, str) or not name or len(name.encode()) >= 64:
-        raise ValueError(f"name must be a non-empty string shorter than 64 "
-                         f"bytes, got {name!r}")
+    """A body name must be a str; the library judges it (empty, too long,
+    already used) when the body is added to a scene."""
+    if not isinstance(name, str):
+        raise ValueError(f"name must be a str, got {name!r}")
     return name
 
 

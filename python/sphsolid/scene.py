@@ -8,7 +8,6 @@ the particle arrays are numpy views of the library's own storage.
 from __future__ import annotations
 
 import ctypes
-import math
 from typing import Iterable, Mapping, Sequence
 
 import numpy as np
@@ -34,13 +33,9 @@ class _Buffer:
 
 
 def _format_value(key, value):
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ValueError(f"effect parameter {key} must be a number, got "
-                         f"{value!r}")
-    if not math.isfinite(value):
-        raise ValueError(f"effect parameter {key} must be finite, got "
-                         f"{value!r}")
-    return f"{key}={float(value)!r}"
+    """key=value with the value as the shortest exact decimal; the library
+    checks it (finite, in range)."""
+    return f"{key}={_lib.as_double(value, f'effect parameter {key}')!r}"
 
 
 class Scene:
@@ -96,12 +91,12 @@ class Scene:
         self._effects: dict[str, dict] = {}
         self.domain = None
         self.periodic = (False,) * dimension
-        if kernel not in _lib.KERNELS:
-            raise ValueError(f"kernel must be one of {sorted(_lib.KERNELS)}, "
-                             f"got {kernel!r}")
-        self.kernel = kernel
-        self._check(lib.sph_set_kernel(self._handle, _lib.KERNELS[kernel]),
+        if not isinstance(kernel, str):
+            raise ValueError(f"kernel must be a name (one of "
+                             f"{_lib.kernel_names()}), got {kernel!r}")
+        self._check(lib.sph_set_kernel_by_name(self._handle, kernel.encode()),
                     "kernel")
+        self.kernel = kernel
         self.smoothing_ratio = DEFAULT_SMOOTHING_RATIO
         if smoothing_ratio is not None:
             self.set_smoothing_ratio(smoothing_ratio)
@@ -130,14 +125,9 @@ class Scene:
 
     # ---------------------------------------------------- model settings
     def set_smoothing_ratio(self, ratio: float) -> None:
-        """Set h / dx (dx: the first body's spacing)."""
-        try:
-            value = float(ratio)
-        except (TypeError, ValueError):
-            raise ValueError(f"smoothing_ratio must be a number, got "
-                             f"{ratio!r}") from None
-        if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"smoothing_ratio must be > 0, got {ratio!r}")
+        """Set h / dx (dx: the first body's spacing); the library says
+        which values it accepts."""
+        value = _lib.as_double(ratio, "smoothing_ratio")
         self._check(lib.sph_set_smoothing_ratio(self._handle, value),
                     "smoothing_ratio")
         self.smoothing_ratio = value
@@ -173,23 +163,16 @@ class Scene:
         Parameters are passed to the library as ``key=value`` words; an
         unknown effect name or key is a ValueError that names it.
         """
-        known = _lib.effect_names()
-        if name not in known:
-            raise ValueError(f"unknown effect {name!r}; known effects: "
-                             f"{', '.join(known)}")
         words = " ".join(_format_value(k, v) for k, v in parameters.items())
-        self._check(lib.sph_effect(self._handle, name.encode(),
-                                   words.encode()), f"effect {name!r}")
+        self._check(lib.sph_effect(self._handle, _lib.as_name(name, "effect"),
+                                   words.encode()), "effect")
         self._effects[name] = dict(parameters)
 
     def effect_off(self, name: str) -> None:
         """Switch an effect off."""
-        known = _lib.effect_names()
-        if name not in known:
-            raise ValueError(f"unknown effect {name!r}; known effects: "
-                             f"{', '.join(known)}")
-        self._check(lib.sph_effect_off(self._handle, name.encode()),
-                    f"effect {name!r}")
+        self._check(lib.sph_effect_off(self._handle,
+                                       _lib.as_name(name, "effect")),
+                    "effect")
         self._effects.pop(name, None)
 
     @property

@@ -293,6 +293,64 @@ static void failing_low_level_calls_leave_a_message(void **state)
     sph_destroy(sim);
 }
 
+/* The effect registry: every listed effect switches on with its defaults
+ * (or fails naming its required parameter), is reported by
+ * sph_effect_names() and the describe text, and refuses a value just
+ * outside each bounded range, naming the key. */
+static void every_registered_effect_honours_its_ranges(void **state)
+{
+    (void)state;
+    const int count = sph_effect_count();
+    assert_true(count >= 6);
+    size_t names_length = 0;
+    for (int e = 0; e < count; ++e) {
+        sph_effect_info info;
+        check(NULL, sph_effect_info_get(e, &info));
+        assert_non_null(strstr(sph_effect_names(), info.name));
+        names_length += strlen(info.name) + 1;
+        assert_true(strlen(info.description) > 10);
+        char defaults[256] = "";
+        for (int k = 0; k < info.parameter_count; ++k) {
+            sph_effect_parameter p;
+            check(NULL, sph_effect_parameter_get(e, k, &p));
+            const double ok = p.required ? (isfinite(p.max) ? p.max : p.min + 1.0) : p.default_value;
+            snprintf(defaults + strlen(defaults), sizeof defaults - strlen(defaults), "%s=%.17g ",
+                     p.key, ok);
+        }
+        for (int k = 0; k < info.parameter_count; ++k) {
+            sph_effect_parameter p;
+            check(NULL, sph_effect_parameter_get(e, k, &p));
+            sph_sim *sim = new_sim(3);
+            char text[320], needle[64];
+            snprintf(needle, sizeof needle, "%s=", p.key);
+            if (p.required)
+                assert_refused(sim, sph_effect(sim, info.name, ""), SPH_ERR_ARGUMENT, needle);
+            /* just outside each bound: the bound itself when open, a step past it when closed */
+            const double outside[2] = {p.min_inclusive ? p.min - 1e-3 : p.min,
+                                       p.max_inclusive ? p.max + 1e-3 : p.max};
+            for (int side = 0; side < 2; ++side) {
+                if (!isfinite(outside[side]))
+                    continue;
+                snprintf(text, sizeof text, "%s %s=%.17g", defaults, p.key, outside[side]);
+                assert_refused(sim, sph_effect(sim, info.name, text), SPH_ERR_ARGUMENT, needle);
+                assert_int_equal(sph_effect_is_on(sim, info.name), 0);
+            }
+            sph_destroy(sim);
+        }
+        sph_sim *sim = new_sim(3);
+        check(sim, sph_effect(sim, info.name, defaults));
+        assert_int_equal(sph_effect_is_on(sim, info.name), 1);
+        check(sim, sph_effect_off(sim, info.name));
+        assert_int_equal(sph_effect_is_on(sim, info.name), 0);
+        sph_destroy(sim);
+    }
+    assert_int_equal(strlen(sph_effect_names()) + 1, names_length);
+    sph_effect_info info;
+    assert_int_equal(sph_effect_info_get(count, &info), SPH_ERR_ARGUMENT);
+    sph_effect_parameter p;
+    assert_int_equal(sph_effect_parameter_get(0, 99, &p), SPH_ERR_ARGUMENT);
+}
+
 static void run_until_lands_on_time_and_callback_can_stop(void **state)
 {
     (void)state;
@@ -324,6 +382,7 @@ int main(void)
         cmocka_unit_test(results_do_not_depend_on_thread_count),
         cmocka_unit_test(run_until_lands_on_time_and_callback_can_stop),
         cmocka_unit_test(failing_low_level_calls_leave_a_message),
+        cmocka_unit_test(every_registered_effect_honours_its_ranges),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,70 @@
+/* The kernel registry seen from outside: names and values of the kernels
+ * listed in kernel.h. */
+#include <math.h>
+#include <string.h>
+
+#include "kernel.h"
+#include "sim.h"
+
+#define KERNEL_WORD(id, name, prefix, support) " " #name
+const char *sph_kernel_names(void)
+{
+    return SPH_KERNELS(KERNEL_WORD) + 1;
+}
+#undef KERNEL_WORD
+
+const char *sph_kernel_name(sph_kernel kernel)
+{
+    switch (kernel) {
+#define KERNEL_CASE(id, name, prefix, support) case id: return #name;
+        SPH_KERNELS(KERNEL_CASE)
+#undef KERNEL_CASE
+    }
+    return NULL;
+}
+
+int sph_kernel_from_name(const char *name)
+{
+    if (!name)
+        return -1;
+#define KERNEL_MATCH(id, kname, prefix, support) if (strcmp(name, #kname) == 0) return id;
+    SPH_KERNELS(KERNEL_MATCH)
+#undef KERNEL_MATCH
+    return -1;
+}
+
+sph_status sph_set_kernel_by_name(sph_sim *sim, const char *name)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    const int kernel = sph_kernel_from_name(name);
+    if (kernel < 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "unknown kernel '%s' (known: %s)",
+                        name ? name : "(null)", sph_kernel_names());
+    return sph_set_kernel(sim, (sph_kernel)kernel);
+}
+
+sph_status sph_kernel_values(sph_sim *sim, size_t n, const double *q, double *w, double *dw_dq)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (n > 0 && !q)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_kernel_values: q must not be NULL");
+    for (size_t i = 0; i < n; ++i)
+        if (!(q[i] >= 0.0) || !isfinite(q[i]))
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_kernel_values: q[%zu]=%g must be finite and >= 0",
+                            i, q[i]);
+    const double sigma = kernel_sigma(sim->kernel, sim->dim);
+    for (size_t i = 0; i < n; ++i) {
+        if (w)
+            w[i] = sigma * kernel_w(sim->kernel, q[i]);
+        if (dw_dq)   /* dw/dq = q f(q) */
+            dw_dq[i] = sigma * q[i] * kernel_f(sim->kernel, q[i]);
+    }
+    return sph_ok(sim);
+}
+
+double sph_support_radius(const sph_sim *sim)
+{
+    return sim ? kernel_support(sim->kernel) * sim->h : 0.0;
+}
