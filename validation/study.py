@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sphsolid import build, scenes
+from sphsolid import build, kernel_values, scenes
 from sphsolid.calculators import CLibrary
 from sphsolid.dynamics import ImprovedEuler
 from sphsolid.probes import Probes
@@ -49,15 +49,9 @@ OPTIONS = {
 
 # ------------------------------------------------------------ kernels
 def _dW_dq(q: np.ndarray, kernel: str) -> np.ndarray:
-    """dW/dq of the 2D kernels times h^2 (support 2h), as in the library:
-    cubic spline (Monaghan 1992) with 10/(7 pi), Wendland C2 with 7/(4 pi)."""
-    if kernel == "cubic_spline":
-        return np.where(q < 1, -3 * q + 2.25 * q * q,
-                        np.where(q < 2, -0.75 * (2 - q) ** 2, 0.0)) \
-            * 10 / (7 * np.pi)
-    if kernel == "wendland_c2":
-        return np.where(q < 2, -5 * q * (1 - q / 2) ** 3, 0.0) * 7 / (4 * np.pi)
-    raise ValueError(f"unknown kernel {kernel!r}")
+    """dW/dq of the library's 2D kernel times h^2 (support 2h):
+    ``sph_kernel_values``, so the study uses the kernel the runs use."""
+    return kernel_values(kernel, q, dimension=2)[1]
 
 
 def lattice_gradient_moment(ratio: float, kernel: str = "cubic_spline") -> float:
