@@ -66,7 +66,7 @@ def markdown_rows(registry: dict) -> dict[str, str]:
 
 
 def markdown_table(registry: dict) -> str:
-    return "\n".join(["| effect | parameters (default, range) | what it does |",
+    return "\n".join([MD_HEADER,
                       "|---|---|---|", *markdown_rows(registry).values()])
 
 
@@ -99,12 +99,29 @@ _MD_ROW = re.compile(r"^\| `(\w+)` \|")
 _RST_LINE = re.compile(r"^\s+\*(\w+)\* args = ")
 
 
+MD_HEADER = "| effect | parameters (default, range) | what it does |"
+
+
+def _effect_lines(path: Path) -> range:
+    """Indices of the lines that hold the effect table (Markdown: the rows
+    under MD_HEADER; rst: the whole page, whose keyword lines are unique)."""
+    lines = path.read_text().splitlines()
+    if path.suffix != ".md":
+        return range(len(lines))
+    start = lines.index(MD_HEADER) if MD_HEADER in lines else len(lines)
+    end = start
+    while end < len(lines) and lines[end].startswith("|"):
+        end += 1
+    return range(start, end)
+
+
 def _doc_rows(path: Path, pattern: re.Pattern) -> dict[str, str]:
     rows = {}
-    for line in path.read_text().splitlines():
-        match = pattern.match(line)
+    lines = path.read_text().splitlines()
+    for i in _effect_lines(path):
+        match = pattern.match(lines[i])
         if match:
-            rows[match.group(1)] = line
+            rows[match.group(1)] = lines[i]
     return rows
 
 
@@ -136,9 +153,10 @@ def write(registry: dict | None = None) -> None:
             (LIBRARY_MD, _MD_ROW, markdown_rows(registry)),
             (PAIR_RST, _RST_LINE, rst_lines(registry))):
         lines = path.read_text().splitlines()
+        table = set(_effect_lines(path))
         out = []
-        for line in lines:
-            match = pattern.match(line)
+        for i, line in enumerate(lines):
+            match = pattern.match(line) if i in table else None
             if match and match.group(1) in wanted:
                 out.append(wanted.pop(match.group(1)))
             elif not match:
