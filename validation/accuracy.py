@@ -353,6 +353,8 @@ def main(argv=None) -> int:
     for name in args.scenes.split(","):
         scene = builders[name](data, args.quick, log)
         result = run_checks(scene, args.threads, log, args.quick)
+        results[name] = result
+        results_path.write_text(json.dumps(results, indent=1, default=float))
         if name == "piston":
             settings = [planner.Setting.make(1.2, effects=visc),
                         planner.Setting.make(1.5, effects=visc)]

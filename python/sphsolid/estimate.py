@@ -121,7 +121,8 @@ class ErrorEstimate:
             shadow = self.scene_factory(self.dx * factor)
         else:
             shadow = coarsened(self.scene, factor)
-        if self.threads is not None:
+        if self.threads is not None and getattr(shadow, "_calc",
+                                                None) is None:
             from .calculators import CLibrary
             shadow.calc = CLibrary(threads=self.threads)
         from .plan import _set_integrator, make_dynamics
