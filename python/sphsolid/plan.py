@@ -1003,13 +1003,18 @@ def _check_request(error, until, norm, max_seconds, ladder):
 
 
 def default_candidates(scene_factory, findings_by_integrator: dict,
-                       extra_kernel_correction: bool = True) -> list:
-    """Every kernel x h/dx x integrator the library and the factory offer,
-    each with the effects found for its integrator (and, as an accuracy
-    option, with kernel correction added)."""
+                       extra_kernel_correction: bool = True,
+                       kernels: Sequence[str] | None = None,
+                       ratios: Sequence[float] | None = None) -> list:
+    """Every kernel x h/dx x integrator the library and the factory offer
+    (or those of ``kernels`` and ``ratios`` among them), each with the
+    effects found for its integrator (and, as an accuracy option, with
+    kernel correction added)."""
     accepted = factory_options(scene_factory)
-    kernels = kernel_names() if accepted["kernel"] else ["cubic_spline"]
-    ratios = SMOOTHING_RATIOS if accepted["smoothing_ratio"] else (1.2,)
+    offered = kernel_names() if accepted["kernel"] else ["cubic_spline"]
+    kernels = [k for k in (kernels or offered) if k in offered]
+    ratios = ((ratios or SMOOTHING_RATIOS) if accepted["smoothing_ratio"]
+              else (1.2,))
     out = []
     for integrator, findings in findings_by_integrator.items():
         effects = {f.effect: f.parameters for f in findings if f.effect}
@@ -1033,7 +1038,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
          max_refinement: float = 4.0, timing_checks: int = 3,
          refinements: int = 3, refine_best: int = 2,
          calibration_seconds: float | None = None,
-         cache: dict | None = None,
+         cache: dict | None = None, options: dict | None = None,
          scene: str = "", log: Callable[[str], None] | None = None) -> Plan:
     """The cheapest settings predicted to meet an error request.
 
@@ -1082,6 +1087,10 @@ def plan(scene_factory: Callable, error: float = 0.03,
     calibration_seconds : float, optional
         Budget of the calibration runs (default: no limit); a refinement
         that would exceed it is not run.
+    options : dict, optional
+        Narrows the default candidates: ``kernels``, ``ratios`` (h/dx),
+        ``integrators``, ``extra_kernel_correction``
+        (see :func:`default_candidates`).
     cache : dict, optional
         Calibration runs by (dx, setting, until, quantity, threads), reused
         and filled (several requests on one scene share their ladders; the
@@ -1110,7 +1119,9 @@ def plan(scene_factory: Callable, error: float = 0.03,
 
     # 1. effects the scene calls for, per integrator -----------------
     findings_by = {}
-    integrators = integrator_names()
+    integrators = [i for i in integrator_names()
+                   if i in ((options or {}).get("integrators")
+                            or integrator_names())]
     if candidates is None:
         for integrator in integrators:
             if not detect:
@@ -1129,7 +1140,10 @@ def plan(scene_factory: Callable, error: float = 0.03,
                     integrator, threads, steps=min(steps, 200000), log=say)
             except UnsupportedError as unsupported:
                 say(f"  {integrator} left out: {unsupported}")
-        settings = default_candidates(scene_factory, findings_by)
+        settings = default_candidates(
+            scene_factory, findings_by,
+            **{k: v for k, v in (options or {}).items()
+               if k != "integrators"})
     else:
         settings = [c if isinstance(c, Setting) else Setting.from_dict(c)
                     for c in candidates]
