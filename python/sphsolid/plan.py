@@ -100,8 +100,17 @@ def _optional_function(name, restype, argtypes):
 
 
 def kernel_names() -> list[str]:
-    """Kernels the library offers, from its own registry when it has one
-    (``sph_kernel_name``), else the names the Python layer knows."""
+    """Kernels the library offers, from its own registry
+    (``sph_kernel_names``, else ``sph_kernel_name`` per number), else the
+    default kernel alone."""
+    listed = getattr(_lib, "kernel_names", None)
+    if callable(listed):
+        try:
+            names = list(listed())
+            if names:
+                return names
+        except (UnsupportedError, AttributeError):
+            pass
     named = _optional_function("sph_kernel_name", ctypes.c_char_p,
                                [ctypes.c_int])
     names = []
@@ -111,11 +120,7 @@ def kernel_names() -> list[str]:
             if not value:
                 break
             names.append(value.decode())
-    from . import scene as _scene
-    known = getattr(_scene, "kernel_names", None)
-    if not names and callable(known):
-        names = list(known())
-    return names or list(_lib.KERNELS)
+    return names or list(getattr(_lib, "KERNELS", {"cubic_spline": 0}))
 
 
 def integrator_names() -> list[str]:
