@@ -740,6 +740,42 @@ def detect_effects(scene_factory, dx: float, until: float, probes,
             f"{why}: undamped high-frequency modes grow",
             (f"blew up: {failure}" if failure is not None
              else f"probe roughness {rough:.3f} > 0.3") + f" ({where})"))
+    if not driven and not rotating and (gravity or forced) and kinetic:
+        k = np.asarray(kinetic)
+        tail = float(k[3 * len(k) // 4:].mean()) / max(float(k.max()), 1e-300)
+        if (tail > 0.05 or failure is not None) and _effect_available(
+                "damping"):
+            c_p = max(_material_cp(scene, m) for m in _material_indices(scene))
+            extent = float(np.max(np.ptp(x0, axis=0))) if len(x0) else dx
+            rate = c_p / extent
+            findings.append(Finding(
+                "damping", {"rate": round(rate, -1)},
+                "quasi-static loading: constant loads on a body at rest, the "
+                "static field is the answer",
+                f"kinetic energy over the last quarter {tail * 100:.0f} % of "
+                f"its peak; rate c_p/L = {rate:.3g} /s"))
+    # tension and rotation are judged on a run with the dissipation just
+    # found: a ringing or blowing-up undamped run swings into tension
+    dissipation = {f.effect: f.parameters for f in findings}
+    stage = ""
+    if dissipation:
+        stage = " (run with " + ", ".join(dissipation) + ")"
+        damped = build_scene(scene_factory, dx,
+                             setting.with_effects(dissipation), threads)
+        damped_dyn = make_dynamics(damped, integrator, progress=False)
+        snapshots = []
+        try:
+            for check in checks:
+                damped_dyn.run(steps=check - damped_dyn.nsteps)
+                damped.calc.sync()
+                snapshots.append((damped.stress[free].copy(),
+                                  damped.positions[free].copy()))
+        except SimulationError:
+            pass
+        if not snapshots:
+            damped.calc.sync()
+            snapshots.append((damped.stress[free].copy(),
+                              damped.positions[free].copy()))
     if len(x0):
         shares = []
         for stress, _ in snapshots:
@@ -756,7 +792,7 @@ def detect_effects(scene_factory, dx: float, until: float, probes,
                                       for c in checks)
                 + " ms, " + ", ".join(f"{x * 100:.0f}" for x in shares)
                 + " % of the free particles in tension above 10 % of the "
-                "peak stress"))
+                "peak stress" + stage))
         angle = _rotation_angle(x0, snapshots[-1][1]) if len(x0) > 2 else 0.0
         if (rotating or angle > 0.1) and _effect_available(
                 "kernel_correction"):
@@ -765,21 +801,7 @@ def detect_effects(scene_factory, dx: float, until: float, probes,
                 "large rotation (uncorrected gradients give stress from "
                 "rigid rotation)",
                 (f"prescribed rotation of {', '.join(rotating)}" if rotating
-                 else f"free bodies rotate by {angle:.2f} rad")))
-    if not driven and not rotating and (gravity or forced) and kinetic:
-        k = np.asarray(kinetic)
-        tail = float(k[3 * len(k) // 4:].mean()) / max(float(k.max()), 1e-300)
-        if (tail > 0.05 or failure is not None) and _effect_available(
-                "damping"):
-            c_p = max(_material_cp(scene, m) for m in _material_indices(scene))
-            extent = float(np.max(np.ptp(x0, axis=0))) if len(x0) else dx
-            rate = c_p / extent
-            findings.append(Finding(
-                "damping", {"rate": round(rate, -1)},
-                "quasi-static loading: constant loads on a body at rest, the "
-                "static field is the answer",
-                f"kinetic energy over the last quarter {tail * 100:.0f} % of "
-                f"its peak; rate c_p/L = {rate:.3g} /s"))
+                 else f"free bodies rotate by {angle:.2f} rad{stage}")))
     nu = max((_material_nu(scene, m) for m in _material_indices(scene)),
              default=0.0)
     if nu > 0.45:
@@ -1139,10 +1161,17 @@ def plan(scene_factory: Callable, error: float = 0.03,
             steps = int(math.ceil(until / _default_dt(scene_factory,
                                                       ladder[0], integrator)
                                   * ladder[0] / ladder[-1] * max_refinement))
+            key = ("detect", integrator, ladder[0], float(until), steps)
             try:
-                findings_by[integrator] = detect_effects(
-                    scene_factory, ladder[0], until, probes, quantity,
-                    integrator, threads, steps=min(steps, 200000), log=say)
+                if cache is not None and key in cache:
+                    findings_by[integrator] = cache[key]
+                else:
+                    findings_by[integrator] = detect_effects(
+                        scene_factory, ladder[0], until, probes, quantity,
+                        integrator, threads, steps=min(steps, 200000),
+                        log=say)
+                    if cache is not None:
+                        cache[key] = findings_by[integrator]
             except UnsupportedError as unsupported:
                 say(f"  {integrator} left out: {unsupported}")
         settings = default_candidates(
