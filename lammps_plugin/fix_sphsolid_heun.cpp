@@ -14,6 +14,7 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "domain.h"
 #include "error.h"
 #include "force.h"
 #include "group.h"
@@ -36,12 +37,16 @@ static double *xv(double **array)
 /* ---------------------------------------------------------------------- */
 
 FixSPHSolidHeun::FixSPHSolidHeun(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), pair(nullptr), timestep_from_library(false), stage_atoms(-1),
-    stage_in_rows(false)
+    FixSPHSolidHeun(lmp, narg, arg, "improved_euler")
+{
+}
+
+FixSPHSolidHeun::FixSPHSolidHeun(LAMMPS *lmp, int narg, char **arg, const char *name) :
+    Fix(lmp, narg, arg), integrator(name), pair(nullptr), timestep_from_library(false),
+    stage_atoms(-1), stage_in_rows(false)
 {
   if (narg != 3)
-    error->all(FLERR, "fix sphsolid/heun takes no arguments after the style name, got '{}'",
-               arg[3]);
+    error->all(FLERR, "fix {} takes no arguments after the style name, got '{}'", style, arg[3]);
   time_integrate = 1;
   dynamic_group_allow = 0;
 
@@ -49,15 +54,15 @@ FixSPHSolidHeun::FixSPHSolidHeun(LAMMPS *lmp, int narg, char **arg) :
   // 0.5 h / c0, set now so that every fix defined later sees it.
   if (update->dt_default) {
     auto p = dynamic_cast<PairSPHSolid *>(force->pair_match("sphsolid", 1));
-    const double dt = p ? p->default_timestep() : 0.0;
+    const double dt = p ? p->default_timestep(integrator) : 0.0;
     if (dt > 0.0) {
       update->update_time();
       update->dt = dt;
       update->dt_default = 0;
       timestep_from_library = true;
       if (comm->me == 0)
-        utils::logmesg(lmp, "fix sphsolid/heun: timestep {:.6g} s, the library default 0.5 h/c0\n",
-                       dt);
+        utils::logmesg(lmp, "fix {}: timestep {:.6g} s, the library default {:g} h/c0 of {}\n",
+                       style, dt, default_factor(), integrator);
     }
   }
 }
@@ -74,19 +79,21 @@ int FixSPHSolidHeun::setmask()
 void FixSPHSolidHeun::init()
 {
   pair = dynamic_cast<PairSPHSolid *>(force->pair_match("sphsolid", 1));
-  if (!pair) error->all(FLERR, "fix sphsolid/heun needs 'pair_style sphsolid'");
-  if (modify->get_fix_by_style("^sphsolid/heun$").size() > 1)
-    error->all(FLERR, "only one fix sphsolid/heun may be defined: it evolves the SPH state of "
-                      "every atom; its group selects whose motion it integrates");
+  if (!pair) error->all(FLERR, "fix {} needs 'pair_style sphsolid'", style);
+  if (modify->get_fix_by_style("^sphsolid/heun$").size() +
+          modify->get_fix_by_style("^sphsolid/leapfrog$").size() >
+      1)
+    error->all(FLERR, "only one fix sphsolid/heun or sphsolid/leapfrog may be defined: it evolves "
+                      "the SPH state of every atom; its group selects whose motion it integrates");
   if (utils::strmatch(update->integrate_style, "^respa"))
-    error->all(FLERR, "fix sphsolid/heun does not support run_style respa");
+    error->all(FLERR, "fix {} does not support run_style respa", style);
   init_rigid_bodies();
   if (update->dt_default)
     error->all(FLERR,
-               "fix sphsolid/heun: no timestep given; use the timestep command or define the fix "
-               "after pair_coeff to get the library default 0.5 h/c0 ({:.6g} s for the current "
-               "coefficients)",
-               pair->default_timestep());
+               "fix {}: no timestep given; use the timestep command or define the fix "
+               "after pair_coeff to get the library default {:g} h/c0 of {} ({:.6g} s for the "
+               "current coefficients)",
+               style, default_factor(), integrator, pair->default_timestep(integrator));
 }
 
 /* ----------------------------------------------------------------------
@@ -112,8 +119,8 @@ void FixSPHSolidHeun::init_rigid_bodies()
     MPI_Allreduce(mine, all, 2, MPI_LMP_BIGINT, MPI_SUM, world);
     if (all[0] > 0)
       error->all(FLERR, "fix {} (sphsolid/force): {} atoms of its group are not in group {} of "
-                        "fix sphsolid/heun, which integrates the body's motion",
-                 rigid[k]->id, all[0], group->names[igroup]);
+                        "fix {}, which integrates the body's motion",
+                 rigid[k]->id, all[0], group->names[igroup], style);
     if (all[1] > 0)
       error->all(FLERR, "fix {} (sphsolid/force): {} atoms of its group belong to another "
                         "fix sphsolid/force too",
@@ -171,11 +178,24 @@ void FixSPHSolidHeun::pack()
   apply_rigid_bodies();
 }
 
-/* number of stage-1 values per atom: v, rho, S and, with XSPH, dx/dt */
+/* the integrator's default step in units of h/c0 (sph_integrator_info_get) */
+double FixSPHSolidHeun::default_factor()
+{
+  sph_sim *s = nullptr;
+  sph_integrator_info info;
+  const bool ok = sph_create(domain->dimension, &s) == SPH_OK &&
+      sph_integrator_info_get(s, integrator, &info) == SPH_OK;
+  sph_destroy(s);
+  return ok ? info.default_factor : 0.0;
+}
+
+/* values per atom of the library's stage buffer (sph_integrator_info_get) */
 int FixSPHSolidHeun::saved_values() const
 {
-  const int dim = pair->dimension();
-  return dim + 1 + pair->stress_components() + (pair->dx_dt() ? dim : 0);
+  sph_integrator_info info;
+  if (sph_integrator_info_get(pair->handle(), integrator, &info) != SPH_OK)
+    error->one(FLERR, "fix {}: {}", style, sph_errmsg(pair->handle()));
+  return (int) info.saved_values;
 }
 
 sph_rates FixSPHSolidHeun::stage_rates()
@@ -339,8 +359,8 @@ void FixSPHSolidHeun::check_finite()
     for (int k = 0; k < ncomp; k++)
       if (!std::isfinite(state->S[i][k])) quantity = "non-finite deviatoric stress";
     if (quantity)
-      error->one(FLERR, "fix sphsolid/heun: {} of atom {} at step {}", quantity,
-                 atom->tag[i], update->ntimestep);
+      error->one(FLERR, "fix {}: {} of atom {} at step {}", style, quantity, atom->tag[i],
+                 update->ntimestep);
   }
 }
 

@@ -49,7 +49,11 @@ class FixSPHSolidHeun : public Fix {
   void final_integrate() override;
   double memory_usage() override;
 
- private:
+ protected:
+  // for the other integrating fixes (fix sphsolid/leapfrog): `integrator`
+  // is the library's name, whose default step the fix takes
+  FixSPHSolidHeun(class LAMMPS *, int, char **, const char *integrator);
+  const char *integrator;
   PairSPHSolid *pair;
   bool timestep_from_library;
   std::vector<double> dvbuf, other_force, stage;
@@ -63,7 +67,8 @@ class FixSPHSolidHeun : public Fix {
   void init_rigid_bodies();
   void apply_rigid_bodies();
   void pack();
-  int saved_values() const;
+  int saved_values() const;    // of the library's stages (sph_integrator_info_get)
+  double default_factor();     // default step / (h/c0) of the integrator
   sph_rates stage_rates();
   void check_finite();
   void copy_stage(bool to_rows);

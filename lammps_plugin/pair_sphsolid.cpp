@@ -293,14 +293,14 @@ void PairSPHSolid::fail(sph_sim *s, sph_status status, const std::string &what, 
 
 /* ---------------------------------------------------------------------- */
 
-double PairSPHSolid::default_timestep()
+double PairSPHSolid::default_timestep(const char *integrator)
 {
   if (!allocated) return 0.0;
   for (int t = 1; t <= atom->ntypes; t++)
     if (!setflag[t][t]) return 0.0;
   // a handle without bodies takes the default step from its materials
   sph_sim *s = build_handle(false);
-  const double dt = sph_default_dt(s);
+  const double dt = sph_set_integrator(s, integrator) == SPH_OK ? sph_default_dt(s) : 0.0;
   sph_destroy(s);
   return dt;
 }

@@ -78,9 +78,10 @@ class PairSPHSolid : public Pair {
   double particle_spacing() const { return spacing; }
   double kernel_support() const { return support; }
   double mass_of(int i) const { return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]]; }
-  /* Library default time step 0.5 h / c0 for the current coefficients,
-   * or 0 if some atom type has no material yet. */
-  double default_timestep();
+  /* Library default time step of `integrator` (0.5 h / c0 for
+   * improved_euler, h / c0 for leapfrog) for the current coefficients, or 0
+   * if some atom type has no material yet. */
+  double default_timestep(const char *integrator = "improved_euler");
 
   // rates of the owned atoms from the last evaluate_rates()
   const double *dv_dt() const { return rate_dv.data(); }

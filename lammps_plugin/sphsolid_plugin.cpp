@@ -3,7 +3,7 @@
  *
  *   plugin load /path/to/sphsolidplugin.so
  *
- * pair sphsolid, fix sphsolid/heun, fix sphsolid/force, fix SPHSOLID/STATE (internal, created by
+ * pair sphsolid, fix sphsolid/heun, fix sphsolid/leapfrog, fix sphsolid/force, fix SPHSOLID/STATE (internal, created by
  * the pair style), computes sphsolid/{density,pressure,vonmises,stress}/atom
  * and sphsolid/probe.
  */
@@ -13,6 +13,7 @@
 #include "compute_sphsolid_probe.h"
 #include "fix_sphsolid_force.h"
 #include "fix_sphsolid_heun.h"
+#include "fix_sphsolid_leapfrog.h"
 #include "fix_sphsolid_state.h"
 #include "pair_sphsolid.h"
 
@@ -60,6 +61,8 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
       (lammpsplugin_factory1 *) &create_pair, nullptr);
   add(reg, lmp, handle, "fix", "sphsolid/heun", "Improved Euler for pair sphsolid", nullptr,
       (lammpsplugin_factory2 *) &create_fix<FixSPHSolidHeun>);
+  add(reg, lmp, handle, "fix", "sphsolid/leapfrog", "leapfrog (velocity Verlet) for pair sphsolid",
+      nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidLeapfrog>);
   add(reg, lmp, handle, "fix", "sphsolid/force", "rigid body under a constant force (pair sphsolid)",
       nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidForce>);
   add(reg, lmp, handle, "fix", "SPHSOLID/STATE", "per-atom state of pair sphsolid (internal)",

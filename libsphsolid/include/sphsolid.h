@@ -589,6 +589,43 @@ SPH_API sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt,
                                             const int *material, const double *saved,
                                             long *particle);
 
+/* The leapfrog (sph_set_integrator "leapfrog") in three stages on external
+ * arrays, `stride` doubles apart (>= dim), for a code that owns its
+ * particles (the LAMMPS plugin: fix sphsolid/leapfrog).  Per step:
+ *   1. sph_leapfrog_begin_strided() with the rates at the start (f_n: dv/dt
+ *      with the forces of the rigid bodies applied, drho/dt, dS/dt): saves
+ *      x_n, rho_n, S_n in `saved` (dim + 1 + ncomp doubles per particle,
+ *      sph_integrator_info_get's saved_values), kicks the integrated
+ *      velocities by dt/2 dv/dt, moves every position by dt/2 v and
+ *      predicts rho and S at the half step;
+ *   2. evaluate the rates there (sph_rates_evaluate), then
+ *      sph_leapfrog_drift_strided(): x = x_n + dt v (or the XSPH velocity)
+ *      for the integrated particles, x = x_n for the others (their mover
+ *      moves them on), rho = rho_n + dt drho/dt, S = S_n + dt dS/dt, with
+ *      the watchdog's density bounds;
+ *   3. evaluate the rates at the new state, then sph_leapfrog_end_strided():
+ *      v += dt/2 dv/dt for the integrated particles, and the watchdog.
+ * On SPH_ERR_NONFINITE or SPH_ERR_UNSTABLE *particle is the first particle
+ * concerned (else -1). */
+SPH_API sph_status sph_leapfrog_begin_strided(sph_sim *sim, size_t n, double dt,
+                                              double *x, double *v, size_t stride,
+                                              double *rho, double *S,
+                                              const sph_rates *rates,
+                                              const unsigned char *integrate_motion,
+                                              double *saved);
+SPH_API sph_status sph_leapfrog_drift_strided(sph_sim *sim, size_t n, double dt,
+                                              double *x, const double *v, size_t stride,
+                                              double *rho, double *S,
+                                              const sph_rates *rates,
+                                              const unsigned char *integrate_motion,
+                                              const double *saved, const int *material,
+                                              long *particle);
+SPH_API sph_status sph_leapfrog_end_strided(sph_sim *sim, size_t n, double dt,
+                                            double *v, size_t stride, const double *rho,
+                                            const double *dv_dt,
+                                            const unsigned char *integrate_motion,
+                                            const int *material, long *particle);
+
 /* Derived fields of external particles (n of them, material indices of
  * sim): pressure P (n), full Cauchy stress sigma = -P I + S (n * ncomp) and
  * von Mises stress (n).  Any output may be NULL. */

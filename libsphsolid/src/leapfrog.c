@@ -215,3 +215,142 @@ const integrator integrator_leapfrog = {
     .step = leapfrog_step,
     .carries_rates = 1,
 };
+
+/* ------------------------------------------------ stages on caller arrays */
+
+static sph_status leapfrog_args(sph_sim *sim, size_t n, double dt, size_t stride, const void *a,
+                                const void *b, const void *c, const void *d, const void *e)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!(dt > 0.0) || !isfinite(dt))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "dt=%g: must be finite and > 0", dt);
+    if (stride < (size_t)sim->dim)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "stride=%zu is smaller than the dimension %d", stride, sim->dim);
+    if (n > 0 && (!a || !b || !c || !d || !e))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "leapfrog stage: an array argument is NULL");
+    return SPH_OK;
+}
+
+sph_status sph_leapfrog_begin_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                      size_t stride, double *rho, double *S, const sph_rates *r,
+                                      const unsigned char *integrate_motion, double *saved)
+{
+    sph_status st = leapfrog_args(sim, n, dt, stride, x, v, rho, S, saved);
+    if (st || (n > 0 && (st = leapfrog_args(sim, n, dt, stride, r, r->dv_dt, r->drho_dt, r->dS_dt, r))))
+        return st;
+    const int dim = sim->dim, nc = sim->ncomp;
+    double *x_n = saved, *rho_n = saved + n * dim, *S_n = rho_n + n;
+    const long nn = (long)n;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim))
+    for (long a = 0; a < nn; ++a) {
+        const int integrate = integrate_motion ? integrate_motion[a] : 1;
+        double *xa = x + a * stride, *va = v + a * stride;
+        for (int i = 0; i < dim; ++i) {
+            x_n[a * dim + i] = xa[i];
+            if (integrate)
+                va[i] += 0.5 * dt * r->dv_dt[a * dim + i];
+            xa[i] += 0.5 * dt * va[i];
+        }
+        rho_n[a] = rho[a];
+        rho[a] += 0.5 * dt * r->drho_dt[a];
+        for (int c = 0; c < nc; ++c) {
+            S_n[a * nc + c] = S[a * nc + c];
+            S[a * nc + c] += 0.5 * dt * r->dS_dt[a * nc + c];
+        }
+    }
+    return SPH_OK;
+}
+
+sph_status sph_leapfrog_drift_strided(sph_sim *sim, size_t n, double dt, double *x, const double *v,
+                                      size_t stride, double *rho, double *S, const sph_rates *r,
+                                      const unsigned char *integrate_motion, const double *saved,
+                                      const int *material_of, long *particle)
+{
+    if (particle)
+        *particle = -1;
+    sph_status st = leapfrog_args(sim, n, dt, stride, x, v, rho, S, saved);
+    if (st || (n > 0 && (st = leapfrog_args(sim, n, dt, stride, r, r->drho_dt, r->dS_dt, material_of, r))))
+        return st;
+    const int dim = sim->dim, nc = sim->ncomp;
+    const double *x_n = saved, *rho_n = saved + n * dim, *S_n = rho_n + n;
+    const long nn = (long)n;
+    long bad = nn, wild = nn;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild)
+    for (long a = 0; a < nn; ++a) {
+        const int integrate = integrate_motion ? integrate_motion[a] : 1;
+        const double *u = integrate && r->dx_dt ? r->dx_dt + a * dim : v + a * stride;
+        double *xa = x + a * stride, ok = 1.0;
+        for (int i = 0; i < dim; ++i) {
+            /* the caller moves the others (from x_n, as they were) */
+            xa[i] = integrate ? x_n[a * dim + i] + dt * u[i] : x_n[a * dim + i];
+            ok *= isfinite(xa[i]);
+        }
+        rho[a] = rho_n[a] + dt * r->drho_dt[a];
+        ok *= isfinite(rho[a]) && rho[a] > 0.0;
+        for (int c = 0; c < nc; ++c) {
+            S[a * nc + c] = S_n[a * nc + c] + dt * r->dS_dt[a * nc + c];
+            ok *= isfinite(S[a * nc + c]);
+        }
+        if (!ok) {
+            if (a < bad)
+                bad = a;
+        } else if (a < wild) {
+            double vmax2, lo, hi;
+            watchdog_bounds(sim, &sim->materials[material_of[a]], integrate, &vmax2, &lo, &hi);
+            if (rho[a] < lo || rho[a] > hi)
+                wild = a;
+        }
+    }
+    if (particle)
+        *particle = bad < nn ? bad : wild < nn ? wild : -1;
+    if (bad < nn)
+        return sph_fail(sim, SPH_ERR_NONFINITE,
+                        "leapfrog drift produced a non-finite value (or non-positive density) at particle %ld", bad);
+    if (wild < nn)
+        return watchdog_report(sim, wild, dim, v + wild * stride, rho[wild], &sim->materials[material_of[wild]],
+                               integrate_motion ? integrate_motion[wild] : 1);
+    return SPH_OK;
+}
+
+sph_status sph_leapfrog_end_strided(sph_sim *sim, size_t n, double dt, double *v, size_t stride,
+                                    const double *rho, const double *dv_dt,
+                                    const unsigned char *integrate_motion, const int *material_of,
+                                    long *particle)
+{
+    if (particle)
+        *particle = -1;
+    sph_status st = leapfrog_args(sim, n, dt, stride, v, rho, dv_dt, material_of, v);
+    if (st)
+        return st;
+    const int dim = sim->dim;
+    const long nn = (long)n;
+    long bad = nn, wild = nn;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild)
+    for (long a = 0; a < nn; ++a) {
+        const int integrate = integrate_motion ? integrate_motion[a] : 1;
+        double *va = v + a * stride, ok = 1.0;
+        if (integrate)
+            for (int i = 0; i < dim; ++i)
+                va[i] += 0.5 * dt * dv_dt[a * dim + i];
+        for (int i = 0; i < dim; ++i)
+            ok *= isfinite(va[i]);
+        if (!ok) {
+            if (a < bad)
+                bad = a;
+        } else if (a < wild) {
+            double vmax2, lo, hi;
+            watchdog_bounds(sim, &sim->materials[material_of[a]], integrate, &vmax2, &lo, &hi);
+            if (watchdog_trips(dim, va, rho[a], vmax2, lo, hi))
+                wild = a;
+        }
+    }
+    if (particle)
+        *particle = bad < nn ? bad : wild < nn ? wild : -1;
+    if (bad < nn)
+        return sph_fail(sim, SPH_ERR_NONFINITE, "leapfrog kick produced a non-finite velocity at particle %ld", bad);
+    if (wild < nn)
+        return watchdog_report(sim, wild, dim, v + wild * stride, rho[wild], &sim->materials[material_of[wild]],
+                               integrate_motion ? integrate_motion[wild] : 1);
+    return SPH_OK;
+}

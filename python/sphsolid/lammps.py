@@ -161,6 +161,7 @@ class Lammps(Calculator):
         self._synced = None
         self._prepared = False
         self._moves = {}
+        self._later = {}
         self._fix = "sphsolid/heun"
 
     # ---------------------------------------------------------- building
@@ -261,10 +262,15 @@ class Lammps(Calculator):
         if free:
             cmd("group free union " + " ".join(f"body{k}" for k in free)
                 if len(free) > 1 else f"group free union body{free[0]}")
-            cmd("fix heun free sphsolid/heun")
         else:
             cmd("group free empty")         # density and stress still evolve
-            cmd("fix heun free sphsolid/heun")
+        cmd(f"fix heun free {self._fix}")
+
+        def later(name, command):
+            # fixes after the integrating one, re-created after it when the
+            # integrator changes (fix order is LAMMPS's order of the stages)
+            self._later[name] = command
+            cmd(command)
         for k, body in enumerate(scene.bodies):
             if body.motion.kind == "velocity":
                 vec = list(body.motion.vector(body, dim)) + [0.0] * (3 - dim)
@@ -272,13 +278,13 @@ class Lammps(Calculator):
                 # constant velocity, x += dt v (fix move would forbid the
                 # shortened last step of run(until=t))
                 cmd(f"velocity body{k} set {vs} units box")
-                cmd(f"fix move{k} body{k} nve/noforce")
+                later(f"move{k}", f"fix move{k} body{k} nve/noforce")
             elif body.motion.kind == "rotation":
                 self._add_rotation(k, body, dim)
             elif body.motion.kind == "force":
                 vec = list(body.motion.vector(body, dim))
                 fs = " ".join(f"{float(c)!r}" for c in vec)
-                cmd(f"fix force{k} body{k} sphsolid/force {fs}")
+                later(f"force{k}", f"fix force{k} body{k} sphsolid/force {fs}")
         if gravity is not None:
             g = [float(gravity.get(key, 0.0)) for key in ("gx", "gy", "gz")]
             magnitude = math.sqrt(sum(c * c for c in g))
@@ -327,7 +333,7 @@ class Lammps(Calculator):
 
     # -------------------------------------------------------- interface
     #: the library integrator -> the plugin's fix that runs it
-    FIXES = {"improved_euler": "sphsolid/heun"}
+    FIXES = {"improved_euler": "sphsolid/heun", "leapfrog": "sphsolid/leapfrog"}
 
     def set_integrator(self, name: str) -> None:
         fix = self.FIXES.get(name)
@@ -341,8 +347,11 @@ class Lammps(Calculator):
         _check(lib.sph_set_integrator(self.scene.handle, _lib_encode(name)),
                self.scene.handle, "integrator")
         if fix != self._fix:
-            self.lmp.command("unfix heun")
+            for name in list(self._later) + list(self._moves) + ["heun"]:
+                self.lmp.command(f"unfix {name}")
             self.lmp.command(f"fix heun free {fix}")
+            for command in list(self._later.values()) + list(self._moves.values()):
+                self.lmp.command(command)
             self._fix = fix
             self._prepared = False
 

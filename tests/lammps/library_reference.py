@@ -37,6 +37,7 @@ def load_library(plugin: Path) -> ctypes.CDLL:
     lib.sph_errmsg.restype = c_char_p
     lib.sph_build_paper_scene.argtypes = [c_void_p, c_double, c_double, c_int, POINTER(PaperScene)]
     lib.sph_effect.argtypes = [c_void_p, c_char_p, c_char_p]
+    lib.sph_set_integrator.argtypes = [c_void_p, c_char_p]
     lib.sph_body_info_get.argtypes = [c_void_p, c_int, POINTER(BodyInfo)]
     lib.sph_set_motion.argtypes = [c_void_p, c_int, c_int, POINTER(c_double)]
     lib.sph_default_dt.argtypes = [c_void_p]
@@ -61,7 +62,7 @@ class PaperRun:
 
     def __init__(self, lib: ctypes.CDLL, dx: float, speed: float = 0.0015,
                  gravity_only: bool = False, effects: dict[str, str] | None = None,
-                 pressure: float = 0.0):
+                 pressure: float = 0.0, integrator: str = "improved_euler"):
         self.lib = lib
         self.dx = dx
         self.sim = c_void_p()
@@ -76,6 +77,7 @@ class PaperRun:
             self._check(lib.sph_set_motion(self.sim, self.scene.piston, 3, force))
         for name, parameters in (effects or {}).items():
             self._check(lib.sph_effect(self.sim, name.encode(), parameters.encode()))
+        self._check(lib.sph_set_integrator(self.sim, integrator.encode()))
         self.dt = lib.sph_default_dt(self.sim)
 
     def _check(self, status: int) -> None:

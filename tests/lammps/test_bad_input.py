@@ -149,6 +149,10 @@ def test_only_one_integrator(lmp_factory):
                                                "fix a all sphsolid/heun",
                                                "fix b left sphsolid/heun", "run 1"],
                "only one fix sphsolid/heun")
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["group left region left",
+                                               "fix a all sphsolid/heun",
+                                               "fix b left sphsolid/leapfrog", "run 1"],
+               "only one fix sphsolid/heun or sphsolid/leapfrog")
 
 
 def test_probe_needs_its_coordinates(lmp_factory):

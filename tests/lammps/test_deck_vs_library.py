@@ -38,9 +38,15 @@ def compare(lammps_rows: np.ndarray, library_rows: np.ndarray) -> list[float]:
     return errors
 
 
-def test_piston_deck_probes_match_standalone_library(tmp_path, plugin, library):
+@pytest.mark.parametrize("fix, integrator", [("heun", "improved_euler"),
+                                             ("leapfrog", "leapfrog")])
+def test_piston_deck_probes_match_standalone_library(tmp_path, plugin, library, fix,
+                                                     integrator):
+    """fix sphsolid/heun or fix sphsolid/leapfrog (with fix move's piston)
+    against the library's integrator of the same name."""
     dx, steps, every = 0.002, 200, 10
-    reference = PaperRun(library, dx, effects={"artificial_viscosity": "alpha=1 beta=0"})
+    reference = PaperRun(library, dx, effects={"artificial_viscosity": "alpha=1 beta=0"},
+                         integrator=integrator)
     try:
         expected = reference.history(steps, every)
         dt = reference.dt
@@ -48,7 +54,7 @@ def test_piston_deck_probes_match_standalone_library(tmp_path, plugin, library):
         reference.close()
     # t_end lands on step `steps` (the deck rounds t_end/dt)
     run_deck(PISTON_DECK, tmp_path, {"dx": dx, "t_end": steps * dt, "every": every,
-                                     "probes": "probes.txt"}, plugin)
+                                     "probes": "probes.txt", "integrator": fix}, plugin)
     got = read_probes(tmp_path / "probes.txt")
     np.testing.assert_allclose(got[:, 1], expected[:, 1], rtol=1e-12)  # same dt
     errors = compare(got, expected)

@@ -42,7 +42,13 @@ def main(argv=None) -> int:
     parser.add_argument("--markdown", action="store_true")
     parser.add_argument("--h-over-dx", type=float, default=None,
                         help="smoothing ratio of every case (default 1.2)")
+    parser.add_argument("--integrator", default=None,
+                        help="library integrator of every case that does "
+                             "not name its own (default improved_euler)")
     args = parser.parse_args(argv)
+    if args.integrator is not None:
+        import stability_cases
+        stability_cases.INTEGRATOR = args.integrator
     if args.h_over_dx is not None:
         import stability_cases
         stability_cases.H_OVER_DX = args.h_over_dx
