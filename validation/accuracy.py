@@ -342,7 +342,8 @@ def scene_text(name, result) -> str:
                          f"{f['measured']})" for f in found) or "none")
     return (f"## {name}\n\n{result.get('note', '')}\n\nEffects found: "
             f"{effects}\n\nWall time of these checks: "
-            f"{result.get('wall', 0):.0f} s\n\n" + text)
+            + (f"{result['wall']:.0f} s" if result.get("wall") else "-")
+            + "\n\n" + text)
 
 
 def estimate_text(cases) -> str:
@@ -350,7 +351,7 @@ def estimate_text(cases) -> str:
         return ""
     inside = [1 <= c["ratio"] <= 3 for c in cases]
     rows = [[c["setting"], f"{c['dx'] * 1e3:g}", c["probe"],
-             f"{c['window'][0] * 1e3:g}-{c['window'][1] * 1e3:g}",
+             f"{c['window'][0] * 1e3:.3g}-{c['window'][1] * 1e3:.3g}",
              c["norm"], _pct(c["actual"]), _pct(c["estimated"]),
              f"{c['ratio']:.2f}" + ("" if 1 <= c["ratio"] <= 3 else " **"),
              f"{c['order']:.2f}"] for c in cases]
