@@ -346,6 +346,38 @@ def scene_text(name, result) -> str:
             + "\n\n" + text)
 
 
+def summary_text(results, titles) -> str:
+    """One line per scene: how many checks held."""
+    lines = ["## Summary\n",
+             "| scene | planned | achieved <= request | refused "
+             "(sweep also missed) | wall within +-30 % | cost <= 1.5x "
+             "cheapest | estimate ratio in [1, 3] |",
+             "|---|---|---|---|---|---|---|"]
+    for name in ("piston", "strip", "gravity"):
+        if name not in results:
+            continue
+        rows = results[name]["rows"]
+        planned = [r for r in rows if r["feasible"]]
+        refused = [r for r in rows if not r["feasible"]]
+        met = sum(r["achieved"] <= r["request"] for r in planned)
+        justified = sum("sweep_cheapest" not in r for r in refused)
+        wall = sum(abs(r["measured_seconds"] / r["predicted_seconds"] - 1)
+                   <= 0.3 for r in planned)
+        cost = sum(r.get("sweep_cheapest_particle_steps") is not None
+                   and r["particle_steps"]
+                   <= 1.5 * r["sweep_cheapest_particle_steps"]
+                   for r in planned)
+        cases = results[name].get("estimate") or []
+        inside = sum(1 <= c["ratio"] <= 3 for c in cases)
+        lines.append(
+            f"| {name} | {len(planned)} of {len(rows)} | {met} of "
+            f"{len(planned)} | {len(refused)} ({justified}) | {wall} of "
+            f"{len(planned)} | {cost} of {len(planned)} | "
+            + (f"{inside} of {len(cases)} ({100 * inside / len(cases):.0f} %)"
+               if cases else "not run") + " |")
+    return "\n".join(lines) + "\n"
+
+
 def estimate_text(cases) -> str:
     if not cases:
         return ""
@@ -433,6 +465,7 @@ def write_document(path: Path, results: dict, args) -> None:
     parts = [HEADER.format(command="python -m validation.accuracy"
                            + (" --quick" if args.quick else ""),
                            threads=args.threads)]
+    parts.append(summary_text(results, titles))
     for name in ("piston", "strip", "gravity"):
         if name not in results:
             continue
