@@ -1505,7 +1505,7 @@ def project_scenes() -> dict:
                             description="the paper's piston test, von Mises "
                             "at A, B, C"),
         "gravity": PlanScene(gravity_factory, gravity_sections, "sigma_yy",
-                             (8e-3, 6e-3, 4e-3, 3e-3), 20e-3,
+                             (8e-3, 6e-3, 4e-3, 3e-3), 5e-3,
                              window=lambda until: (0.5 * until, until),
                              description="the specimen settling under "
                              "gravity: section means of sigma_yy at y = 35, "
