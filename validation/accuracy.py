@@ -481,12 +481,13 @@ def write_document(path: Path, results: dict, args) -> None:
 
 
 QUICK_NOTE = """**Quick mode** (`--quick`): finite-element reference at
-2 mm (its 4 mm run gives its own convergence), candidates the cubic spline at h/dx
-1.2 and 1.5 with both integrators (no Wendland, no kernel-correction
-variants), calibration budget 120 s per request, sweep to 1.5 mm (strip
-to 0.25 mm, gravity to 3 mm), per-run estimate at 3 and 2 mm. The full
-mode (FE at 1 mm, every candidate, sweep to 0.5 mm, estimate at 2, 1.5
-and 1 mm) takes hours on a loaded 2-core machine.
+2 mm (its 4 mm run gives its own convergence), candidates the cubic
+spline at h/dx 1.2 and 1.5 with both integrators (no Wendland, no
+kernel-correction variants), calibration budget 120 s per request,
+sweep to 1.5 mm (strip to 0.25 mm, gravity to 3 mm), per-run estimate
+at 3 and 2 mm. The full mode (FE at 1 mm, every candidate, sweep to
+0.5 mm, estimate at 2, 1.5 and 1 mm) takes hours on a loaded 2-core
+machine.
 """
 
 READING = """How to read the tables. *refused (sweep also missed)*: the
