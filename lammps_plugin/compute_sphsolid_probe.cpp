@@ -83,7 +83,7 @@ void ComputeSPHSolidProbe::compute_vector()
   }
 
   // this rank's kernel-weighted sums, summed over the ranks, normalised
-  sph_particles particles;
+  sph_particles particles{};    // fields not set below stay zero
   particles.n_local = particles.n_total = rho.size();
   particles.x = positions.data();
   particles.v = nullptr;

@@ -465,7 +465,7 @@ void PairSPHSolid::evaluate_rates(bool with_motion)
   }
   const double *mp = rmass ? rmass : massbuf.data();
 
-  sph_particles particles;
+  sph_particles particles{};    // fields not set below stay zero
   particles.n_local = nlocal;
   particles.n_total = nall;
   particles.x = xp;
@@ -476,7 +476,7 @@ void PairSPHSolid::evaluate_rates(bool with_motion)
   particles.material = materialbuf.data();
   particles.stride = 3;
 
-  sph_neighbours neighbours;
+  sph_neighbours neighbours{};
   neighbours.offsets = neighbour_offsets.data();
   neighbours.indices = neighbour_indices.data();
   neighbours.lists = nullptr;

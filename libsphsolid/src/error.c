@@ -46,7 +46,7 @@ const char *sph_status_name(sph_status status)
 
 const char *sph_version(void)
 {
-    return SPHSOLID_VERSION
+    return SPHSOLID_VERSION_STRING
 #ifdef _OPENMP
            " openmp"
 #endif

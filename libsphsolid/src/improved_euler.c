@@ -236,7 +236,8 @@ static void heun_undo(sph_sim *sim)
 static sph_status heun_stage(sph_sim *sim, double dt, int corrector, double *moved)
 {
     const int dim = sim->dim, nc = sim->ncomp;
-    const sph_rates r = {sim->dv_dt, sim->drho_dt, sim->dS_dt, sim->fx.xsph ? sim->dx_dt : NULL};
+    const sph_rates r = {.dv_dt = sim->dv_dt, .drho_dt = sim->drho_dt, .dS_dt = sim->dS_dt,
+                         .dx_dt = sim->fx.xsph ? sim->dx_dt : NULL};
     const saved_state s = saved_layout(sim->saved, sim->n, dim, nc, sim->fx.xsph);
     body_stage small[8], *bs;
     sph_status st = body_stages_make(sim, dt, small, &bs);

@@ -18,7 +18,8 @@ sph_status sph_build_paper_scene(sph_sim *sim, double dx, double piston_speed,
         return sph_fail(sim, SPH_ERR_ARGUMENT, "piston_speed=%g m/s: must be finite and >= 0", piston_speed);
 
     const double width = 0.086, height = 0.140;
-    sph_paper_scene s = {-1, -1, -1, -1, -1, -1, -1};
+    sph_paper_scene s = {.specimen = -1, .piston = -1, .plate = -1, .material = -1,
+                         .probe_A = -1, .probe_B = -1, .probe_C = -1};
     sph_status st = sph_add_material_K_mu(sim, 12.2e9, 2.67e9, 2300.0, &s.material);
     if (st)
         return st;

@@ -526,9 +526,11 @@ sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p,
         if (!(p->rho[i] > 0.0))
             return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: particle %zu has density rho=%g (must be > 0)", i, p->rho[i]);
     }
-    rate_call call = {p->n_local, p->n_total, p->x, p->v, p->rho, p->S, p->mass, stride,
-                      p->material, nb, 0, rates->dv_dt, rates->drho_dt,
-                      rates->dS_dt, rates->dx_dt};
+    const rate_call call = {.n_local = p->n_local, .n_total = p->n_total,
+                            .x = p->x, .v = p->v, .rho = p->rho, .S = p->S, .mass = p->mass,
+                            .stride = stride, .material = p->material, .neighbours = nb,
+                            .periodic = 0, .dv_dt = rates->dv_dt, .drho_dt = rates->drho_dt,
+                            .dS_dt = rates->dS_dt, .dx_dt = rates->dx_dt};
     sph_status st = rates_run(sim, &call);
     return st ? st : sph_ok(sim);
 }

@@ -83,10 +83,13 @@ sph_status sim_ensure_neighbours(sph_sim *sim, double extra)
 
 sph_status sim_evaluate(sph_sim *sim)
 {
-    sph_neighbours nb = {sim->nl.offsets, sim->nl.indices, NULL, NULL};
-    rate_call call = {sim->n, sim->n, sim->x, sim->v, sim->rho, sim->S, sim->mass, (size_t)sim->dim,
-                      sim->material_of, &nb, 1, sim->dv_dt, sim->drho_dt,
-                      sim->dS_dt, sim->fx.xsph ? sim->dx_dt : NULL};
+    const sph_neighbours nb = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
+    const rate_call call = {.n_local = sim->n, .n_total = sim->n, .x = sim->x, .v = sim->v,
+                            .rho = sim->rho, .S = sim->S, .mass = sim->mass,
+                            .stride = (size_t)sim->dim, .material = sim->material_of,
+                            .neighbours = &nb, .periodic = 1, .dv_dt = sim->dv_dt,
+                            .drho_dt = sim->drho_dt, .dS_dt = sim->dS_dt,
+                            .dx_dt = sim->fx.xsph ? sim->dx_dt : NULL};
     sph_status st = rates_run(sim, &call);
     if (st)
         return st;

@@ -26,7 +26,20 @@ from .scene import Scene
 from . import scenes
 from . import plan          # sphsolid.plan(factory, error=...) plans a run
 
-__version__ = "0.2.0"
+
+
+def _package_version() -> str:
+    """The installed package's version (scikit-build-core takes it from
+    project(VERSION) in CMakeLists.txt); from a source tree, the library's."""
+    from importlib.metadata import PackageNotFoundError
+    from importlib.metadata import version as metadata_version
+    try:
+        return metadata_version("sphsolid")
+    except PackageNotFoundError:
+        return version().split()[0]
+
+
+__version__ = _package_version()
 
 __all__ = ["Material", "Scene", "Body", "Free", "Fixed", "Velocity", "Force",
            "Pressure", "Rotation", "block", "rectangle", "box", "plate", "piston", "disc",

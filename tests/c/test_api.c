@@ -351,6 +351,19 @@ static void every_registered_effect_honours_its_ranges(void **state)
     assert_int_equal(sph_effect_parameter_get(0, 99, &p), SPH_ERR_ARGUMENT);
 }
 
+/* sph_version() starts with the version the header's macros give. */
+static void version_string_matches_the_header(void **state)
+{
+    (void)state;
+    char expected[64];
+    snprintf(expected, sizeof expected, "%d.%d.%d", SPHSOLID_VERSION_MAJOR, SPHSOLID_VERSION_MINOR,
+             SPHSOLID_VERSION_PATCH);
+    assert_string_equal(expected, SPHSOLID_VERSION_STRING);
+    assert_int_equal(strncmp(sph_version(), expected, strlen(expected)), 0);
+    const char next = sph_version()[strlen(expected)];
+    assert_true(next == '\0' || next == ' ');
+}
+
 static void run_until_lands_on_time_and_callback_can_stop(void **state)
 {
     (void)state;
@@ -383,6 +396,7 @@ int main(void)
         cmocka_unit_test(run_until_lands_on_time_and_callback_can_stop),
         cmocka_unit_test(failing_low_level_calls_leave_a_message),
         cmocka_unit_test(every_registered_effect_honours_its_ranges),
+        cmocka_unit_test(version_string_matches_the_header),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -19,9 +19,10 @@ static rates_buf evaluate(sph_sim *sim)
     r.dv = calloc(n * sim->dim, sizeof(double));
     r.drho = calloc(n, sizeof(double));
     r.dS = calloc(n * sim->ncomp, sizeof(double));
-    sph_particles p = {n, n, sim->x, sim->v, sim->rho, sim->S, sim->mass, sim->material_of, 0};
-    sph_neighbours nb = {sim->nl.offsets, sim->nl.indices, NULL, NULL};
-    sph_rates out = {r.dv, r.drho, r.dS, NULL};
+    sph_particles p = {.n_local = n, .n_total = n, .x = sim->x, .v = sim->v, .rho = sim->rho,
+                       .S = sim->S, .mass = sim->mass, .material = sim->material_of};
+    sph_neighbours nb = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
+    sph_rates out = {.dv_dt = r.dv, .drho_dt = r.drho, .dS_dt = r.dS};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &out));
     return r;
 }
@@ -268,8 +269,9 @@ static void strided_entry_points_match_the_dense_ones(void **state)
     double *dv = calloc(2 * n, sizeof *dv), *drho = calloc(n, sizeof *drho), *dS = calloc(4 * n, sizeof *dS);
     int *indices = malloc(sim->nl.offsets[n] * sizeof *indices);
     memcpy(indices, sim->nl.indices, sim->nl.offsets[n] * sizeof *indices);
-    sph_particles p = {n, n, x3, v3, sim->rho, sim->S, sim->mass, sim->material_of, 3};
-    sph_neighbours nb = {sim->nl.offsets, indices, NULL, NULL};
+    sph_particles p = {.n_local = n, .n_total = n, .x = x3, .v = v3, .rho = sim->rho, .S = sim->S,
+                       .mass = sim->mass, .material = sim->material_of, .stride = 3};
+    sph_neighbours nb = {.offsets = sim->nl.offsets, .indices = indices};
     sph_rates r3 = {dv, drho, dS, NULL};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &r3));
     assert_memory_equal(dv, dense.dv, 2 * n * sizeof *dv);
@@ -290,7 +292,7 @@ static void strided_entry_points_match_the_dense_ones(void **state)
     memcpy(S3, sim->S, 4 * n * sizeof *S3);
     double *saved2 = malloc(7 * n * sizeof *saved2), *saved3 = malloc(7 * n * sizeof *saved3);
     const double dt = 1e-8;
-    sph_rates rd = {dense.dv, dense.drho, dense.dS, NULL};
+    sph_rates rd = {.dv_dt = dense.dv, .drho_dt = dense.drho, .dS_dt = dense.dS};
     check(sim, sph_heun_predict(sim, n, dt, x2, v2, rho2, S2, &rd, integrate, saved2));
     check(sim, sph_heun_predict_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate, saved3));
     long bad = 0;
@@ -413,9 +415,10 @@ static void xsph_velocity_of_one_moving_particle(void **state)
     sim->v[2 * mover] = V;
     double *dv = calloc(2 * n, sizeof *dv), *drho = calloc(n, sizeof *drho);
     double *dS = calloc(4 * n, sizeof *dS), *u = calloc(2 * n, sizeof *u);
-    sph_particles p = {n, n, sim->x, sim->v, sim->rho, sim->S, sim->mass, sim->material_of, 0};
-    sph_neighbours nb = {sim->nl.offsets, sim->nl.indices, NULL, NULL};
-    sph_rates out = {dv, drho, dS, u};
+    sph_particles p = {.n_local = n, .n_total = n, .x = sim->x, .v = sim->v, .rho = sim->rho,
+                       .S = sim->S, .mass = sim->mass, .material = sim->material_of};
+    sph_neighbours nb = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
+    sph_rates out = {.dv_dt = dv, .drho_dt = drho, .dS_dt = dS, .dx_dt = u};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &out));
     const double h = sim->h, volume = dx * dx;
     const double norm = kernel_cubic_sigma(2) / (h * h);
