@@ -8,7 +8,7 @@
  * Prints wall milliseconds per Improved Euler step (median of the repeats,
  * after one warm-up step that builds the neighbour list) and the ratio to
  * the scene with no effect. Effects that are off cost nothing in the pair
- * loop (SPEC 3); this shows what each one costs when on.
+ * loop; this shows what each one costs when on.
  */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>

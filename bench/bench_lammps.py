@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Benchmark of the LAMMPS plugin on the paper's piston scene (issue 3).
+"""Benchmark of the LAMMPS plugin on the paper's piston scene.
 
-One invocation runs, on the uniaxial piston scene (SPEC section 2) at
+One invocation runs, on the uniaxial piston scene (Das & Cleary; docs/library.md) at
 dx = 1 mm for 0.3 ms of simulated time, each of
 
   library   the standalone libsphsolid (its own scene builder, neighbour

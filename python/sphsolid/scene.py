@@ -18,7 +18,7 @@ from .build import Body, Free
 
 __all__ = ["Scene", "DEFAULT_SMOOTHING_RATIO"]
 
-#: h / dx used when a scene does not say otherwise (SPEC: h = 1.2 dx)
+#: h / dx used when a scene does not say otherwise (h = 1.2 dx, as in the paper)
 DEFAULT_SMOOTHING_RATIO = 1.2
 
 

@@ -21,7 +21,7 @@ SPECIMEN_Y = (0.0, 0.140)
 #: Piston speed [m/s] (downward).
 PISTON_SPEED = 1.5e-3
 #: Monaghan artificial viscosity for wave problems (on by default): with no
-#: dissipation Improved Euler lets high-frequency modes grow (SPEC 1).
+#: dissipation Improved Euler lets high-frequency modes grow (docs/library.md, "Dissipation for wave problems").
 WAVE_VISCOSITY = {"alpha": 1.0, "beta": 0.0}
 #: Damping rate [1/s] of the gravity scene (dv/dt -= rate v).
 GRAVITY_DAMPING = 2000.0

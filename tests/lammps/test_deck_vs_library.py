@@ -1,6 +1,6 @@
 """The plugin's decks against the standalone library on the same scene.
 
-Both sides run the paper's scene (SPEC section 2) with the same physics
+Both sides run the paper's scene (Das & Cleary) with the same physics
 (the same libsphsolid code) and the same time step; they differ only in who
 owns the particles: LAMMPS (its lattice, neighbour lists, fix move, fix
 gravity, ghost atoms) or the library (its blocks, cell lists, motions).

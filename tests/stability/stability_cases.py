@@ -1,4 +1,4 @@
-"""Hard scenes with pass criteria derived from physics (issue 6).
+"""Hard scenes with pass criteria derived from physics.
 
 Each case builds a scene with the ``sphsolid`` front end, runs it with the C
 library and returns one or more :class:`Result` rows: the case, the effects

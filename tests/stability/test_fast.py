@@ -1,4 +1,4 @@
-"""Fast subset of the stability suite (issue 6), collected by pytest.
+"""Fast subset of the stability suite, collected by pytest.
 
 Each case of stability_cases.py in its fast variant must pass all its rows;
 then checkpoint/resume through the front end and blow-up handling through
