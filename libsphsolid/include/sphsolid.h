@@ -226,6 +226,10 @@ SPH_API double sph_smoothing_length(const sph_sim *sim);
 /* Support radius of the kernel [m] (2h for the kernels so far); 0 while
  * h is unknown. */
 SPH_API double sph_support_radius(const sph_sim *sim);
+/* Rows of particles `spacing` apart that make a wall (plate, piston) at
+ * least one kernel support thick: ceil(support / spacing); 0 while h is
+ * unknown or for a spacing that is not > 0. */
+SPH_API int sph_support_layers(const sph_sim *sim, double spacing);
 /* Set the reference particle spacing (normally the first body's): h is
  * h_over_dx times it, and the artificial stress normalises by W(dx).  For
  * handles that evaluate rates of external particles and have no bodies. */

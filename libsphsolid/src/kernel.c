@@ -68,3 +68,12 @@ double sph_support_radius(const sph_sim *sim)
 {
     return sim ? kernel_support(sim->kernel) * sim->h : 0.0;
 }
+
+int sph_support_layers(const sph_sim *sim, double spacing)
+{
+    const double support = sph_support_radius(sim);
+    if (!(support > 0.0) || !(spacing > 0.0) || !isfinite(spacing))
+        return 0;
+    /* the tolerance keeps an exact multiple (2h = 3 dx) at that many rows */
+    return (int)ceil(support / spacing - 1e-9);
+}

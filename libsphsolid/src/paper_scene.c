@@ -26,12 +26,10 @@ sph_status sph_build_paper_scene(sph_sim *sim, double dx, double piston_speed,
     const double lo[3] = {-0.5 * width, 0.0, 0.0}, hi[3] = {0.5 * width, height, 0.0};
     if ((st = sph_add_block(sim, "specimen", s.material, lo, hi, dx, &s.specimen)))
         return st;
-    /* Piston and plate: same lattice columns, at least 2h thick. */
-    const double h = sim->h;
-    const long nx = lround(width / dx), ny = lround(height / dx);
-    const double dy = height / (double)ny;
-    const long layers = (long)ceil(2.0 * h / dy - 1e-9);
-    (void)nx;
+    /* Piston and plate: the specimen's lattice columns and row spacing, at
+     * least one kernel support thick. */
+    const double dy = height / (double)lround(height / dx);
+    const long layers = sph_support_layers(sim, dy);
     const double plate_lo[3] = {-0.5 * width, -layers * dy, 0.0}, plate_hi[3] = {0.5 * width, 0.0, 0.0};
     if ((st = sph_add_block(sim, "plate", s.material, plate_lo, plate_hi, dx, &s.plate)))
         return st;

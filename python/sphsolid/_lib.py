@@ -170,6 +170,8 @@ _PROTOTYPES = {
     "sph_set_kernel": (c_int, [_sim, c_int]),
     "sph_set_smoothing_ratio": (c_int, [_sim, c_double]),
     "sph_smoothing_length": (c_double, [_sim]),
+    "sph_support_radius": (c_double, [_sim]),
+    "sph_support_layers": (c_int, [_sim, c_double]),
     "sph_effect": (c_int, [_sim, c_char_p, c_char_p]),
     "sph_effect_off": (c_int, [_sim, c_char_p]),
     "sph_effect_is_on": (c_int, [_sim, c_char_p]),

@@ -343,21 +343,29 @@ def box(x, y, z, dx: float, material: Material, name: str = "specimen",
                  motion, velocity, role="specimen")
 
 
+def layer_spacing(body: Body) -> float:
+    """Distance between the particle rows (along y) of a block [m]."""
+    return (body.hi[1] - body.lo[1]) / body.lattice_shape[1]
+
+
 def _layered(body, layers, dx, material, below, name, motion, role):
     if body.lo is None:
         raise ValueError(f"{role} needs a block to sit against, got body "
                          f"{body.name!r}")
     if not isinstance(layers, int) or layers < 1:
         raise ValueError(f"layers must be a positive integer, got {layers!r}")
+    # rows as far apart as the block's own (L / round(L / dx)), unless a
+    # spacing is given: the library's paper scene lays them the same way
+    row = (layer_spacing(body) if dx is None else _check_dx(dx))
     dx = body.dx if dx is None else _check_dx(dx)
     material = body.material if material is None else material
     lo, hi = list(body.lo), list(body.hi)
     if below:
         hi[1] = body.lo[1]
-        lo[1] = body.lo[1] - layers * dx
+        lo[1] = body.lo[1] - layers * row
     else:
         lo[1] = body.hi[1]
-        hi[1] = body.hi[1] + layers * dx
+        hi[1] = body.hi[1] + layers * row
     result = block(lo, hi, dx, material, name, motion, role=role)
     result.layers = layers
     return result
@@ -368,9 +376,11 @@ def plate(under: Body, layers: int = 3, dx: float | None = None,
           motion="fixed") -> Body:
     """A plate of ``layers`` particle layers below a block, same width.
 
-    Spans y in [y0 - layers dx, y0] under ``under`` (whose bottom is y0);
-    fixed by default. ``layers * dx`` must be at least the kernel
-    support 2h (checked when added to a scene): 3 layers at h = 1.2 dx.
+    Spans y in [y0 - layers dy, y0] under ``under`` (whose bottom is y0;
+    dy its row spacing, :func:`layer_spacing`); fixed by default. The
+    plate must be at least one kernel support thick (checked when added to
+    a scene; :meth:`Scene.support_layers` gives the rows needed): 3 layers
+    at h = 1.2 dx.
 
     Parameters
     ----------
@@ -390,7 +400,7 @@ def piston(over: Body, layers: int = 3, velocity=(0.0, -1.5e-3),
            name: str = "piston", motion: Motion | None = None) -> Body:
     """A piston of ``layers`` particle layers on top of a block, same width.
 
-    Spans y in [y1, y1 + layers dx] over ``over`` (whose top is y1) and
+    Spans y in [y1, y1 + layers dy] over ``over`` (whose top is y1) and
     moves at the constant ``velocity`` [m/s] (default the paper's
     1.5 mm/s downward). Give ``motion=Pressure(p)`` or ``Force(F)`` for a
     load-controlled piston instead.

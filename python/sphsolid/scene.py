@@ -14,7 +14,7 @@ import numpy as np
 
 from . import _lib
 from ._lib import lib
-from .build import Body, Free
+from .build import Body, Free, layer_spacing
 
 __all__ = ["Scene", "DEFAULT_SMOOTHING_RATIO"]
 
@@ -208,14 +208,14 @@ class Scene:
             raise ValueError(f"body name {body.name!r} is already used in "
                              "this scene")
         if body.role in ("plate", "piston") and body.layers is not None:
-            dx_ref = self.bodies[0].dx if self.bodies else body.dx
-            support = 2.0 * self.smoothing_ratio * dx_ref
-            thickness = body.layers * body.dx
-            if thickness < support * (1 - 1e-12):
+            spacing = layer_spacing(body)
+            needed = self.support_layers(spacing)
+            if body.layers < needed:
                 raise ValueError(
                     f"{body.role} {body.name!r}: layers={body.layers} give "
-                    f"{thickness:g} m, thinner than the kernel support "
-                    f"2h = {support:g} m")
+                    f"{body.layers * spacing:g} m, thinner than the kernel "
+                    f"support {lib.sph_support_radius(self._handle):g} m "
+                    f"({needed} layers)")
         material = self._material_index(body.material)
         index = ctypes.c_int()
         name = body.name.encode()
@@ -255,6 +255,13 @@ class Scene:
         self.bodies.append(body)
         self._views.clear()
         return index.value
+
+    def support_layers(self, spacing: float) -> int:
+        """Rows of particles ``spacing`` [m] apart that a plate or piston
+        needs to be one kernel support thick (``sph_support_layers``; 0
+        until the first body sets the smoothing length)."""
+        return int(lib.sph_support_layers(self._handle,
+                                          _lib.as_double(spacing, "spacing")))
 
     def body_slice(self, name: str) -> slice:
         """Particles of a body, as a slice into the arrays."""

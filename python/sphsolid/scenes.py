@@ -7,7 +7,7 @@ with damping so the static, height-graded stress is reached fast.
 """
 from __future__ import annotations
 
-from .build import piston, plate, rectangle
+from .build import layer_spacing, piston, plate, rectangle
 from .material import Material
 from .probes import PAPER_PROBES
 from .scene import Scene
@@ -32,10 +32,29 @@ def paper_material() -> Material:
     return Material(K=12.2e9, mu=2.67e9, rho0=2300.0, name="paper specimen")
 
 
+def _walled(specimen, effects: dict, layers: int | None, piston_speed=None) -> Scene:
+    """The specimen in a scene, on a fixed plate and (with a piston speed)
+    under a piston moving down, as the library's sph_build_paper_scene
+    lays them: walls on the specimen's lattice rows, ``layers`` rows thick
+    or, by default, the rows the library asks for one kernel support."""
+    scene = Scene(2, [specimen], effects=effects)
+    if layers is None:
+        layers = scene.support_layers(layer_spacing(specimen))
+    scene.add(plate(under=specimen, layers=layers))
+    if piston_speed is not None:
+        scene.add(piston(over=specimen, layers=layers,
+                         velocity=(0.0, -piston_speed)))
+    return scene
+
+
 def uniaxial_piston(dx: float = 1e-3, velocity: float = PISTON_SPEED,
-                    layers: int = 3, viscosity: dict | None = WAVE_VISCOSITY,
+                    layers: int | None = None,
+                    viscosity: dict | None = WAVE_VISCOSITY,
                     material: Material | None = None) -> Scene:
     """The paper's uniaxial piston test in 2D plane strain.
+
+    With the defaults it is particle for particle the library's
+    ``sph_build_paper_scene`` (plus the artificial viscosity).
 
     Parameters
     ----------
@@ -44,8 +63,9 @@ def uniaxial_piston(dx: float = 1e-3, velocity: float = PISTON_SPEED,
         specimen particles).
     velocity : float
         Piston speed downward [m/s].
-    layers : int
-        Particle layers of piston and plate (3 dx >= 2h at h = 1.2 dx).
+    layers : int, optional
+        Particle rows of piston and plate; default: one kernel support
+        (``Scene.support_layers``; 3 at h = 1.2 dx).
     viscosity : dict or None
         Artificial viscosity parameters (alpha, beta); None switches it off.
     material : Material, optional
@@ -56,15 +76,11 @@ def uniaxial_piston(dx: float = 1e-3, velocity: float = PISTON_SPEED,
     effects = {}
     if viscosity is not None:
         effects["artificial_viscosity"] = dict(viscosity)
-    return Scene(2, [specimen,
-                     plate(under=specimen, layers=layers),
-                     piston(over=specimen, layers=layers,
-                            velocity=(0.0, -velocity))],
-                 effects=effects)
+    return _walled(specimen, effects, layers, piston_speed=velocity)
 
 
 def gravity(dx: float = 1e-3, g: float = 9.81,
-            damping: float | None = GRAVITY_DAMPING, layers: int = 3,
+            damping: float | None = GRAVITY_DAMPING, layers: int | None = None,
             viscosity: dict | None = WAVE_VISCOSITY,
             material: Material | None = None) -> Scene:
     """The specimen resting on the fixed plate under gravity (no piston).
@@ -78,6 +94,8 @@ def gravity(dx: float = 1e-3, g: float = 9.81,
     damping : float or None
         Damping rate [1/s] for fast settling to the static field; None for
         none.
+    layers : int, optional
+        Particle rows of the plate; default: one kernel support.
     """
     material = material or paper_material()
     specimen = rectangle(SPECIMEN_X, SPECIMEN_Y, dx, material, "specimen")
@@ -86,5 +104,4 @@ def gravity(dx: float = 1e-3, g: float = 9.81,
         effects["artificial_viscosity"] = dict(viscosity)
     if damping is not None:
         effects["damping"] = {"rate": float(damping)}
-    return Scene(2, [specimen, plate(under=specimen, layers=layers)],
-                 effects=effects)
+    return _walled(specimen, effects, layers)
