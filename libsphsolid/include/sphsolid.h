@@ -419,6 +419,10 @@ SPH_API sph_status sph_energy(sph_sim *sim, int all_bodies, sph_energy_info *inf
 /* Bytes of memory the handle holds (particle state, integrator and rate
  * scratch, neighbour list), for budgeting large runs. */
 SPH_API size_t sph_memory_bytes(const sph_sim *sim);
+/* SPH_ERR_MEMORY, with the bytes needed and available, when a run with
+ * `particles` more particles (at the handle's smoothing ratio) would not
+ * fit in the memory available; builders call it before allocating. */
+SPH_API sph_status sph_memory_check(sph_sim *sim, double particles);
 
 /* ---------------------------------------------------------------- probes */
 
@@ -432,8 +436,19 @@ SPH_API int sph_probe_count(const sph_sim *sim);
 SPH_API const char *sph_probe_name(const sph_sim *sim, int probe);
 /* Shepard-normalised kernel interpolation at the probe point:
  *   A(p) = sum_b V_b A_b W(p - r_b) / sum_b V_b W(p - r_b),  V_b = m_b/rho_b.
- * `values` receives SPH_PROBE_VALUES(dim) doubles. */
+ * `values` receives SPH_PROBE_VALUES(dim) doubles.  A point with no particle
+ * within 2h (outside every body) is an error by default: SPH_ERR_DOMAIN
+ * naming the probe and its point, values set to NaN; the same holds for the
+ * probe samples an output file records during a run (the run stops) and
+ * for sph_probe_finish().  sph_set_probe_outside(sim, SPH_PROBE_OUTSIDE_NAN)
+ * makes such samples NaN with status SPH_OK instead. */
 SPH_API sph_status sph_probe_sample(sph_sim *sim, int probe, double *values);
+
+typedef enum sph_probe_outside {
+    SPH_PROBE_OUTSIDE_ERROR = 0,    /* default */
+    SPH_PROBE_OUTSIDE_NAN = 1
+} sph_probe_outside;
+SPH_API sph_status sph_set_probe_outside(sph_sim *sim, sph_probe_outside mode);
 
 /* ---------------------------------------------------------------- output */
 

@@ -1,5 +1,6 @@
 /* Bodies: particles on lattices or given points, their motions and lookup. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -117,6 +118,10 @@ sph_status sph_add_particles(sph_sim *sim, const char *name, int material_id,
     sph_status st = check_name(sim, name);
     if (st)
         return st;
+    if (sim->out)
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "body '%s': add bodies before opening the output file (its frames would hold only the earlier particles)",
+                        name);
     if (material_id < 0 || material_id >= sim->n_materials)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': material=%d, but %d materials are defined",
                         name, material_id, sim->n_materials);
@@ -137,12 +142,19 @@ sph_status sph_add_particles(sph_sim *sim, const char *name, int material_id,
                                 "body '%s': particle %zu at coordinate %c=%g lies outside the domain [%g, %g]",
                                 name, k, "xyz"[i], xi, sim->lo[i], sim->hi[i]);
         }
-        if (volumes && !(volumes[k] > 0.0))
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': particle %zu has volume %g (must be > 0)", name, k, volumes[k]);
+        if (volumes && (!(volumes[k] > 0.0) || !isfinite(volumes[k]) ||
+                        !isfinite(volumes[k] * sim->materials[material_id].rho0)))
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': particle %zu has volume %g (must be finite and > 0)", name, k, volumes[k]);
     }
     st = check_overlap(sim, name, n, pos, spacing);
     if (st)
         return st;
+    {
+        char what[SPH_NAME_SIZE + 16];
+        snprintf(what, sizeof what, "body '%s'", name);
+        if ((st = memory_check(sim, (double)n, what)))
+            return st;
+    }
     if ((st = grow_particles(sim, sim->n + n)))
         return st;
     body *b = realloc(sim->bodies, (size_t)(sim->n_bodies + 1) * sizeof *b);
@@ -157,6 +169,14 @@ sph_status sph_add_particles(sph_sim *sim, const char *name, int material_id,
     nb->first = sim->n;
     nb->count = n;
     nb->spacing = spacing;
+    for (int i = 0; i < dim; ++i) {
+        nb->extent_lo[i] = INFINITY;
+        nb->extent_hi[i] = -INFINITY;
+        for (size_t k = 0; k < n; ++k) {
+            nb->extent_lo[i] = fmin(nb->extent_lo[i], pos[k * dim + i]);
+            nb->extent_hi[i] = fmax(nb->extent_hi[i], pos[k * dim + i]);
+        }
+    }
     const material *m = &sim->materials[material_id];
     const double default_volume = pow(spacing, dim);
     for (size_t k = 0; k < n; ++k) {
@@ -197,11 +217,17 @@ sph_status sph_add_block(sph_sim *sim, const char *name, int material_id,
     long count[3] = {1, 1, 1};
     double step[3] = {0, 0, 0};
     size_t n = 1;
+    double cells = 1.0;
+    sph_status st;
     for (int i = 0; i < dim; ++i) {
         const double L = hi[i] - lo[i];
         if (!(L > 0.0) || !isfinite(L))
             return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': extent along %c is hi-lo=%g (must be > 0)",
                             name ? name : "", "xyz"[i], L);
+        if (L / dx > 1e12)
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': extent %g m along %c is %g spacings dx=%g m: too many",
+                            name ? name : "", L, "xyz"[i], L / dx, dx);
+        cells *= round(L / dx);
         count[i] = lround(L / dx);
         if (count[i] < 1)
             return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': extent %g along %c is less than half of dx=%g",
@@ -209,8 +235,15 @@ sph_status sph_add_block(sph_sim *sim, const char *name, int material_id,
         step[i] = L / (double)count[i];
         n *= (size_t)count[i];
     }
+    {
+        /* before allocating anything: would a run of this many fit? */
+        char what[SPH_NAME_SIZE + 40];
+        snprintf(what, sizeof what, "block '%s' (dx=%g m)", name ? name : "", dx);
+        if ((st = memory_check(sim, cells, what)))
+            return st;
+    }
     if (n > (size_t)1 << 31)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': %zu particles is too many", name ? name : "", n);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': %zu particles is too many (at most 2^31)", name ? name : "", n);
     double *pos = malloc(n * (size_t)dim * sizeof *pos);
     double *vol = malloc(n * sizeof *vol);
     if (!pos || !vol) {
@@ -228,7 +261,7 @@ sph_status sph_add_block(sph_sim *sim, const char *name, int material_id,
                     pos[k * dim + 2] = lo[2] + (iz + 0.5) * step[2];
                 vol[k] = volume;
             }
-    sph_status st = sph_add_particles(sim, name, material_id, n, pos, vol, dx, body_id);
+    st = sph_add_particles(sim, name, material_id, n, pos, vol, dx, body_id);
     free(pos);
     free(vol);
     return st;
@@ -347,8 +380,10 @@ int sph_body_count(const sph_sim *sim) { return sim ? sim->n_bodies : 0; }
 
 sph_status sph_body_info_get(sph_sim *sim, int id, sph_body_info *info)
 {
-    if (!sim || !info)
+    if (!sim)
         return SPH_ERR_ARGUMENT;
+    if (!info)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_body_info_get: info is NULL");
     if (check_body(sim, id))
         return SPH_ERR_ARGUMENT;
     const body *b = &sim->bodies[id];
@@ -363,8 +398,10 @@ sph_status sph_body_info_get(sph_sim *sim, int id, sph_body_info *info)
 
 sph_status sph_body_find(sph_sim *sim, const char *name, int *id)
 {
-    if (!sim || !id)
+    if (!sim)
         return SPH_ERR_ARGUMENT;
+    if (!id)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_body_find: id is NULL");
     for (int i = 0; i < sim->n_bodies; ++i)
         if (name && strcmp(sim->bodies[i].name, name) == 0) {
             *id = i;

@@ -304,6 +304,10 @@ static sph_status parse_parameters(sph_sim *sim, const effect_def *e, const char
             return sph_fail(sim, SPH_ERR_ARGUMENT,
                             "effect '%s': parameter %s='%s' is not a finite number",
                             e->name, key, number);
+        if (given[found])
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "effect '%s': parameter '%s' is given twice (%s=%g, then %s=%s)",
+                            e->name, key, key, values[found], key, number);
         values[found] = value;
         given[found] = 1;
         p = end;

@@ -37,8 +37,10 @@ sph_status sph_energy_fields(sph_sim *sim, size_t n, const double *mass, const d
 
 sph_status sph_energy(sph_sim *sim, int all_bodies, sph_energy_info *info)
 {
-    if (!sim || !info)
+    if (!sim)
         return SPH_ERR_ARGUMENT;
+    if (!info)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_energy: info is NULL");
     memset(info, 0, sizeof *info);
     const int dim = sim->dim;
     for (size_t a = 0; a < sim->n; ++a) {

@@ -11,8 +11,10 @@
 
 sph_status sph_field(sph_sim *sim, sph_field_id field, double **data, size_t *rows, size_t *cols)
 {
-    if (!sim || !data)
+    if (!sim)
         return SPH_ERR_ARGUMENT;
+    if (!data)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_field: data is NULL");
     size_t c = 1;
     double *p = NULL;
     switch (field) {
@@ -34,8 +36,10 @@ sph_status sph_field(sph_sim *sim, sph_field_id field, double **data, size_t *ro
 
 sph_status sph_field_copy(sph_sim *sim, sph_field_id field, double *out)
 {
-    if (!sim || !out)
+    if (!sim)
         return SPH_ERR_ARGUMENT;
+    if (!out)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_field_copy: out is NULL");
     const int dim = sim->dim, nc = sim->ncomp;
     const size_t n = sim->n;
     switch (field) {

@@ -17,6 +17,14 @@ static sph_status add_material(sph_sim *sim, double K, double mu, double rho0,
         return sph_fail(sim, SPH_ERR_ARGUMENT, "shear modulus mu=%g: must be finite and >= 0", mu);
     if (!(rho0 > 0.0) || !isfinite(rho0))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "reference density rho0=%g: must be finite and > 0", rho0);
+    {
+        /* derived constants must be finite too (K = mu = 1e300 gives E = inf) */
+        const double E = 9.0 * K * mu / (3.0 * K + mu), c_p2 = (K + 4.0 * mu / 3.0) / rho0;
+        if (!isfinite(E) || !isfinite(c_p2) || !isfinite(K / rho0))
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "K=%g, mu=%g, rho0=%g: the derived constants overflow (Young's modulus E=%g, c_p^2=%g m^2/s^2)",
+                            K, mu, rho0, E, c_p2);
+    }
     material *m = realloc(sim->materials, (size_t)(sim->n_materials + 1) * sizeof *m);
     if (!m)
         return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate a material");
@@ -73,8 +81,10 @@ sph_status sph_add_material_K_nu(sph_sim *sim, double K, double nu, double rho0,
 
 sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
 {
-    if (!sim || !info)
+    if (!sim)
         return SPH_ERR_ARGUMENT;
+    if (!info)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_material_info_get: info is NULL");
     if (id < 0 || id >= sim->n_materials)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "material=%d: %d materials are defined", id, sim->n_materials);
     const material *m = &sim->materials[id];

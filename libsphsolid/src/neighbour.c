@@ -124,6 +124,61 @@ static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2,
     return count;
 }
 
+/* The cell grid's size in checked arithmetic: per-axis counts are computed
+ * in floating point and the cells of a sparse cloud widened (doubled) until
+ * the total is at most `limit`, so that no count is converted, multiplied
+ * or allocated before it is known to fit.  Refuses positions that are not
+ * finite and extents that overflow, naming the particle and the value. */
+static sph_status grid_size(sph_sim *sim, grid *g, const double *lo, const double *hi,
+                            const size_t *lo_at, const size_t *hi_at, double rc,
+                            size_t limit, size_t *ncells)
+{
+    const int dim = sim->dim;
+    double cells[3] = {1, 1, 1};
+    for (int i = 0; i < dim; ++i) {
+        if (g->periodic[i]) {
+            g->box[i] = sim->hi[i] - sim->lo[i];
+            g->lo[i] = sim->lo[i];
+            cells[i] = fmax(1.0, floor(g->box[i] / rc));
+            if (cells[i] > (double)limit)
+                cells[i] = (double)limit;
+            g->width[i] = g->box[i] / cells[i];
+            continue;
+        }
+        const double extent = hi[i] - lo[i];
+        if (!isfinite(extent))
+            return sph_fail(sim, SPH_ERR_NONFINITE,
+                            "particles %zu at %c=%g and %zu at %c=%g are too far apart for the neighbour search (extent %g m)",
+                            lo_at[i], "xyz"[i], lo[i], hi_at[i], "xyz"[i], hi[i], extent);
+        g->lo[i] = lo[i];
+        g->width[i] = rc;
+        cells[i] = floor(extent / rc) + 1.0;
+    }
+    for (;;) {
+        double total = 1.0;
+        for (int i = 0; i < dim; ++i)
+            total *= cells[i];
+        if (total <= (double)limit)
+            break;
+        int widened = 0;
+        for (int i = 0; i < dim; ++i)
+            if (!g->periodic[i] && cells[i] > 1.0) {
+                g->width[i] *= 2.0;
+                cells[i] = floor((hi[i] - lo[i]) / g->width[i]) + 1.0;
+                widened = 1;
+            }
+        if (!widened)
+            return sph_fail(sim, SPH_ERR_MEMORY, "the periodic domain needs %g cells, more than %zu", total, limit);
+    }
+    size_t product = 1;
+    for (int i = 0; i < dim; ++i) {
+        g->ncell[i] = (long)cells[i];
+        product *= (size_t)g->ncell[i];
+    }
+    *ncells = product;
+    return SPH_OK;
+}
+
 sph_status neighbour_build(sph_sim *sim)
 {
     neighbour_list *nl = &sim->nl;
@@ -135,6 +190,7 @@ sph_status neighbour_build(sph_sim *sim)
     g.dim = dim;
 
     double lo[3], hi[3];
+    size_t lo_at[3] = {0, 0, 0}, hi_at[3] = {0, 0, 0};
     for (int i = 0; i < dim; ++i) {
         lo[i] = INFINITY;
         hi[i] = -INFINITY;
@@ -142,43 +198,20 @@ sph_status neighbour_build(sph_sim *sim)
     for (size_t a = 0; a < n; ++a)
         for (int i = 0; i < dim; ++i) {
             const double xi = sim->x[a * dim + i];
-            if (xi < lo[i]) lo[i] = xi;
-            if (xi > hi[i]) hi[i] = xi;
+            if (!isfinite(xi))
+                return sph_fail(sim, SPH_ERR_NONFINITE, "particle %zu (body '%s') has a non-finite position %c=%g",
+                                a, sim->bodies[sim->body_of[a]].name, "xyz"[i], xi);
+            if (xi < lo[i]) { lo[i] = xi; lo_at[i] = a; }
+            if (xi > hi[i]) { hi[i] = xi; hi_at[i] = a; }
         }
-    size_t ncells = 1;
-    for (int i = 0; i < dim; ++i) {
+    for (int i = 0; i < dim; ++i)
         g.periodic[i] = sim->has_domain && sim->periodic[i];
-        if (g.periodic[i]) {
-            g.box[i] = sim->hi[i] - sim->lo[i];
-            g.lo[i] = sim->lo[i];
-            g.ncell[i] = (long)floor(g.box[i] / rc);
-            if (g.ncell[i] < 1)
-                g.ncell[i] = 1;
-            g.width[i] = g.box[i] / (double)g.ncell[i];
-        } else {
-            g.lo[i] = lo[i];
-            g.width[i] = rc;
-            g.ncell[i] = (long)floor((hi[i] - lo[i]) / rc) + 1;
-        }
-    }
     /* Keep the grid at most about 2 cells per particle: widen the cells of a
      * sparse cloud (particles flying apart) rather than allocate empty ones. */
-    for (;;) {
-        ncells = 1;
-        for (int i = 0; i < dim; ++i)
-            ncells *= (size_t)g.ncell[i];
-        if (ncells <= 2 * n + 64)
-            break;
-        int widened = 0;
-        for (int i = 0; i < dim; ++i)
-            if (!g.periodic[i] && g.ncell[i] > 1) {
-                g.width[i] *= 2.0;
-                g.ncell[i] = (long)floor((hi[i] - lo[i]) / g.width[i]) + 1;
-                widened = 1;
-            }
-        if (!widened)
-            break;
-    }
+    size_t ncells = 1;
+    sph_status st = grid_size(sim, &g, lo, hi, lo_at, hi_at, rc, 2 * n + 64, &ncells);
+    if (st)
+        return st;
 
     size_t *cell_index = malloc((n ? n : 1) * sizeof *cell_index);
     g.start = calloc(ncells + 1, sizeof *g.start);

@@ -2,6 +2,7 @@
  *   A(p) = sum_b V_b A_b W(p - r_b) / sum_b V_b W(p - r_b),  V_b = m_b/rho_b
  * (paper eq. 1, normalised by the interpolated unity). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,11 +57,35 @@ static void probe_finish(const sph_sim *sim, const double *sums, double *values)
         values[2 + c] = sums[3 + c] / sums[0] - (c < 3 ? values[1] : 0.0);
 }
 
-void probe_sample_point(sph_sim *sim, const double *point, double *values)
+/* Samples probe p; outside every body: NaN, and SPH_ERR_DOMAIN unless the
+ * handle asked for NaN (sph_set_probe_outside). */
+sph_status probe_sample_point(sph_sim *sim, const probe *p, double *values)
 {
     double sums[3 + 6] = {0};
-    probe_accumulate(sim, sim->n, sim->x, (size_t)sim->dim, sim->rho, sim->S, sim->mass, sim->material_of, point, sums);
+    probe_accumulate(sim, sim->n, sim->x, (size_t)sim->dim, sim->rho, sim->S, sim->mass, sim->material_of, p->point, sums);
     probe_finish(sim, sums, values);
+    if (sums[0] > 0.0 || sim->probe_outside_nan)
+        return SPH_OK;
+    char at[96];
+    if (sim->dim == 3)
+        snprintf(at, sizeof at, "(%g, %g, %g)", p->point[0], p->point[1], p->point[2]);
+    else
+        snprintf(at, sizeof at, "(%g, %g)", p->point[0], p->point[1]);
+    return sph_fail(sim, SPH_ERR_DOMAIN,
+                    "probe '%s' at %s m is outside every body: no particle within 2h = %g m at t = %g s "
+                    "(sph_set_probe_outside(SPH_PROBE_OUTSIDE_NAN) records NaN instead)",
+                    p->name, at, 2.0 * sim->h, sim->t);
+}
+
+sph_status sph_set_probe_outside(sph_sim *sim, sph_probe_outside mode)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (mode != SPH_PROBE_OUTSIDE_ERROR && mode != SPH_PROBE_OUTSIDE_NAN)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_set_probe_outside: mode=%d is not SPH_PROBE_OUTSIDE_ERROR (0) or SPH_PROBE_OUTSIDE_NAN (1)",
+                        (int)mode);
+    sim->probe_outside_nan = mode == SPH_PROBE_OUTSIDE_NAN;
+    return sph_ok(sim);
 }
 
 sph_status sph_probe_accumulate(sph_sim *sim, const sph_particles *p,
@@ -93,6 +118,10 @@ sph_status sph_probe_finish(sph_sim *sim, const double *sums, double *values)
     if (!sums || !values)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_probe_finish: sums and values must not be NULL");
     probe_finish(sim, sums, values);
+    if (!(sums[0] > 0.0) && !sim->probe_outside_nan)
+        return sph_fail(sim, SPH_ERR_DOMAIN,
+                        "the point is outside every body: no particle within 2h = %g m (SPH_PROBE_OUTSIDE_NAN records NaN instead)",
+                        2.0 * sim->h);
     return SPH_OK;
 }
 
@@ -146,6 +175,6 @@ sph_status sph_probe_sample(sph_sim *sim, int id, double *values)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "probe '%s': values is NULL", sim->probes[id].name);
     if (sim->n == 0 || sim->h <= 0.0)
         return sph_fail(sim, SPH_ERR_STATE, "probe '%s': the simulation has no particles", sim->probes[id].name);
-    probe_sample_point(sim, sim->probes[id].point, values);
-    return sph_ok(sim);
+    const sph_status st = probe_sample_point(sim, &sim->probes[id], values);
+    return st ? st : sph_ok(sim);
 }

@@ -17,6 +17,9 @@ sph_status sim_prepare(sph_sim *sim)
         return sph_fail(sim, SPH_ERR_STATE, "this handle was created with an invalid dimension");
     if (sim->n == 0)
         return sph_fail(sim, SPH_ERR_STATE, "the simulation has no particles: add a body first");
+    sph_status checked = state_check(sim);
+    if (checked)
+        return checked;
     if (!sim->dt_set)
         sim->dt = sph_default_dt(sim);
     sim_shrink_to_fit(sim);
@@ -198,8 +201,12 @@ static void steps_until(const sph_sim *sim, double t, double dt, long *whole, do
 
 sph_status sph_steps_until(sph_sim *sim, double t, long *whole, double *last)
 {
-    if (!sim || !whole || !last)
+    if (!sim)
         return SPH_ERR_ARGUMENT;
+    if (!whole)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_steps_until: whole is NULL");
+    if (!last)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_steps_until: last is NULL");
     if (!isfinite(t) || t < sim->t)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "until t=%g s: must be finite and not before the current time %g s", t, sim->t);

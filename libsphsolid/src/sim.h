@@ -24,6 +24,9 @@ typedef struct body {
     size_t first, count;
     double spacing;
     double total_mass;
+    double extent_lo[3], extent_hi[3]; /* bounding box of the particles as
+                                          added: files record it so a reader
+                                          can tell bodies of another shape */
 } body;
 
 typedef struct probe {
@@ -67,6 +70,7 @@ struct sph_sim {
     int n_bodies;
     probe *probes;
     int n_probes;
+    int probe_outside_nan;  /* sph_set_probe_outside */
     size_t n, capacity;
     double *x, *v, *rho, *S, *mass;
     int *material_of;       /* per particle */
@@ -148,7 +152,13 @@ int effects_is_on(const effects *fx, const char *name);
 void effects_describe(const effects *fx, char *buf, size_t size);
 
 /* probe.c */
-void probe_sample_point(sph_sim *sim, const double *point, double *values);
+sph_status probe_sample_point(sph_sim *sim, const probe *p, double *values);
+
+/* validate.c */
+sph_status state_check(sph_sim *sim);
+/* SPH_ERR_MEMORY naming `what`, the bytes needed and available when
+ * `particles` more particles would not fit in memory during a run. */
+sph_status memory_check(sph_sim *sim, double particles, const char *what);
 
 /* io_hdf5.c */
 sph_status output_write_due(sph_sim *sim);

@@ -13,8 +13,10 @@
 sph_status sph_rigid_force_sum(sph_sim *sim, size_t n, const double *mass,
                                const double *dv_dt, const unsigned char *member, double *sums)
 {
-    if (!sim || !sums)
+    if (!sim)
         return SPH_ERR_ARGUMENT;
+    if (!sums)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_sum: sums is NULL");
     if (n > 0 && (!mass || !dv_dt))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_sum: mass and dv_dt must not be NULL");
     const int dim = sim->dim;
@@ -31,8 +33,12 @@ sph_status sph_rigid_force_sum(sph_sim *sim, size_t n, const double *mass,
 sph_status sph_rigid_force_apply(sph_sim *sim, size_t n, const double *applied,
                                  const double *sums, const unsigned char *member, double *dv_dt)
 {
-    if (!sim || !applied || !sums)
+    if (!sim)
         return SPH_ERR_ARGUMENT;
+    if (!applied)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_apply: applied is NULL");
+    if (!sums)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_apply: sums is NULL");
     if (n > 0 && !dv_dt)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_apply: dv_dt must not be NULL");
     if (!(sums[0] > 0.0) || !isfinite(sums[0]))
@@ -87,8 +93,10 @@ sph_status sph_watchdog_check(sph_sim *sim, size_t n, const double *v, const dou
                               const int *material_of, const unsigned char *integrate_motion,
                               long *particle)
 {
-    if (!sim || !particle)
+    if (!sim)
         return SPH_ERR_ARGUMENT;
+    if (!particle)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: particle is NULL");
     *particle = -1;
     if (n > 0 && (!v || !rho || !material_of))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: v, rho and material must not be NULL");

@@ -152,11 +152,8 @@ static void write_xml(FILE *f, const char *href, const double *times, long frame
     fputs("</Grid>\n</Domain>\n</Xdmf>\n", f);
 }
 
-sph_status sph_write_xdmf(sph_sim *sim, const char *h5_path)
+static sph_status write_xdmf(sph_sim *sim, const char *h5_path)
 {
-    if (!h5_path || !*h5_path)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_write_xdmf: the HDF5 path is empty");
-    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
     hid_t file = H5Fopen(h5_path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (file < 0)
         return sph_fail(sim, SPH_ERR_IO, "sph_write_xdmf: cannot open HDF5 file '%s'", h5_path);
@@ -221,6 +218,22 @@ sph_status sph_write_xdmf(sph_sim *sim, const char *h5_path)
     free(xmf);
     free(times);
     return st ? st : sph_ok(sim);
+}
+
+sph_status sph_write_xdmf(sph_sim *sim, const char *h5_path)
+{
+    if (!h5_path || !*h5_path)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_write_xdmf: the HDF5 path is empty");
+    /* HDF5's error printing off for these calls only: the host's handler
+     * is restored */
+    H5E_auto2_t func = NULL;
+    void *data = NULL;
+    H5Eget_auto2(H5E_DEFAULT, &func, &data);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    const sph_status st = write_xdmf(sim, h5_path);
+    H5Eclear2(H5E_DEFAULT);
+    H5Eset_auto2(H5E_DEFAULT, func, data);
+    return st;
 }
 
 #else /* no HDF5 */

@@ -220,11 +220,10 @@ class Trajectory:
         except OSError as error:
             raise OSError(f"Trajectory: cannot read {str(self.path)!r} as "
                           f"HDF5: {error}") from None
-        if "particles/all/position/value" not in self._file:
+        problem = _format_problem(self._file)
+        if problem:
             self._file.close()
-            raise OSError(f"Trajectory: {str(self.path)!r} is not a "
-                          "libsphsolid output file (no "
-                          "/particles/all/position/value)")
+            raise OSError(f"Trajectory: {str(self.path)!r} {problem}")
         self._all = self._file["particles/all"]
 
     def _readable(self):
@@ -247,19 +246,31 @@ class Trajectory:
         return f"Trajectory({str(self.path)!r}, {state})"
 
     def __len__(self) -> int:
+        # frames count once the library has flushed them (complete_frames);
+        # a frame being written when the writer stopped is not counted
         self._readable()
-        return self._all["position/value"].shape[0]
+        return min(int(self._all.attrs["complete_frames"]),
+                   self._all["position/value"].shape[0])
 
     @property
     def times(self) -> np.ndarray:
         """Times of the frames [s]."""
         self._readable()
-        return self._all["position/time"][:]
+        return self._read(self._all["position/time"], slice(0, len(self)))
 
     @property
     def steps(self) -> np.ndarray:
         self._readable()
-        return self._all["position/step"][:]
+        return self._read(self._all["position/step"], slice(0, len(self)))
+
+    def _read(self, dataset, index):
+        """dataset[index], naming the file when a checksum fails."""
+        try:
+            return dataset[index]
+        except OSError as error:
+            raise OSError(f"Trajectory: {str(self.path)!r} is damaged: "
+                          f"{dataset.name} fails its checksum ({error})"
+                          ) from None
 
     @property
     def dimension(self) -> int:
@@ -293,16 +304,18 @@ class Trajectory:
             raise IndexError(f"Trajectory: frame {index} out of range "
                              f"({n} frames)")
         a = self._all
+        r = self._read
         return Frame(
-            index=int(index), time=float(a["position/time"][index]),
-            step=int(a["position/step"][index]),
-            positions=a["position/value"][index],
-            velocities=a["velocity/value"][index],
-            density=a["density/value"][index],
-            pressure=a["pressure/value"][index],
-            deviatoric_stress=a["deviatoric_stress/value"][index],
-            von_mises=a["von_mises/value"][index],
-            masses=a["mass"][:], body_ids=a["body"][:],
+            index=int(index), time=float(r(a["position/time"], index)),
+            step=int(r(a["position/step"], index)),
+            positions=r(a["position/value"], index),
+            velocities=r(a["velocity/value"], index),
+            density=r(a["density/value"], index),
+            pressure=r(a["pressure/value"], index),
+            deviatoric_stress=r(a["deviatoric_stress/value"], index),
+            von_mises=r(a["von_mises/value"], index),
+            masses=r(a["mass"], slice(None)),
+            body_ids=r(a["body"], slice(None)),
             spacing=float(np.ravel(
                 self._file["parameters"].attrs["spacing"])[0]))
 
@@ -326,10 +339,13 @@ class Trajectory:
         if "observables/probes" not in self._file:
             return None
         g = self._file["observables/probes"]
+        done = slice(0, int(g.attrs["complete_samples"]))
         return ProbeSeries(names=_attr(g.attrs["names"]).split(),
                            columns=_attr(g.attrs["columns"]).split(),
-                           points=g["points"][:], steps=g["step"][:],
-                           times=g["time"][:], values=g["value"][:])
+                           points=self._read(g["points"], slice(None)),
+                           steps=self._read(g["step"], done),
+                           times=self._read(g["time"], done),
+                           values=self._read(g["value"], done))
 
     def load_into(self, scene, index: int = -1) -> None:
         """Load frame ``index`` into a scene built like the one that wrote
@@ -375,6 +391,28 @@ class Trajectory:
                     lines.append(f"    {name} at ({point}) m:"
                                  f" von Mises {last[k, 0]:.6g} Pa at the end")
         return "\n".join(lines)
+
+
+_FORMAT = 2      # the libsphsolid file format this module reads
+
+
+def _format_problem(f) -> str:
+    """Why an open h5py file is not a libsphsolid output file this
+    version reads ('' when it is one)."""
+    version = f.attrs.get("sphsolid_format")
+    if version is None:
+        if "h5md" in f or "checkpoint" in f:
+            return ("is in libsphsolid file format 1 (written before the "
+                    f"format was versioned); this version reads format "
+                    f"{_FORMAT}: read it with the version that wrote it")
+        return "is not a libsphsolid file (no sphsolid_format attribute)"
+    if int(np.ravel(version)[0]) != _FORMAT:
+        return (f"has libsphsolid file format {int(np.ravel(version)[0])}; "
+                f"this version reads format {_FORMAT}")
+    content = _attr(f.attrs.get("sphsolid_content", b""))
+    if content != "output":
+        return f"is a libsphsolid {content or '(unknown)'} file, not an output file"
+    return ""
 
 
 def _require_library_clock(scene) -> None:

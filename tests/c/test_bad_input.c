@@ -1,0 +1,467 @@
+/*
+ * Bad input to the C API: each call fails with its status and a message
+ * naming the bad value (or, where the documented behaviour is to go on,
+ * goes on without undefined behaviour; the suite also runs under ASan and
+ * UBSan).
+ */
+#include "helpers.h"
+
+#include "sim.h"
+
+/* status and message of a call that must be refused */
+#define refused(sim, call, status, text)                                                 \
+    do {                                                                                 \
+        strcpy((sim)->errmsg, "stale message");                                          \
+        const sph_status st_ = (call);                                                   \
+        if (st_ != (status) || !strstr(sph_errmsg(sim), (text))) {                       \
+            print_error("%s: status %d, message '%s'; expected %d and '%s'\n", #call,   \
+                        (int)st_, sph_errmsg(sim), (int)(status), (text));               \
+            fail();                                                                      \
+        }                                                                                \
+    } while (0)
+
+static sph_sim *block(void) { return free_block_2d(12, 12, 1e-3); }
+
+/* ------------------------------------------------------------ materials */
+
+static void material_overflowing_constants(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    refused(sim, sph_add_material_K_mu(sim, 1e300, 1e300, 1000, NULL), SPH_ERR_ARGUMENT, "E=inf");
+    refused(sim, sph_add_material_K_mu(sim, 1e300, 1e300, 1000, NULL), SPH_ERR_ARGUMENT, "K=1e+300");
+    sph_destroy(sim);
+}
+
+static void material_nan_bulk_modulus(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    refused(sim, sph_add_material_K_mu(sim, NAN, 1e9, 1000, NULL), SPH_ERR_ARGUMENT, "K=nan");
+    sph_destroy(sim);
+}
+
+static void material_poisson_one_half(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    refused(sim, sph_add_material_E_nu(sim, 1e9, 0.5, 1000, NULL), SPH_ERR_ARGUMENT, "nu=0.5");
+    sph_destroy(sim);
+}
+
+static void material_zero_density(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    refused(sim, sph_add_material_K_mu(sim, 1e9, 1e9, 0.0, NULL), SPH_ERR_ARGUMENT, "rho0=0");
+    sph_destroy(sim);
+}
+
+static void material_info_null(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_material_info_get(sim, 0, NULL), SPH_ERR_ARGUMENT, "info is NULL");
+    sph_destroy(sim);
+}
+
+/* --------------------------------------------------------------- bodies */
+
+static void particles_infinite_volume(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int mat;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double pos[4] = {0, 0, 1e-3, 0}, vol[2] = {1e-6, INFINITY};
+    refused(sim, sph_add_particles(sim, "b", mat, 2, pos, vol, 1e-3, NULL), SPH_ERR_ARGUMENT, "volume inf");
+    sph_destroy(sim);
+}
+
+static void particles_volume_overflowing_mass(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int mat;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double pos[2] = {0, 0}, vol[1] = {1e306};
+    refused(sim, sph_add_particles(sim, "b", mat, 1, pos, vol, 1e-3, NULL), SPH_ERR_ARGUMENT, "volume 1e+306");
+    sph_destroy(sim);
+}
+
+static void particles_negative_volume(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int mat;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double pos[2] = {0, 0}, vol[1] = {-1.0};
+    refused(sim, sph_add_particles(sim, "b", mat, 1, pos, vol, 1e-3, NULL), SPH_ERR_ARGUMENT, "volume -1");
+    sph_destroy(sim);
+}
+
+static void particles_nan_position(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int mat;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double pos[4] = {0, 0, NAN, 0};
+    refused(sim, sph_add_particles(sim, "b", mat, 2, pos, NULL, 1e-3, NULL), SPH_ERR_ARGUMENT, "particle 1");
+    sph_destroy(sim);
+}
+
+static void block_zero_spacing(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int mat;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 0};
+    refused(sim, sph_add_block(sim, "b", mat, lo, hi, 0.0, NULL), SPH_ERR_ARGUMENT, "dx=0");
+    sph_destroy(sim);
+}
+
+/* The paper's specimen at dx = 3 um: 1.3e9 particles do not fit; refused
+ * before anything is allocated, with the bytes needed and available. */
+static void block_that_cannot_fit_in_memory(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int mat;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double lo[3] = {-0.043, 0, 0}, hi[3] = {0.043, 0.140, 0};
+    refused(sim, sph_add_block(sim, "specimen", mat, lo, hi, 3e-6, NULL), SPH_ERR_MEMORY, "are available");
+    assert_non_null(strstr(sph_errmsg(sim), "need about"));
+    assert_non_null(strstr(sph_errmsg(sim), "specimen"));
+    assert_int_equal(sph_particle_count(sim), 0);
+    sph_destroy(sim);
+}
+
+static void memory_check_of_a_huge_count(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(3);
+    refused(sim, sph_memory_check(sim, 1e15), SPH_ERR_MEMORY, "1e+15 particles");
+    refused(sim, sph_memory_check(sim, NAN), SPH_ERR_ARGUMENT, "particles=nan");
+    check(sim, sph_memory_check(sim, 1000));
+    sph_destroy(sim);
+}
+
+static void block_null_corners(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    refused(sim, sph_add_block(sim, "b", 0, NULL, NULL, 1e-3, NULL), SPH_ERR_ARGUMENT, "lo and hi");
+    sph_destroy(sim);
+}
+
+static void body_info_null(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_body_info_get(sim, 0, NULL), SPH_ERR_ARGUMENT, "info is NULL");
+    refused(sim, sph_body_find(sim, "block", NULL), SPH_ERR_ARGUMENT, "id is NULL");
+    sph_destroy(sim);
+}
+
+/* -------------------------------------------------------------- effects */
+
+static void effect_parameter_given_twice(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 alpha=2"), SPH_ERR_ARGUMENT,
+            "'alpha' is given twice");
+    assert_int_equal(sph_effect_is_on(sim, "artificial_viscosity"), 0);
+    sph_destroy(sim);
+}
+
+static void effect_nan_parameter(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=nan"), SPH_ERR_ARGUMENT, "alpha='nan'");
+    refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=inf"), SPH_ERR_ARGUMENT, "alpha='inf'");
+    sph_destroy(sim);
+}
+
+static void effect_negative_viscosity(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 beta=-1"), SPH_ERR_ARGUMENT, "beta=-1");
+    sph_destroy(sim);
+}
+
+/* --------------------------------------------------------------- fields */
+
+static void field_copy_to_null(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_field_copy(sim, SPH_FIELD_PRESSURE, NULL), SPH_ERR_ARGUMENT, "out is NULL");
+    refused(sim, sph_field(sim, SPH_FIELD_DENSITY, NULL, NULL, NULL), SPH_ERR_ARGUMENT, "data is NULL");
+    sph_destroy(sim);
+}
+
+static void energy_into_null(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_energy(sim, 1, NULL), SPH_ERR_ARGUMENT, "sph_energy: info is NULL");
+    sph_destroy(sim);
+}
+
+/* A density of 0 set on one particle is reported as itself before the run,
+ * not as a neighbour's runaway velocity. */
+static void zero_density_on_one_particle(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    field_ptr(sim, SPH_FIELD_DENSITY)[37] = 0.0;
+    refused(sim, sph_run(sim, 3), SPH_ERR_ARGUMENT, "particle 37 of body 'block' has density 0");
+    assert_int_equal(sph_step_count(sim), 0);
+    sph_destroy(sim);
+}
+
+static void negative_mass_on_one_particle(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    field_ptr(sim, SPH_FIELD_MASS)[5] = -1.0;
+    refused(sim, sph_run(sim, 1), SPH_ERR_ARGUMENT, "particle 5 of body 'block' has mass -1");
+    sph_destroy(sim);
+}
+
+static void nan_position_before_a_run(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    field_ptr(sim, SPH_FIELD_POSITION)[2 * 9 + 1] = NAN;
+    refused(sim, sph_run(sim, 1), SPH_ERR_NONFINITE, "particle 9 (body 'block') has a non-finite position y=nan");
+    sph_destroy(sim);
+}
+
+/* ------------------------------------------------------ neighbour search */
+
+/* Two 3D blocks 11,000 km apart: the cell count per axis times three used
+ * to overflow; now the cells are widened in checked arithmetic and the
+ * step runs (each block on its own). */
+static void far_apart_blocks_in_3d(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(3);
+    int mat;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double lo[3] = {0, 0, 0}, hi[3] = {4e-3, 4e-3, 4e-3};
+    const double lo2[3] = {1.1e7, 1.1e7, 1.1e7}, hi2[3] = {1.1e7 + 4e-3, 1.1e7 + 4e-3, 1.1e7 + 4e-3};
+    check(sim, sph_add_block(sim, "near", mat, lo, hi, 1e-3, NULL));
+    check(sim, sph_add_block(sim, "far", mat, lo2, hi2, 1e-3, NULL));
+    check(sim, sph_run(sim, 1));
+    /* at rest, free and unstressed: nothing moves */
+    const double *v = field_ptr(sim, SPH_FIELD_VELOCITY);
+    for (size_t k = 0; k < 3 * sph_particle_count(sim); ++k)
+        assert_true(fabs(v[k]) < 1e-9);
+    sph_destroy(sim);
+}
+
+/* A particle at x = 1e300 in 2D (signed overflow of the cell index
+ * before): the step runs, the lone particle feels nothing. */
+static void particle_at_1e300_in_2d(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    int mat = 0;
+    const double pos[2] = {1e300, 0.0};
+    check(sim, sph_add_particles(sim, "far", mat, 1, pos, NULL, 1e-3, NULL));
+    check(sim, sph_run(sim, 1));
+    assert_true(field_ptr(sim, SPH_FIELD_POSITION)[2 * (sph_particle_count(sim) - 1)] == 1e300);
+    sph_destroy(sim);
+}
+
+/* Extents that overflow a double (from -1e308 to 1e308) are refused,
+ * naming the particles and values. */
+static void extent_that_overflows(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    const double a[2] = {-1e308, 0.0}, b[2] = {1e308, 0.0};
+    check(sim, sph_add_particles(sim, "west", 0, 1, a, NULL, 1e-3, NULL));
+    check(sim, sph_add_particles(sim, "east", 0, 1, b, NULL, 1e-3, NULL));
+    refused(sim, sph_run(sim, 1), SPH_ERR_NONFINITE, "too far apart");
+    assert_non_null(strstr(sph_errmsg(sim), "x=1e+308"));
+    sph_destroy(sim);
+}
+
+/* --------------------------------------------------------------- probes */
+
+static void probe_outside_every_body(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    const double p[3] = {1.0, 1.0, 0};
+    int id;
+    check(sim, sph_add_probe(sim, "far", p, &id));
+    double values[SPH_PROBE_VALUES(2)];
+    refused(sim, sph_probe_sample(sim, id, values), SPH_ERR_DOMAIN, "probe 'far' at (1, 1) m is outside every body");
+    assert_true(isnan(values[0]));
+    sph_destroy(sim);
+}
+
+static void probe_outside_as_nan_when_asked(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    const double p[3] = {1.0, 1.0, 0};
+    int id;
+    check(sim, sph_add_probe(sim, "far", p, &id));
+    check(sim, sph_set_probe_outside(sim, SPH_PROBE_OUTSIDE_NAN));
+    double values[SPH_PROBE_VALUES(2)];
+    check(sim, sph_probe_sample(sim, id, values));
+    assert_true(isnan(values[0]) && isnan(values[1]));
+    refused(sim, sph_set_probe_outside(sim, (sph_probe_outside)7), SPH_ERR_ARGUMENT, "mode=7");
+    sph_destroy(sim);
+}
+
+static void probe_finish_outside(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    double sums[9] = {0}, values[SPH_PROBE_VALUES(2)];
+    refused(sim, sph_probe_finish(sim, sums, values), SPH_ERR_DOMAIN, "outside every body");
+    sph_destroy(sim);
+}
+
+/* A probe that the material leaves stops a run writing probe samples. */
+static void probe_outside_during_output(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    const double p[3] = {0.5, 0.5, 0};
+    check(sim, sph_add_probe(sim, "away", p, NULL));
+    refused(sim, sph_output_open(sim, "test_bad_input_probe.h5", 1, 1), SPH_ERR_DOMAIN, "probe 'away'");
+    if (sim->out)
+        sph_output_close(sim);
+    sph_destroy(sim);
+    remove("test_bad_input_probe.h5");
+    remove("test_bad_input_probe.xmf");
+}
+
+static void probe_non_finite_point(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    const double p[3] = {0.0, INFINITY, 0};
+    refused(sim, sph_add_probe(sim, "A", p, NULL), SPH_ERR_ARGUMENT, "y=inf");
+    sph_destroy(sim);
+}
+
+/* ---------------------------------------------------------------- files */
+
+static void output_negative_interval(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_output_open(sim, "x.h5", -5, 0), SPH_ERR_ARGUMENT, "snapshot -5");
+    sph_destroy(sim);
+}
+
+static void output_in_missing_directory(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_output_open(sim, "no/such/dir/out.h5", 1, 0), SPH_ERR_IO, "no/such/dir/out.h5");
+    assert_null(sim->out);
+    sph_destroy(sim);
+}
+
+static void checkpoint_in_missing_directory(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_checkpoint_write(sim, "no/such/dir/state.h5"), SPH_ERR_IO, "No such file or directory");
+    assert_non_null(strstr(sph_errmsg(sim), "no/such/dir/state.h5"));
+    sph_destroy(sim);
+}
+
+static void checkpoint_empty_path(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_checkpoint_write(sim, ""), SPH_ERR_ARGUMENT, "path is empty");
+    refused(sim, sph_checkpoint_read(sim, ""), SPH_ERR_ARGUMENT, "path is empty");
+    sph_destroy(sim);
+}
+
+static void checkpoint_into_empty_simulation(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    check(sim, sph_checkpoint_write(sim, "test_bad_input_ckpt.h5"));
+    sph_sim *empty = new_sim(2);
+    refused(empty, sph_checkpoint_read(empty, "test_bad_input_ckpt.h5"), SPH_ERR_STATE, "no particles");
+    sph_destroy(empty);
+    sph_destroy(sim);
+    remove("test_bad_input_ckpt.h5");
+}
+
+static void frame_count_into_null(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_read_frame_count(sim, "x.h5", NULL), SPH_ERR_ARGUMENT, "frames is NULL");
+    sph_destroy(sim);
+}
+
+static void frame_of_missing_file(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_read_frame(sim, "no/such/frames.h5", 0), SPH_ERR_IO, "no/such/frames.h5");
+    sph_destroy(sim);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(material_overflowing_constants),
+        cmocka_unit_test(material_nan_bulk_modulus),
+        cmocka_unit_test(material_poisson_one_half),
+        cmocka_unit_test(material_zero_density),
+        cmocka_unit_test(material_info_null),
+        cmocka_unit_test(particles_infinite_volume),
+        cmocka_unit_test(particles_volume_overflowing_mass),
+        cmocka_unit_test(particles_negative_volume),
+        cmocka_unit_test(particles_nan_position),
+        cmocka_unit_test(block_zero_spacing),
+        cmocka_unit_test(block_that_cannot_fit_in_memory),
+        cmocka_unit_test(memory_check_of_a_huge_count),
+        cmocka_unit_test(block_null_corners),
+        cmocka_unit_test(body_info_null),
+        cmocka_unit_test(effect_parameter_given_twice),
+        cmocka_unit_test(effect_nan_parameter),
+        cmocka_unit_test(effect_negative_viscosity),
+        cmocka_unit_test(field_copy_to_null),
+        cmocka_unit_test(energy_into_null),
+        cmocka_unit_test(zero_density_on_one_particle),
+        cmocka_unit_test(negative_mass_on_one_particle),
+        cmocka_unit_test(nan_position_before_a_run),
+        cmocka_unit_test(far_apart_blocks_in_3d),
+        cmocka_unit_test(particle_at_1e300_in_2d),
+        cmocka_unit_test(extent_that_overflows),
+        cmocka_unit_test(probe_outside_every_body),
+        cmocka_unit_test(probe_outside_as_nan_when_asked),
+        cmocka_unit_test(probe_finish_outside),
+        cmocka_unit_test(probe_outside_during_output),
+        cmocka_unit_test(probe_non_finite_point),
+        cmocka_unit_test(output_negative_interval),
+        cmocka_unit_test(output_in_missing_directory),
+        cmocka_unit_test(checkpoint_in_missing_directory),
+        cmocka_unit_test(checkpoint_empty_path),
+        cmocka_unit_test(checkpoint_into_empty_simulation),
+        cmocka_unit_test(frame_count_into_null),
+        cmocka_unit_test(frame_of_missing_file),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
