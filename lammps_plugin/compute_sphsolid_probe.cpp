@@ -13,6 +13,7 @@
 #include "force.h"
 #include "update.h"
 
+#include <cstring>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -22,9 +23,19 @@ ComputeSPHSolidProbe::ComputeSPHSolidProbe(LAMMPS *lmp, int narg, char **arg) :
 {
   dim = domain->dimension;
   ncomp = SPH_STRESS_COMPONENTS(dim);
+  // optional trailing 'outside error|nan' (the behaviour outside every body)
+  outside_nan = false;
+  if (narg == 5 + dim && strcmp(arg[3 + dim], "outside") == 0) {
+    if (strcmp(arg[4 + dim], "nan") == 0)
+      outside_nan = true;
+    else if (strcmp(arg[4 + dim], "error") != 0)
+      error->all(FLERR, "compute sphsolid/probe: outside must be 'error' or 'nan', got '{}'",
+                 arg[4 + dim]);
+    narg -= 2;
+  }
   if (narg != 3 + dim)
     error->all(FLERR, "compute sphsolid/probe needs the point's {} coordinates in m, e.g. "
-                      "'compute A all sphsolid/probe 0.0 0.07{}'; got {} values",
+                      "'compute A all sphsolid/probe 0.0 0.07{}' [outside error|nan]; got {} values",
                dim, dim == 3 ? " 0.0" : "", narg - 3);
   point[0] = point[1] = point[2] = 0.0;
   for (int d = 0; d < dim; d++) point[d] = utils::numeric(FLERR, arg[3 + d], false, lmp);
@@ -99,6 +110,9 @@ void ComputeSPHSolidProbe::compute_vector()
                sph_errmsg(pair->handle()), sph_status_name(status));
   MPI_Allreduce(sums.data(), total.data(), (int) sums.size(), MPI_DOUBLE, MPI_SUM, world);
   status = sph_probe_finish(pair->handle(), total.data(), vector);
+  // outside every body: an error by default (the library's behaviour), or
+  // NaN values when asked with 'outside nan'
+  if (status == SPH_ERR_DOMAIN && outside_nan) status = SPH_OK;
   if (status != SPH_OK)
     error->all(FLERR, "compute sphsolid/probe {} at step {}: {} ({})", id, update->ntimestep,
                sph_errmsg(pair->handle()), sph_status_name(status));

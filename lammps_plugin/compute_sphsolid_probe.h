@@ -40,6 +40,7 @@ class ComputeSPHSolidProbe : public Compute {
  private:
   int dim, ncomp;
   double point[3];
+  bool outside_nan;    // 'outside nan': NaN instead of an error outside every body
   PairSPHSolid *pair;
   // the owned atoms near the point, in the library's layout
   std::vector<double> positions, rho, S, mass;

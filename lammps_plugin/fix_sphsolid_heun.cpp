@@ -311,8 +311,8 @@ void FixSPHSolidHeun::final_integrate()
       &rates, integrate_motion.data(), pair->atom_materials(), stage.data(), &bad);
   if (status == SPH_ERR_NONFINITE) check_finite();    // names the atom by its ID
   if (status == SPH_ERR_UNSTABLE)
-    error->one(FLERR, "fix sphsolid/heun: atom {} at step {}: {} (libsphsolid watchdog: speed above c_p or density outside [0.5, 2] rho0)",
-               atom->tag[bad], update->ntimestep, sph_errmsg(pair->handle()));
+    error->one(FLERR, "fix sphsolid/heun: atom {} at step {}: {} (libsphsolid watchdog: speed above c_p or density outside [0.5, 2] rho0; {})",
+               atom->tag[bad], update->ntimestep, sph_errmsg(pair->handle()), pair->step_advice(integrator));
   if (status != SPH_OK)
     error->one(FLERR, "fix sphsolid/heun: corrector at step {}: {} ({})", update->ntimestep,
                sph_errmsg(pair->handle()), sph_status_name(status));
@@ -359,8 +359,8 @@ void FixSPHSolidHeun::check_finite()
     for (int k = 0; k < ncomp; k++)
       if (!std::isfinite(state->S[i][k])) quantity = "non-finite deviatoric stress";
     if (quantity)
-      error->one(FLERR, "fix {}: {} of atom {} at step {}", style, quantity, atom->tag[i],
-                 update->ntimestep);
+      error->one(FLERR, "fix {}: {} of atom {} at step {} ({})", style, quantity, atom->tag[i],
+                 update->ntimestep, pair->step_advice(integrator));
   }
 }
 

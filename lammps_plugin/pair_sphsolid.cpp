@@ -13,7 +13,10 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "fix.h"
+#include "group.h"
 #include "force.h"
+#include "lattice.h"
 #include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
@@ -21,6 +24,7 @@
 #include "update.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <set>
@@ -338,6 +342,8 @@ void PairSPHSolid::init_style()
     error->all(FLERR, "pair sphsolid: the stored per-atom state is {}D, the run is {}D",
                state_fix->dimension(), dim);
 
+  check_deck();
+
   // every atom needs a positive mass
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++)
@@ -346,6 +352,109 @@ void PairSPHSolid::init_style()
                  atom->tag[i], mass_of(i));
 
   initialise_state();
+}
+
+/* ----------------------------------------------------------------------
+   deck checks at each run's init: an integrator for the SPH state, no
+   other integrator on its atoms, masses and lattice that agree with dx,
+   a timestep within the stable step
+------------------------------------------------------------------------- */
+
+void PairSPHSolid::check_deck()
+{
+  // integrators of the SPH state: fixes of style sphsolid/... that
+  // integrate (sphsolid/heun, sphsolid/leapfrog, ...)
+  std::vector<Fix *> sph_integrators, others;
+  for (int k = 0; k < modify->nfix; k++) {
+    Fix *f = modify->fix[k];
+    if (!f->time_integrate) continue;
+    if (utils::strmatch(f->style, "^sphsolid/"))
+      sph_integrators.push_back(f);
+    else
+      others.push_back(f);
+  }
+  if (update->whichflag == 1 && update->nsteps > 0 && sph_integrators.empty())
+    error->all(FLERR,
+               "pair sphsolid: no sphsolid integrator fix (e.g. 'fix 1 all sphsolid/heun'): without one "
+               "the density and stress never evolve and the run has no elastic forces");
+  // another integrator (fix nve, fix move, ...) on the same atoms would
+  // move them twice and leave the SPH state behind
+  for (Fix *mine : sph_integrators)
+    for (Fix *other : others) {
+      bigint local = 0, both = 0;
+      for (int i = 0; i < atom->nlocal; i++)
+        if ((atom->mask[i] & mine->groupbit) && (atom->mask[i] & other->groupbit)) local++;
+      MPI_Allreduce(&local, &both, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+      if (both > 0)
+        error->all(FLERR,
+                   "pair sphsolid: fix {} ({}) integrates {} atoms that fix {} ({}) also integrates "
+                   "(group {}): each atom needs exactly one integrator; leave prescribed or "
+                   "separately integrated atoms out of group {}",
+                   other->id, other->style, both, mine->id, mine->style,
+                   group->names[other->igroup], group->names[mine->igroup]);
+    }
+
+  // masses: m = rho0 dx^d for particles on the pair's lattice
+  const double cell = std::pow(spacing, dim);
+  if (!atom->rmass && comm->me == 0)
+    for (int t = 1; t <= atom->ntypes; t++) {
+      if (!setflag[t][t] || !atom->mass_setflag[t]) continue;
+      const double expected = type_params[t].rho0 * cell;
+      if (std::fabs(atom->mass[t] - expected) > 1e-6 * expected)
+        error->warning(FLERR,
+                       "pair sphsolid: atom type {} has mass {:.6g} kg, but rho0 dx^{} = {:.6g} kg "
+                       "(rho0 {:.6g} kg/m^3, dx {:.6g} m): its particles' volume m/rho0 is {:.4g} "
+                       "dx^{}; check the mass command or the pair_style spacing",
+                       t, atom->mass[t], dim, expected, type_params[t].rho0, spacing,
+                       atom->mass[t] / expected, dim);
+    }
+  // the lattice, when one is defined, should have the pair's spacing
+  if (domain->lattice && domain->lattice->style != Lattice::NONE && comm->me == 0 &&
+      std::fabs(domain->lattice->xlattice - spacing) > 1e-6 * spacing)
+    error->warning(FLERR,
+                   "pair sphsolid: pair_style spacing dx = {:.6g} m, but the lattice spacing is "
+                   "{:.6g} m: h = h_over_dx * dx and the masses assume dx",
+                   spacing, domain->lattice->xlattice);
+  // a step far above the stable one blows up within a few steps
+  if (update->whichflag == 1 && update->nsteps > 0 && !update->dt_default) {
+    const double stable = stable_timestep(integrator_name());
+    if (stable > 0.0 && update->dt > stable && comm->me == 0)
+      error->warning(FLERR,
+                     "pair sphsolid: timestep {:.6g} s is {:.3g} times the stable step {:.6g} s "
+                     "(CFL limit of the stiffest material): the run will go unstable",
+                     update->dt, update->dt / stable, stable);
+  }
+}
+
+double PairSPHSolid::stable_timestep(const char *integrator)
+{
+  if (!allocated) return 0.0;
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (!setflag[t][t]) return 0.0;
+  sph_sim *s = build_handle(false);
+  const double dt = sph_set_integrator(s, integrator) == SPH_OK ? sph_stable_dt(s) : 0.0;
+  sph_destroy(s);
+  return dt;
+}
+
+const char *PairSPHSolid::integrator_name()
+{
+  // fix sphsolid/<name> integrates with the library's <name>; sphsolid/heun
+  // is improved_euler
+  for (int k = 0; k < modify->nfix; k++) {
+    Fix *f = modify->fix[k];
+    if (!f->time_integrate || !utils::strmatch(f->style, "^sphsolid/")) continue;
+    const char *name = f->style + strlen("sphsolid/");
+    return strcmp(name, "heun") == 0 ? "improved_euler" : name;
+  }
+  return "improved_euler";
+}
+
+std::string PairSPHSolid::step_advice(const char *integrator)
+{
+  const char *name = integrator ? integrator : integrator_name();
+  return fmt::format("timestep {:.6g} s, stable step {:.6g} s of {}", update->dt,
+                     stable_timestep(name), name);
 }
 
 /* ----------------------------------------------------------------------
@@ -489,9 +598,18 @@ void PairSPHSolid::evaluate_rates(bool with_motion)
   rates.dx_dt = xsph ? rate_dx.data() : nullptr;
 
   const sph_status status = sph_rates_evaluate(sim, &particles, &neighbours, &rates);
-  if (status != SPH_OK)
-    error->one(FLERR, "pair sphsolid: rate evaluation at step {}: {} ({})", update->ntimestep,
-               sph_errmsg(sim), sph_status_name(status));
+  if (status != SPH_OK) {
+    // name the atom by its ID (the library sees local indices)
+    const double *rho = particles.rho;
+    for (int i = 0; i < (int) particles.n_total; i++)
+      if (!(rho[i] > 0.0) || !std::isfinite(rho[i]))
+        error->one(FLERR,
+                   "pair sphsolid at step {}: atom {} has density {:.6g} kg/m^3 (must be > 0): the "
+                   "run went unstable ({})",
+                   update->ntimestep, atom->tag[i], rho[i], step_advice());
+    error->one(FLERR, "pair sphsolid: rate evaluation at step {}: {} ({}; {})", update->ntimestep,
+               sph_errmsg(sim), sph_status_name(status), step_advice());
+  }
 }
 
 /* ---------------------------------------------------------------------- */

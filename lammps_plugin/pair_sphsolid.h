@@ -82,6 +82,15 @@ class PairSPHSolid : public Pair {
    * improved_euler, h / c0 for leapfrog) for the current coefficients, or 0
    * if some atom type has no material yet. */
   double default_timestep(const char *integrator = "improved_euler");
+  /* "timestep T s, stable step S s" of `integrator` (default: that of the
+   * deck's sphsolid integrator fix): appended to reports of a run that
+   * went unstable. */
+  std::string step_advice(const char *integrator = nullptr);
+  /* sph_stable_dt of `integrator` for the current coefficients, or 0 if
+   * some atom type has no material yet. */
+  double stable_timestep(const char *integrator);
+  /* The library integrator of the deck's sphsolid integrator fix. */
+  const char *integrator_name();
 
   // rates of the owned atoms from the last evaluate_rates()
   const double *dv_dt() const { return rate_dv.data(); }
@@ -91,6 +100,7 @@ class PairSPHSolid : public Pair {
   int rates_count() const { return nrates; }    // owned atoms at the last evaluation
 
  private:
+  void check_deck();
   int dim;
   double spacing;        // nominal particle spacing dx [m]
   double h_over_dx;      // smoothing length / spacing

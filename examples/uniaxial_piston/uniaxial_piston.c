@@ -13,6 +13,8 @@
  * at its own default step).
  */
 #define _POSIX_C_SOURCE 199309L
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -59,11 +61,23 @@ static double number(const char *flag, const char *text)
 {
     char *end;
     const double v = strtod(text, &end);
-    if (*end || end == text) {
-        fprintf(stderr, "uniaxial_piston: %s expects a number, got '%s'\n", flag, text);
+    if (*end || end == text || !isfinite(v)) {
+        fprintf(stderr, "uniaxial_piston: %s expects a finite number, got '%s'\n", flag, text);
         exit(2);
     }
     return v;
+}
+
+/* A whole number in [lo, hi] for an option that counts something. */
+static long count(const char *flag, const char *text, long lo, long hi)
+{
+    const double v = number(flag, text);
+    if (v != floor(v) || v < (double)lo || v > (double)hi) {
+        fprintf(stderr, "uniaxial_piston: %s expects a whole number in [%ld, %ld], got '%s'\n", flag, lo,
+                hi, text);
+        exit(2);
+    }
+    return (long)v;
 }
 
 int main(int argc, char **argv)
@@ -90,9 +104,9 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--until")) until_ms = number(a, next);
         else if (!strcmp(a, "--out")) out = next;
         else if (!strcmp(a, "--csv")) csv = next;
-        else if (!strcmp(a, "--threads")) threads = (int)number(a, next);
+        else if (!strcmp(a, "--threads")) threads = (int)count(a, next, 0, 4096);
         else if (!strcmp(a, "--alpha")) alpha = number(a, next);
-        else if (!strcmp(a, "--snapshots")) snapshots = (long)number(a, next);
+        else if (!strcmp(a, "--snapshots")) snapshots = count(a, next, 0, 1000000);
         else if (!strcmp(a, "--integrator")) integrator = next;
         else {
             fprintf(stderr, "uniaxial_piston: unknown option '%s' (try --help)\n", a);
@@ -100,13 +114,26 @@ int main(int argc, char **argv)
         }
         ++i;
     }
-    char csv_path[1024];
+    if (alpha < 0.0) {
+        fprintf(stderr, "uniaxial_piston: --alpha %g must be >= 0 (0 switches the viscosity off)\n", alpha);
+        return 2;
+    }
+    if (!(dx_mm > 0.0) || !(until_ms > 0.0)) {
+        fprintf(stderr, "uniaxial_piston: --dx %g mm and --until %g ms must be > 0\n", dx_mm, until_ms);
+        return 2;
+    }
+    char *csv_path = NULL; /* any length: derived from --out */
     if (!csv) {
-        snprintf(csv_path, sizeof csv_path, "%s", out);
+        csv_path = malloc(strlen(out) + sizeof "_probes.csv");
+        if (!csv_path) {
+            fprintf(stderr, "uniaxial_piston: out of memory\n");
+            return 1;
+        }
+        strcpy(csv_path, out);
         char *dot = strrchr(csv_path, '.');
         if (dot && !strchr(dot, '/'))
             *dot = '\0';
-        strncat(csv_path, "_probes.csv", sizeof csv_path - strlen(csv_path) - 1);
+        strcat(csv_path, "_probes.csv");
         csv = csv_path;
     }
 
@@ -152,7 +179,7 @@ int main(int argc, char **argv)
 
     FILE *f = fopen(csv, "w");
     if (!f) {
-        fprintf(stderr, "uniaxial_piston: cannot write '%s'\n", csv);
+        fprintf(stderr, "uniaxial_piston: cannot write '%s': %s\n", csv, strerror(errno));
         sph_destroy(sim);
         return 1;
     }
@@ -165,7 +192,10 @@ int main(int argc, char **argv)
     while (done < steps) {
         double vals[3][SPH_PROBE_VALUES(3)];
         for (int k = 0; k < 3; ++k)
-            sph_probe_sample(sim, k, vals[k]);
+            if ((st = sph_probe_sample(sim, k, vals[k]))) {
+                fclose(f);
+                return fail(sim, st, "probe");
+            }
         fprintf(f, "%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e\n", sph_time(sim),
                 vals[0][0], vals[1][0], vals[2][0], vals[0][3], vals[1][3], vals[2][3]);
         (void)nv;
@@ -182,13 +212,16 @@ int main(int argc, char **argv)
             report(sim, &p);
     }
     const double wall = wall_seconds() - t0;
-    fclose(f);
+    const int csv_bad = ferror(f) != 0;
+    if (fclose(f) != 0 || csv_bad) {
+        fprintf(stderr, "uniaxial_piston: writing '%s' failed: %s\n", csv, strerror(errno));
+        sph_destroy(sim);
+        return 1;
+    }
     if (!quiet && p.tty)
         fprintf(stderr, "\n");
-    if (have_output) {
-        sph_output_snapshot(sim);
-        sph_output_close(sim);
-    }
+    if (have_output && ((st = sph_output_snapshot(sim)) || (st = sph_output_close(sim))))
+        return fail(sim, st, "--out");
     double a[SPH_PROBE_VALUES(3)], b[SPH_PROBE_VALUES(3)], c[SPH_PROBE_VALUES(3)];
     sph_probe_sample(sim, scene.probe_A, a);
     sph_probe_sample(sim, scene.probe_B, b);
@@ -200,6 +233,7 @@ int main(int argc, char **argv)
         printf("wrote %s and %s\n", out, csv);
     else
         printf("wrote %s\n", csv);
+    free(csv_path);
     sph_destroy(sim);
     return 0;
 }

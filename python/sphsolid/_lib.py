@@ -215,6 +215,8 @@ _PROTOTYPES = {
     "sph_probe_count": (c_int, [_sim]),
     "sph_probe_name": (c_char_p, [_sim, c_int]),
     "sph_probe_sample": (c_int, [_sim, c_int, _dp]),
+    "sph_set_probe_outside": (c_int, [_sim, c_int]),
+    "sph_memory_check": (c_int, [_sim, c_double]),
     "sph_output_open": (c_int, [_sim, c_char_p, c_long, c_long]),
     "sph_output_snapshot": (c_int, [_sim]),
     "sph_output_close": (c_int, [_sim]),
@@ -439,16 +441,35 @@ def new_handle(dimension: int):
     return handle
 
 
+def number(value, name: str) -> float:
+    """A float from a real number (not a bool or a string), with a
+    ValueError naming ``name``."""
+    if isinstance(value, (bool, str, bytes)) or value is None:
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+
+
+def numbers(values, name: str, n=None) -> list:
+    """Floats from a sequence of numbers (``n`` of them, or one of the
+    lengths in a tuple ``n``), with a ValueError naming ``name``."""
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
+        raise ValueError(f"{name} must be a sequence of numbers, got "
+                         f"{values!r}")
+    seq = [number(v, f"{name}[{i}]") for i, v in enumerate(values)]
+    allowed = (n,) if isinstance(n, int) else n
+    if allowed is not None and len(seq) not in allowed:
+        want = " or ".join(str(k) for k in allowed)
+        raise ValueError(f"{name} must have {want} entries, got {len(seq)}: "
+                         f"{values!r}")
+    return seq
+
+
 def as_doubles(values, n: int, name: str):
     """A ctypes double[n] from a sequence, with a ValueError naming ``name``."""
-    try:
-        seq = [float(v) for v in values]
-    except TypeError:
-        raise ValueError(f"{name} must be a sequence of {n} numbers, got "
-                         f"{values!r}") from None
-    if len(seq) != n:
-        raise ValueError(f"{name} must have {n} entries, got {len(seq)}")
-    return (c_double * n)(*seq)
+    return (c_double * n)(*numbers(values, name, n))
 
 
 def as_double(value, name: str) -> float:

@@ -21,6 +21,8 @@ from typing import Sequence
 
 import numpy as np
 
+from . import _lib
+from ._lib import lib
 from .material import Material
 
 __all__ = ["Body", "Motion", "Free", "Fixed", "Velocity", "Force",
@@ -55,11 +57,7 @@ class Fixed(Motion):
 
 
 def _vector(name, values, dim):
-    try:
-        vec = [float(v) for v in values]
-    except TypeError:
-        raise ValueError(f"{name} must be a sequence of {dim} numbers, got "
-                         f"{values!r}") from None
+    vec = _lib.numbers(values, name)
     if len(vec) != dim:
         raise ValueError(f"{name} must have {dim} entries (one per "
                          f"dimension), got {len(vec)}")
@@ -75,6 +73,9 @@ class Velocity(Motion):
     velocity: Sequence[float]
     kind = "velocity"
 
+    def __post_init__(self):
+        _lib.numbers(self.velocity, "Velocity.velocity", (2, 3))
+
     def vector(self, body, dim):
         return _vector("Velocity.velocity", self.velocity, dim)
 
@@ -89,6 +90,9 @@ class Force(Motion):
 
     force: Sequence[float]
     kind = "force"
+
+    def __post_init__(self):
+        _lib.numbers(self.force, "Force.force", (2, 3))
 
     def vector(self, body, dim):
         return _vector("Force.force", self.force, dim)
@@ -275,6 +279,17 @@ def _check_dx(dx) -> float:
     return value
 
 
+def _check_memory(particles: float, dim: int, what: str) -> None:
+    """Refuse, before numpy allocates them, more particles than a run could
+    hold in the memory available (the library's estimate)."""
+    handle = _lib.new_handle(dim)
+    try:
+        _lib.check(lib.sph_memory_check(handle, float(particles)), handle,
+                   what)
+    finally:
+        lib.sph_destroy(handle)
+
+
 def _check_material(material):
     if not isinstance(material, Material):
         raise ValueError(f"material must be a sphsolid.Material, got "
@@ -310,11 +325,11 @@ def block(lo: Sequence[float], hi: Sequence[float], dx: float,
     dx = _check_dx(dx)
     _check_material(material)
     _check_name(name)
-    if len(lo) not in (2, 3) or len(hi) != len(lo):
+    lo = tuple(_lib.numbers(lo, "lo", (2, 3)))
+    hi = tuple(_lib.numbers(hi, "hi", (2, 3)))
+    if len(hi) != len(lo):
         raise ValueError(f"lo and hi must both have 2 or 3 entries, got "
                          f"lo={lo!r}, hi={hi!r}")
-    lo = tuple(float(v) for v in lo)
-    hi = tuple(float(v) for v in hi)
     for axis, (l, h) in enumerate(zip(lo, hi)):
         if not (math.isfinite(l) and math.isfinite(h)) or h <= l:
             raise ValueError(f"hi[{axis}] must exceed lo[{axis}], got "
@@ -332,6 +347,8 @@ def rectangle(x: Sequence[float], y: Sequence[float], dx: float,
               material: Material, name: str = "specimen", motion=None,
               velocity=None) -> Body:
     """A 2D rectangle x in [x0, x1], y in [y0, y1] [m] (see :func:`block`)."""
+    x = _lib.numbers(x, "rectangle x (x0, x1)", 2)
+    y = _lib.numbers(y, "rectangle y (y0, y1)", 2)
     return block((x[0], y[0]), (x[1], y[1]), dx, material, name, motion,
                  velocity, role="specimen")
 
@@ -415,6 +432,8 @@ def piston(over: Body, layers: int = 3, velocity=(0.0, -1.5e-3),
 def _annulus_points(center, r_inner, r_outer, dx):
     center = np.asarray([float(c) for c in center])
     n = int(round(2 * r_outer / dx))
+    _check_memory(float(n) ** len(center), len(center),
+                  f"ring or disc of radius {r_outer!r} m at dx={dx!r} m")
     offsets = -r_outer + (np.arange(n) + 0.5) * (2 * r_outer / n)
     grids = np.meshgrid(*([offsets] * len(center)), indexing="ij")
     points = np.stack([g.ravel() for g in grids], axis=1)
@@ -444,11 +463,14 @@ def ring(center: Sequence[float], r_inner: float, r_outer: float, dx: float,
     dx = _check_dx(dx)
     _check_material(material)
     _check_name(name)
-    if len(center) not in (2, 3):
-        raise ValueError(f"center must have 2 or 3 entries, got {center!r}")
-    r_inner, r_outer = float(r_inner), float(r_outer)
+    center = _lib.numbers(center, "center", (2, 3))
+    r_inner = _lib.number(r_inner, "r_inner")
+    r_outer = _lib.number(r_outer, "r_outer (radius)")
     if not r_outer > 0:
         raise ValueError(f"r_outer (radius) must be > 0 m, got {r_outer!r}")
+    if not 2 * r_outer >= dx:
+        raise ValueError(f"{name!r}: radius {r_outer!r} m is below half the "
+                         f"spacing dx={dx!r} m (no particle would fit)")
     if not 0 <= r_inner < r_outer:
         raise ValueError(f"r_inner must be in [0, r_outer), got "
                          f"r_inner={r_inner!r}, r_outer={r_outer!r}")

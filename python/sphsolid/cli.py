@@ -17,6 +17,7 @@ Lengths and times take an optional unit: ``--dx 2mm``, ``--until 0.3ms``
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sys
 import time as wallclock
@@ -41,22 +42,59 @@ def quantity(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r}: not a number") from None
 
 
+def positive(text: str) -> float:
+    """A quantity that must be finite and > 0 (a spacing, a time)."""
+    value = quantity(text)
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be finite and > 0")
+    return value
+
+
+def _finite(low: float, what: str):
+    """A plain number, finite and >= low."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r}: not a number") from None
+        if not (math.isfinite(value) and value >= low):
+            raise argparse.ArgumentTypeError(f"{text!r}: {what}")
+        return value
+    return parse
+
+
+def _whole(low: int):
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{text!r}: not a whole number") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"{text!r}: must be >= {low}")
+        return value
+    return parse
+
+
+_MIN_ACROSS = 4   # particles across the specimen, at least
+
+
 def _times(text: str) -> list[float]:
-    return [quantity(part) for part in text.split(",") if part.strip()]
+    return [positive(part) for part in text.split(",") if part.strip()]
 
 
 def _common(parser, dx, until, frames):
-    parser.add_argument("--dx", type=quantity, default=dx,
+    parser.add_argument("--dx", type=positive, default=dx,
                         help=f"particle spacing (default {dx * 1e3:g}mm)")
-    parser.add_argument("--until", type=quantity, default=until,
+    parser.add_argument("--until", type=positive, default=until,
                         help=f"end time (default {until * 1e3:g}ms)")
     parser.add_argument("--out", type=Path, default=Path("."),
                         help="output directory (default: current)")
     parser.add_argument("--backend", choices=("c", "lammps"), default="c",
                         help="c: libsphsolid (default); lammps: the plugin")
-    parser.add_argument("--threads", type=int, default=None,
+    parser.add_argument("--threads", type=_whole(1), default=None,
                         help="OpenMP threads (default: OpenMP's)")
-    parser.add_argument("--dt", type=quantity, default=None,
+    parser.add_argument("--dt", type=positive, default=None,
                         help="time step (default: the integrator's, "
                              "0.5 h/c0 for improved_euler, h/c0 for "
                              "leapfrog)")
@@ -68,9 +106,10 @@ def _common(parser, dx, until, frames):
     parser.add_argument("--times", type=_times, default=None,
                         help="comma-separated times of the von Mises maps "
                              f"(default {frames} evenly to --until)")
-    parser.add_argument("--probe-interval", type=int, default=10,
+    parser.add_argument("--probe-interval", type=_whole(1), default=10,
                         help="steps between probe samples (default 10)")
-    parser.add_argument("--viscosity", type=float, default=1.0,
+    parser.add_argument("--viscosity", type=_finite(0.0, "must be finite "
+                        "and >= 0 (0 switches it off)"), default=1.0,
                         metavar="ALPHA",
                         help="Monaghan artificial viscosity alpha (beta=0);"
                              " 0 switches it off (default 1)")
@@ -86,14 +125,17 @@ def _parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     piston = sub.add_parser("piston", help="the paper's uniaxial piston test")
     _common(piston, 1e-3, 0.3e-3, 4)
-    piston.add_argument("--speed", type=float, default=1.5e-3,
+    piston.add_argument("--speed", type=_finite(0.0, "must be finite and "
+                        ">= 0 m/s (the piston moves down)"), default=1.5e-3,
                         help="piston speed [m/s] (default 1.5e-3)")
     gravity = sub.add_parser("gravity", help="the specimen settling under "
                              "gravity on the plate")
     _common(gravity, 2e-3, 20e-3, 3)
-    gravity.add_argument("--damping", type=float, default=None,
+    gravity.add_argument("--damping", type=_finite(0.0, "must be finite "
+                         "and >= 0 1/s"), default=None,
                          help="damping rate [1/s] (default: the scene's)")
-    gravity.add_argument("--g", type=float, default=9.81,
+    gravity.add_argument("--g", type=_finite(-math.inf, "must be finite"),
+                         default=9.81,
                          help="gravitational acceleration [m/s^2]")
     study = sub.add_parser("study", help="validation study (docs/"
                            "validation.md): figures, tables, results.json")
@@ -123,7 +165,7 @@ def _fraction(text: str) -> float:
 
 
 def _spacings(text: str) -> list[float]:
-    return [quantity(part) for part in text.split(",") if part.strip()]
+    return [positive(part) for part in text.split(",") if part.strip()]
 
 
 def _plan_parser(sub) -> None:
@@ -136,14 +178,15 @@ def _plan_parser(sub) -> None:
                       help="project scene (or --deck)")
     plan.add_argument("--error", type=_fraction, required=True,
                       help="requested error, e.g. 3%% or 0.03")
-    plan.add_argument("--until", type=quantity, default=None,
+    plan.add_argument("--until", type=positive, default=None,
                       help="end time (default: the scene's)")
     plan.add_argument("--norm", choices=("max", "rms"), default="max",
                       help="max: largest deviation over the reference's "
                       "peak; rms: RMS deviation over its RMS (default max)")
-    plan.add_argument("--threads", type=int, default=None,
+    plan.add_argument("--threads", type=_whole(1), default=None,
                       help="threads of the planned run (and the calibration)")
-    plan.add_argument("--max-seconds", type=float, default=None,
+    plan.add_argument("--max-seconds", type=_finite(0.0, "must be finite "
+                      "and >= 0 s"), default=None,
                       help="wall-time budget of the planned run [s]")
     plan.add_argument("--ladder", type=_spacings, default=None,
                       help="calibration spacings, e.g. 4mm,3mm,2mm")
@@ -249,9 +292,23 @@ def _run_scene(args, scene, name: str) -> int:
     elif args.threads is not None and getattr(scene, "_calc", None) is None:
         from .calculators import CLibrary
         scene.calc = CLibrary(threads=args.threads)
+    specimen = next((b for b in scene.bodies if b.name == "specimen"), None)
+    if specimen is not None and specimen.lo is not None:
+        shape = specimen.lattice_shape
+        if min(shape) < _MIN_ACROSS:
+            width = min(h - l for l, h in zip(specimen.lo, specimen.hi))
+            raise ValueError(
+                f"--dx {args.dx * 1e3:g}mm leaves the specimen "
+                f"{' x '.join(map(str, shape))} particles; the kernel needs "
+                f"at least {_MIN_ACROSS} across: use --dx "
+                f"{width / _MIN_ACROSS * 1e3:.3g}mm or less")
     probes = Probes(scene, scenes.PAPER_PROBES)
     dyn = dynamics_for(args.integrator)(scene, dt=args.dt,
                                         progress=args.progress)
+    late = [t for t in (args.times or []) if t > args.until]
+    if late:
+        raise ValueError(f"--times {', '.join(f'{t * 1e3:g}ms' for t in late)}"
+                         f" beyond --until {args.until * 1e3:g}ms")
     times = args.times or [args.until * (i + 1) / args._frames
                            for i in range(args._frames)]
     times = sorted(t for t in times if 0 < t <= args.until)
@@ -373,9 +430,26 @@ def _validation_module(name):
                      "(the study lives in its top-level validation/ folder)")
 
 
+def _negative_values(argv: list) -> list:
+    """``--until -1ms`` -> ``--until=-1ms``: argparse would take the value
+    for an option and say only "expected one argument"; joined, the option
+    checks it and names it."""
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if (a.startswith("--") and "=" not in a and i + 1 < len(argv)
+                and re.match(r"-[0-9.]", argv[i + 1])):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+        else:
+            out.append(a)
+            i += 1
+    return out
+
+
 def main(argv=None) -> int:
-    from ._lib import UnsupportedError
-    argv = list(sys.argv[1:] if argv is None else argv)
+    from ._lib import SimulationError, UnsupportedError
+    argv = _negative_values(list(sys.argv[1:] if argv is None else argv))
     args = _parser().parse_args(argv)
     try:
         if args.command == "info":
@@ -403,7 +477,8 @@ def main(argv=None) -> int:
             scene = scenes.gravity(args.dx, g=args.g, viscosity=viscosity,
                                    **kwargs)
         return _run_scene(args, scene, args.command)
-    except (ValueError, OSError, UnsupportedError) as error:
+    except (ValueError, OSError, MemoryError, SimulationError,
+            UnsupportedError) as error:
         print(f"sphsolid: error: {error}", file=sys.stderr)
         return 2
 

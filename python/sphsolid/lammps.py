@@ -35,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import _lib
 from ._lib import SimulationError, StoppedError, UnsupportedError, lib
 from ._lib import check as _check
 from ._lib import encode_name as _lib_encode
@@ -149,6 +150,15 @@ class Lammps(Calculator):
         if not isinstance(chunk, int) or chunk < 1:
             raise ValueError(f"chunk must be a positive integer, got "
                              f"{chunk!r}")
+        if threads is not None and (not isinstance(threads, int)
+                                    or isinstance(threads, bool)
+                                    or threads < 1):
+            raise ValueError(f"Lammps: threads must be a positive integer, "
+                             f"got {threads!r}")
+        if plugin is not None and not Path(plugin).is_file():
+            raise OSError(f"Lammps: plugin {str(plugin)!r} does not exist "
+                          "(build it with lammps_plugin/setup_env.sh, or "
+                          "omit plugin= to search the usual places)")
         self.plugin = Path(plugin) if plugin is not None else None
         self.threads = threads
         self.chunk = chunk
@@ -181,6 +191,7 @@ class Lammps(Calculator):
             self._build(scene, plugin)
         except Exception as error:
             raise self._error(error, "building the LAMMPS scene") from None
+        self._digests = self._state_digests()    # what LAMMPS was given
 
     def _build(self, scene, plugin: Path) -> None:
         dim = scene.dimension
@@ -390,7 +401,45 @@ class Lammps(Calculator):
     def step(self) -> int:
         return self._step
 
+    _STATE = (("positions", _lib.FIELD_POSITION),
+              ("velocities", _lib.FIELD_VELOCITY),
+              ("density", _lib.FIELD_DENSITY),
+              ("deviatoric_stress", _lib.FIELD_DEVIATORIC_STRESS))
+
+    def _state_digests(self) -> dict:
+        """Digests of the library's copy of the state, read without a sync
+        (which would overwrite edits)."""
+        import hashlib
+        digests = {}
+        for name, field in self._STATE:
+            out = np.empty(self.scene._shape(field), dtype=np.float64)
+            if out.size:
+                _check(lib.sph_field_copy(
+                    self.scene.handle, field,
+                    out.ctypes.data_as(ctypes.POINTER(ctypes.c_double))),
+                    self.scene.handle, "field")
+            digests[name] = hashlib.blake2b(out.tobytes(),
+                                            digest_size=16).digest()
+        return digests
+
+    def _refuse_edits(self) -> None:
+        """LAMMPS holds the state during a run; the scene's arrays are a
+        copy. Edits to that copy would be dropped silently: refuse them."""
+        if getattr(self, "_digests", None) is None:
+            return
+        now = self._state_digests()
+        changed = [name for name, _ in self._STATE
+                   if now[name] != self._digests[name]]
+        if changed:
+            raise ValueError(
+                "the LAMMPS backend cannot take edits of scene."
+                + ", scene.".join(changed) + " made since the last step: "
+                "LAMMPS holds the state. Set initial values on the bodies "
+                "before the first run (e.g. build.block(..., velocity=...)),"
+                " or use the C library backend")
+
     def _run(self, steps: int, dt: float) -> None:
+        self._refuse_edits()
         options = " pre no post no" if self._prepared else " post no"
         try:
             self.lmp.command(f"run {int(steps)}{options}")
@@ -464,6 +513,7 @@ class Lammps(Calculator):
         scene.velocities[order] = v
         scene.density[order] = rho
         scene.deviatoric_stress[order] = deviatoric
+        self._digests = self._state_digests()
 
     def close(self) -> None:
         """End the LAMMPS instance."""

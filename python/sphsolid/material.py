@@ -13,8 +13,8 @@ __all__ = ["Material"]
 
 def _number(name: str, value) -> float:
     try:
-        number = float(value)
-    except (TypeError, ValueError):
+        number = _lib.number(value, name)
+    except ValueError:
         raise ValueError(f"Material: {name} must be a number, got "
                          f"{value!r}") from None
     if not math.isfinite(number):

@@ -49,9 +49,23 @@ class Probes:
     ----------
     scene : Scene
     points : mapping of name to point [m], optional
+    outside : "error" or "nan"
+        A probe with no particle within 2h (outside every body) raises
+        :class:`SimulationError` naming it (``"error"``, the default, as in
+        the C library and the LAMMPS compute), or records NaN (``"nan"``).
+        The setting belongs to the scene, so a Trajectory's probe samples
+        follow it too.
     """
 
-    def __init__(self, scene, points: Mapping[str, Sequence[float]] = None):
+    def __init__(self, scene, points: Mapping[str, Sequence[float]] = None,
+                 outside: str = "error"):
+        if outside not in ("error", "nan"):
+            raise ValueError(f"Probes: outside must be 'error' or 'nan', got "
+                             f"{outside!r}")
+        _lib.check(lib.sph_set_probe_outside(scene.handle,
+                                             int(outside == "nan")),
+                   scene.handle, "Probes")
+        self.outside = outside
         self.scene = scene
         self.names: list[str] = []
         #: {name: point [m]} of every probe

@@ -104,7 +104,16 @@ class Scene:
             if domain is None:
                 raise ValueError("periodic needs a domain=(lo, hi)")
             self.set_domain(domain[0], domain[1], periodic)
+        if effects is not None and not isinstance(effects, Mapping):
+            raise ValueError(
+                "Scene: effects must be a mapping of effect names to "
+                "parameter mappings, e.g. {'artificial_viscosity': "
+                f"{{'alpha': 1.0}}}}, got {type(effects).__name__} {effects!r}")
         for name, parameters in (effects or {}).items():
+            if parameters is not None and not isinstance(parameters, Mapping):
+                raise ValueError(
+                    f"Scene: the parameters of effect {name!r} must be a "
+                    f"mapping like {{'alpha': 1.0}}, got {parameters!r}")
             self.effect(name, **dict(parameters or {}))
         for body in bodies:
             self.add(body)

@@ -218,3 +218,106 @@ def test_force_bodies_must_not_share_atoms(lmp_factory):
                                                "fix a right sphsolid/force 0.0 -1.0",
                                                "fix b all sphsolid/force 0.0 -1.0", "run 1"],
                "fix a", "another fix sphsolid/force")
+
+
+# ------------------------------------------------- deck checks at run time
+def test_run_without_a_sphsolid_integrator_is_refused(lmp_factory):
+    # without one the density and stress never evolve (zero stress)
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["timestep 1e-7", "run 1"],
+               "no sphsolid integrator fix", "sphsolid/heun")
+
+
+def test_fix_nve_alone_is_not_a_sphsolid_integrator(lmp_factory):
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["fix nve all nve", "timestep 1e-7", "run 1"],
+               "no sphsolid integrator fix")
+
+
+def test_run_0_without_an_integrator_is_allowed(lmp_factory):
+    # evaluating the state (computes, thermo) moves nothing
+    lmp = lmp_factory()
+    for c in BOX + GOOD_PAIR + ["compute rho all sphsolid/density/atom", "run 0"]:
+        lmp.command(c)
+
+
+def test_fix_nve_on_the_integrated_group_is_refused(lmp_factory):
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["fix heun all sphsolid/heun", "fix twice all nve",
+                                               "timestep 1e-7", "run 1"],
+               "fix twice (nve) integrates 100 atoms that fix heun (sphsolid/heun) also integrates")
+
+
+def test_fix_move_on_the_integrated_group_is_refused(lmp_factory):
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["group left region left", "fix heun all sphsolid/heun",
+                                               "fix push left move linear 0.0 -1.0 0.0",
+                                               "timestep 1e-7", "run 1"],
+               "fix push (move) integrates 50 atoms", "group left")
+
+
+def test_fix_move_outside_the_integrated_group_is_accepted(lmp_factory):
+    # a prescribed body left out of the integrator's group (as the Python
+    # LAMMPS backend does for pistons)
+    lmp = lmp_factory()
+    for c in BOX + GOOD_PAIR + ["group left region left", "group right region right",
+                                "fix heun right sphsolid/heun",
+                                "fix push left move linear 0.0 -1e-3 0.0",
+                                "timestep 1e-7", "run 2"]:
+        lmp.command(c)
+
+
+def logged_run(plugin, tmp_path, commands):
+    """Run a deck with a log file; return the log's text (warnings)."""
+    import sphsolid_lammps
+    log = tmp_path / "log.lammps"
+    lmp = sphsolid_lammps.open_lammps(["-log", str(log), "-screen", "none", "-nocite"],
+                                      plugin=plugin)
+    try:
+        for c in commands:
+            lmp.command(c)
+    finally:
+        lmp.close()
+    return log.read_text()
+
+
+def test_mass_not_rho0_dx_squared_is_named(plugin, tmp_path):
+    box = [c for c in BOX if not c.startswith("mass")] + ["mass * 1.0"]
+    text = logged_run(plugin, tmp_path, box + GOOD_PAIR + [
+        "fix heun all sphsolid/heun", "timestep 1e-7", "run 1"])
+    assert "atom type 1 has mass 1 kg, but rho0 dx^2 = 0.0023 kg" in text, text
+
+
+def test_pair_spacing_disagreeing_with_the_lattice_is_named(plugin, tmp_path):
+    pair = ["pair_style sphsolid 0.002", GOOD_PAIR[1]]
+    text = logged_run(plugin, tmp_path, BOX + pair + [
+        "fix heun all sphsolid/heun", "timestep 1e-7", "run 1"])
+    assert "pair_style spacing dx = 0.002 m, but the lattice spacing is 0.001 m" in text, text
+
+
+def test_timestep_above_the_stable_step_is_named_before_the_run(plugin, tmp_path):
+    text = logged_run(plugin, tmp_path, BOX + GOOD_PAIR + [
+        "fix heun all sphsolid/heun", "timestep 1e-6", "run 1"])
+    assert "timestep 1e-06 s is" in text and "the stable step" in text, text
+
+
+def test_blow_up_names_atom_id_timestep_and_stable_step(lmp_factory):
+    message = fails_with(lmp_factory, BOX + GOOD_PAIR + [
+        "velocity all create 1.0 4928459 dist gaussian", "fix heun all sphsolid/heun",
+        "timestep 1e-5", "run 2000"], "atom", "timestep 1e-05 s, stable step")
+
+
+def test_effect_parameter_given_twice_is_named(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001 artificial_viscosity alpha 1 alpha 2"],
+               "alpha")
+
+
+def test_probe_outside_every_body_is_an_error(lmp_factory):
+    fails_with(lmp_factory, BOX + GOOD_PAIR + [
+        "compute far all sphsolid/probe 0.009 0.009", "thermo_style custom step c_far[1]", "run 0"],
+        "compute sphsolid/probe far", "outside every body")
+
+
+def test_probe_outside_records_nan_when_asked(lmp_factory):
+    import math
+    lmp = lmp_factory()
+    for c in BOX + GOOD_PAIR + ["compute far all sphsolid/probe 0.009 0.009 outside nan",
+                                "thermo_style custom step c_far[1]", "run 0"]:
+        lmp.command(c)
+    assert math.isnan(lmp.extract_compute("far", 0, 1)[0])

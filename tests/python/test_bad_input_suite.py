@@ -1,0 +1,371 @@
+"""The bad-input suite of the Python front end, the ``sphsolid`` command and
+the example program: each case fails cleanly (an exception, or an exit
+status with a message) naming the bad value; none crashes or is silently
+accepted.  Files that fail mid-write keep what was written before
+(tests/c/test_faults.c covers the faults in depth)."""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+import sphsolid
+import sphsolid.lammps
+from sphsolid import build, scenes
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def rock():
+    return scenes.paper_material()
+
+
+def small(dx=1e-3, **kwargs):
+    return build.rectangle((0, 0.01), (0, 0.01), dx, rock(), **kwargs)
+
+
+def small_scene(**kwargs):
+    return sphsolid.Scene(2, [small()], **kwargs)
+
+
+# --------------------------------------------------------------- Python API
+def _material_bool():
+    sphsolid.Material(K=True, mu=1e9, rho0=1000)
+
+
+def _material_overflow():
+    sphsolid.Material(K=1e300, mu=1e300, rho0=1000)
+
+
+def _material_string():
+    sphsolid.Material(K="12e9", mu=1e9, rho0=1000)
+
+
+def _material_nan_density():
+    sphsolid.Material(K=1e9, mu=1e9, rho0=float("nan"))
+
+
+def _rectangle_three_x():
+    build.rectangle((0, 1, 2), (0, 1), 0.1, rock())
+
+
+def _rectangle_string_x():
+    build.rectangle("ab", (0, 1), 0.1, rock())
+
+
+def _rectangle_string_entry():
+    build.rectangle((0, "one"), (0, 1), 0.1, rock())
+
+
+def _block_bool_corner():
+    build.block((0, False), (1, 1), 0.1, rock())
+
+
+def _force_string():
+    build.Force("abc")
+
+
+def _velocity_string():
+    build.Velocity("fast")
+
+
+def _disc_below_spacing():
+    build.disc((0, 0), 1e-4, 1e-3, rock())
+
+
+def _disc_string_centre():
+    build.disc("origin", 0.01, 1e-3, rock())
+
+
+def _ring_radius_string():
+    build.ring((0, 0), "a", 0.01, 1e-3, rock())
+
+
+def _effects_string():
+    small_scene(effects="artificial_viscosity")
+
+
+def _effects_list():
+    small_scene(effects=["artificial_viscosity"])
+
+
+def _effect_parameters_string():
+    small_scene(effects={"artificial_viscosity": "alpha=1 alpha=2"})
+
+
+def _effect_nan_alpha():
+    small_scene(effects={"artificial_viscosity": {"alpha": float("nan")}})
+
+
+def _effect_negative_alpha():
+    small_scene(effects={"artificial_viscosity": {"alpha": -1.0}})
+
+
+def _probe_point_string():
+    sphsolid.Probes(small_scene(), {"A": "0.005,0.005"})
+
+
+def _probe_point_bool():
+    sphsolid.Probes(small_scene(), {"A": (True, 0.005)})
+
+
+def _probe_outside_every_body():
+    sphsolid.Probes(small_scene(), {"far": (1.0, 1.0)}).sample()
+
+
+def _probes_outside_mode():
+    sphsolid.Probes(small_scene(), {"A": (0.005, 0.005)}, outside="ignore")
+
+
+def _lammps_negative_threads():
+    from sphsolid.lammps import Lammps
+    Lammps(threads=-1)
+
+
+def _lammps_bool_threads():
+    from sphsolid.lammps import Lammps
+    Lammps(threads=True)
+
+
+def _lammps_missing_plugin(tmp_path):
+    from sphsolid.lammps import Lammps
+    Lammps(plugin=tmp_path / "no_such_plugin.so")
+
+
+def _builder_that_cannot_fit():
+    # 1.6e10 points of a disc at dx = 1 um: refused before numpy allocates
+    build.disc((0, 0), 0.07, 1e-6, rock())
+
+
+def _scene_that_cannot_fit():
+    sphsolid.Scene(2, [build.rectangle((-0.043, 0.043), (0, 0.14), 3e-6,
+                                       rock())])
+
+
+def _far_apart_3d_with_probe_outside():
+    a = build.box((0, 0.003), (0, 0.003), (0, 0.003), 1e-3, rock(), name="a")
+    b = build.box((1.1e7, 1.1e7 + 0.003), (1.1e7, 1.1e7 + 0.003),
+                  (1.1e7, 1.1e7 + 0.003), 1e-3, rock(), name="b")
+    scene = sphsolid.Scene(3, [a, b])
+    sphsolid.ImprovedEuler(scene).run(1)        # runs: no overflow
+    sphsolid.Probes(scene, {"mid": (5e6, 5e6, 5e6)}).sample()
+
+
+def _trajectory_of_old_format(tmp_path):
+    path = tmp_path / "old.h5"
+    with h5py.File(path, "w") as f:            # format 1: no version
+        f.create_group("h5md")
+        f.create_dataset("particles/all/position/value", data=np.zeros((1, 2, 2)))
+    sphsolid.Trajectory(path)
+
+
+def _trajectory_of_newer_format(tmp_path):
+    path = tmp_path / "new.h5"
+    with h5py.File(path, "w") as f:
+        f.attrs["sphsolid_format"] = 7
+    sphsolid.Trajectory(path)
+
+
+def _trajectory_of_a_checkpoint(tmp_path):
+    scene = small_scene()
+    scene.write_checkpoint(tmp_path / "state.h5")
+    sphsolid.Trajectory(tmp_path / "state.h5")
+
+
+def _damaged_trajectory_frame(tmp_path):
+    path = tmp_path / "run.h5"
+    scene = small_scene()
+    dyn = sphsolid.ImprovedEuler(scene)
+    with sphsolid.Trajectory(path, "w", scene) as traj:
+        dyn.run(2)
+        traj.write()
+    marker = scene.positions[37, 1].tobytes()
+    data = bytearray(path.read_bytes())
+    at = data.rfind(marker)
+    data[at + 6] ^= 0x5F
+    path.write_bytes(bytes(data))
+    with sphsolid.Trajectory(path) as traj:
+        traj[-1]
+
+
+def _load_frame_into_another_shape(tmp_path):
+    path = tmp_path / "run.h5"
+    scene = sphsolid.Scene(2, [build.rectangle((0, 0.02), (0, 0.01), 1e-3, rock())])
+    with sphsolid.Trajectory(path, "w", scene):
+        pass
+    other = sphsolid.Scene(2, [build.rectangle((0, 0.01), (0, 0.02), 1e-3, rock())])
+    sphsolid.Trajectory(path).load_into(other)
+
+
+def _checkpoint_of_another_material(tmp_path):
+    small_scene().write_checkpoint(tmp_path / "state.h5")
+    other = sphsolid.Scene(2, [build.rectangle(
+        (0, 0.01), (0, 0.01), 1e-3, sphsolid.Material(K=1e9, mu=1e9, rho0=2300),
+        name="specimen")])
+    other.read_checkpoint(tmp_path / "state.h5")
+
+
+def _checkpoint_of_another_motion(tmp_path):
+    small_scene().write_checkpoint(tmp_path / "state.h5")
+    other = sphsolid.Scene(2, [small(motion="fixed")])
+    other.read_checkpoint(tmp_path / "state.h5")
+
+
+def _checkpoint_in_missing_directory(tmp_path):
+    small_scene().write_checkpoint(tmp_path / "no" / "such" / "state.h5")
+
+
+PYTHON_CASES = [
+    (_material_bool, ValueError, r"K must be a number, got True"),
+    (_material_overflow, ValueError, r"E=inf"),
+    (_material_string, ValueError, r"K must be a number, got '12e9'"),
+    (_material_nan_density, ValueError, r"rho0 must be finite, got nan"),
+    (_rectangle_three_x, ValueError, r"rectangle x \(x0, x1\) must have 2 entries, got 3"),
+    (_rectangle_string_x, ValueError, r"rectangle x \(x0, x1\) must be a sequence of numbers, got 'ab'"),
+    (_rectangle_string_entry, ValueError, r"rectangle x \(x0, x1\)\[1\] must be a number, got 'one'"),
+    (_block_bool_corner, ValueError, r"lo\[1\] must be a number, got False"),
+    (_force_string, ValueError, r"Force.force must be a sequence of numbers, got 'abc'"),
+    (_velocity_string, ValueError, r"Velocity.velocity must be a sequence of numbers, got 'fast'"),
+    (_disc_below_spacing, ValueError, r"radius 0.0001 m is below half the spacing dx=0.001"),
+    (_disc_string_centre, ValueError, r"center must be a sequence of numbers, got 'origin'"),
+    (_ring_radius_string, ValueError, r"r_inner must be a number, got 'a'"),
+    (_effects_string, ValueError, r"effects must be a mapping .* got str 'artificial_viscosity'"),
+    (_effects_list, ValueError, r"effects must be a mapping .* got list"),
+    (_effect_parameters_string, ValueError, r"parameters of effect 'artificial_viscosity' must be a mapping .* 'alpha=1 alpha=2'"),
+    (_effect_nan_alpha, ValueError, r"alpha"),
+    (_effect_negative_alpha, ValueError, r"alpha=-1"),
+    (_probe_point_string, ValueError, r"probe 'A' point must be a sequence of numbers, got '0.005,0.005'"),
+    (_probe_point_bool, ValueError, r"probe 'A' point\[0\] must be a number, got True"),
+    (_probe_outside_every_body, sphsolid.SimulationError, r"probe 'far' at \(1, 1\) m is outside every body"),
+    (_probes_outside_mode, ValueError, r"outside must be 'error' or 'nan', got 'ignore'"),
+    (_lammps_negative_threads, ValueError, r"threads must be a positive integer, got -1"),
+    (_lammps_bool_threads, ValueError, r"threads must be a positive integer, got True"),
+    (_lammps_missing_plugin, OSError, r"plugin '.*no_such_plugin.so' does not exist"),
+    (_builder_that_cannot_fit, MemoryError, r"radius 0.07 m at dx=1e-06 m.*are available"),
+    (_scene_that_cannot_fit, MemoryError, r"block 'specimen' \(dx=3e-06 m\).*need about .* are available"),
+    (_far_apart_3d_with_probe_outside, sphsolid.SimulationError, r"probe 'mid' at \(5e\+06, 5e\+06, 5e\+06\) m is outside"),
+    (_trajectory_of_old_format, OSError, r"old.h5' is in libsphsolid file format 1"),
+    (_trajectory_of_newer_format, OSError, r"new.h5' has libsphsolid file format 7"),
+    (_trajectory_of_a_checkpoint, OSError, r"is a libsphsolid checkpoint file, not an output file"),
+    (_damaged_trajectory_frame, OSError, r"run.h5' is damaged: /particles/all/position/value fails its checksum"),
+    (_load_frame_into_another_shape, ValueError, r"body 'specimen' spans x in \[.*\] m in the file, \[.*\] m here"),
+    (_checkpoint_of_another_material, ValueError, r"material 0 has bulk modulus K = 12200000000 in the file, 1000000000 here"),
+    (_checkpoint_of_another_motion, ValueError, r"body 'specimen' has motion 'free' in the file, motion 'fixed' here"),
+    (_checkpoint_in_missing_directory, OSError, r"no/such/state.h5.*No such file or directory"),
+]
+
+
+@pytest.mark.parametrize("case, error, message", PYTHON_CASES,
+                         ids=[c[0].__name__.strip("_") for c in PYTHON_CASES])
+def test_python_bad_input_is_refused_naming_the_value(case, error, message,
+                                                      tmp_path):
+    import inspect
+    if "lammps" in case.__name__ and not sphsolid.lammps.available():
+        pytest.skip("LAMMPS is not installed")
+    args = (tmp_path,) if inspect.signature(case).parameters else ()
+    with pytest.raises(error, match=message):
+        case(*args)
+
+
+def test_probe_outside_can_record_nan_instead():
+    probes = sphsolid.Probes(small_scene(), {"far": (1.0, 1.0)}, outside="nan")
+    values = probes.sample()["far"]
+    assert all(np.isnan(v) for v in values.values())
+
+
+# ------------------------------------------------------ the sphsolid command
+CLI_CASES = [
+    (["piston", "--viscosity", "nan"], "--viscosity: 'nan': must be finite and >= 0"),
+    (["piston", "--viscosity", "-1"], "--viscosity: '-1': must be finite and >= 0"),
+    (["piston", "--speed", "-1"], "--speed: '-1': must be finite and >= 0"),
+    (["piston", "--speed", "inf"], "--speed: 'inf': must be finite"),
+    (["piston", "--until", "-1ms"], "--until: '-1ms': must be finite and > 0"),
+    (["piston", "--until", "0"], "--until: '0': must be finite and > 0"),
+    (["piston", "--dx", "nanmm"], "--dx: 'nanmm'"),
+    (["piston", "--dx", "0.1"], "--dx 100mm leaves the specimen 1 x 1 particles"),
+    (["piston", "--dx", "3um"], "block 'specimen' (dx=3e-06 m): 1.338e+09 particles"),
+    (["piston", "--times", "1ms", "--until", "0.3ms"], "--times 1ms beyond --until 0.3ms"),
+    (["piston", "--times", "-1ms"], "--times: '-1ms': must be finite and > 0"),
+    (["piston", "--threads", "-1"], "--threads: '-1': must be >= 1"),
+    (["piston", "--probe-interval", "0"], "--probe-interval: '0': must be >= 1"),
+    (["piston", "--dt", "-1us"], "--dt: '-1us': must be finite and > 0"),
+    (["gravity", "--damping", "-5"], "--damping: '-5': must be finite and >= 0"),
+    (["info", "no_such_file.h5"], "no_such_file.h5"),
+]
+
+
+@pytest.mark.parametrize("argv, message", CLI_CASES,
+                         ids=[" ".join(c[0]) for c in CLI_CASES])
+def test_cli_bad_input_exits_naming_the_value(argv, message, tmp_path,
+                                              capsys):
+    from sphsolid.cli import main
+    out = ["--out", str(tmp_path)] if argv[0] != "info" else []
+    try:
+        code = main(argv + out)
+    except SystemExit as exited:          # argparse: status 2
+        code = exited.code
+    assert code not in (0, None)
+    err = capsys.readouterr().err
+    assert message in err, err
+    assert "Traceback" not in err
+    assert not list(tmp_path.glob("*.h5"))      # nothing half written
+
+
+# ---------------------------------------------------- the example program
+def _example():
+    for candidate in (ROOT / "build" / "examples" / "uniaxial_piston",
+                      ROOT / "build" / "examples" / "uniaxial_piston" / "uniaxial_piston"):
+        if candidate.is_file() and os.access(candidate, os.X_OK):
+            return candidate
+    return None
+
+
+EXAMPLE_CASES = [
+    (["--snapshots", "-5"], "--snapshots expects a whole number in [0, 1000000], got '-5'"),
+    (["--snapshots", "2.5"], "--snapshots expects a whole number"),
+    (["--alpha", "nan"], "--alpha expects a finite number, got 'nan'"),
+    (["--alpha", "-1"], "--alpha -1 must be >= 0"),
+    (["--threads", "-2"], "--threads expects a whole number in [0, 4096], got '-2'"),
+    (["--dx", "abc"], "--dx expects a finite number, got 'abc'"),
+    (["--dx", "0"], "--dx 0 mm and --until 0.3 ms must be > 0"),
+    (["--until", "inf"], "--until expects a finite number, got 'inf'"),
+    (["--dx", "0.003"], "block 'specimen'"),
+    (["--out", "no/such/dir/run.h5"], "no/such/dir/run.h5"),
+    (["--dx"], "unknown or incomplete option '--dx'"),
+    (["--bogus", "1"], "unknown option '--bogus'"),
+]
+
+
+@pytest.mark.parametrize("argv, message", EXAMPLE_CASES,
+                         ids=[" ".join(c[0]) for c in EXAMPLE_CASES])
+def test_example_program_bad_input_exits_naming_the_value(argv, message,
+                                                          tmp_path):
+    program = _example()
+    if program is None:
+        pytest.skip("the example program is not built (build/examples)")
+    run = subprocess.run([str(program), *argv, "--quiet"] if argv[-1] != "--dx" else [str(program), *argv],
+                         cwd=tmp_path, capture_output=True, text=True,
+                         timeout=120)
+    assert run.returncode not in (0,) and run.returncode > 0, run
+    assert message in run.stderr, run.stderr
+
+
+# ------------------------------------------------ the LAMMPS backend's state
+def test_lammps_backend_refuses_edits_it_would_drop():
+    if not sphsolid.lammps.available():
+        pytest.skip("LAMMPS is not installed")
+    from sphsolid.lammps import Lammps
+    scene = small_scene()
+    scene.calc = Lammps()
+    dyn = sphsolid.ImprovedEuler(scene)
+    dyn.run(2)
+    scene.velocities[3] = (1.0, 0.0)        # LAMMPS holds the state
+    with pytest.raises(ValueError, match=r"cannot take edits of "
+                       r"scene.velocities"):
+        dyn.run(2)
