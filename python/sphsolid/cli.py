@@ -292,16 +292,6 @@ def _run_scene(args, scene, name: str) -> int:
     elif args.threads is not None and getattr(scene, "_calc", None) is None:
         from .calculators import CLibrary
         scene.calc = CLibrary(threads=args.threads)
-    specimen = next((b for b in scene.bodies if b.name == "specimen"), None)
-    if specimen is not None and specimen.lo is not None:
-        shape = specimen.lattice_shape
-        if min(shape) < _MIN_ACROSS:
-            width = min(h - l for l, h in zip(specimen.lo, specimen.hi))
-            raise ValueError(
-                f"--dx {args.dx * 1e3:g}mm leaves the specimen "
-                f"{' x '.join(map(str, shape))} particles; the kernel needs "
-                f"at least {_MIN_ACROSS} across: use --dx "
-                f"{width / _MIN_ACROSS * 1e3:.3g}mm or less")
     probes = Probes(scene, scenes.PAPER_PROBES)
     dyn = dynamics_for(args.integrator)(scene, dt=args.dt,
                                         progress=args.progress)
@@ -447,6 +437,20 @@ def _negative_values(argv: list) -> list:
     return out
 
 
+def _check_spacing(args, scenes) -> None:
+    """The paper's specimen needs a few particles across at --dx."""
+    if getattr(args, "dx", None) is None:
+        return
+    spans = [hi - lo for lo, hi in (scenes.SPECIMEN_X, scenes.SPECIMEN_Y)]
+    shape = [int(round(s / args.dx)) for s in spans]
+    if min(shape) < _MIN_ACROSS:
+        raise ValueError(
+            f"--dx {args.dx * 1e3:g}mm leaves the specimen "
+            f"{' x '.join(map(str, shape))} particles; the kernel needs at "
+            f"least {_MIN_ACROSS} across: use --dx "
+            f"{min(spans) / _MIN_ACROSS * 1e3:.3g}mm or less")
+
+
 def main(argv=None) -> int:
     from ._lib import SimulationError, UnsupportedError
     argv = _negative_values(list(sys.argv[1:] if argv is None else argv))
@@ -462,6 +466,7 @@ def main(argv=None) -> int:
                       log=lambda m: print(m, flush=True))
             return 0
         from . import scenes
+        _check_spacing(args, scenes)
         viscosity = ({"alpha": args.viscosity, "beta": 0.0}
                      if args.viscosity > 0 else None)
         if getattr(args, "plan", None) is not None:

@@ -288,7 +288,7 @@ CLI_CASES = [
     (["piston", "--until", "-1ms"], "--until: '-1ms': must be finite and > 0"),
     (["piston", "--until", "0"], "--until: '0': must be finite and > 0"),
     (["piston", "--dx", "nanmm"], "--dx: 'nanmm'"),
-    (["piston", "--dx", "0.1"], "--dx 100mm leaves the specimen 1 x 1 particles"),
+    (["piston", "--dx", "0.1"], "--dx 100mm leaves the specimen 1 x 1 particles; the kernel needs at least 4 across: use --dx 21.5mm or less"),
     (["piston", "--dx", "3um"], "block 'specimen' (dx=3e-06 m): 1.338e+09 particles"),
     (["piston", "--times", "1ms", "--until", "0.3ms"], "--times 1ms beyond --until 0.3ms"),
     (["piston", "--times", "-1ms"], "--times: '-1ms': must be finite and > 0"),
