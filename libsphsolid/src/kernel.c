@@ -15,12 +15,12 @@ const char *sph_kernel_names(void)
 
 const char *sph_kernel_name(sph_kernel kernel)
 {
+#define KERNEL_CASE_NAME(id, name, prefix, support) case id: return #name;
     switch (kernel) {
-#define KERNEL_CASE(id, name, prefix, support) case id: return #name;
-        SPH_KERNELS(KERNEL_CASE)
-#undef KERNEL_CASE
+        SPH_KERNELS(KERNEL_CASE_NAME)
     }
     return NULL;
+#undef KERNEL_CASE_NAME
 }
 
 int sph_kernel_from_name(const char *name)

@@ -80,46 +80,23 @@ static inline double kernel_wendland_f(double q)
     X(SPH_KERNEL_CUBIC_SPLINE, cubic_spline, kernel_cubic, 2.0)               \
     X(SPH_KERNEL_WENDLAND_C2, wendland_c2, kernel_wendland, 2.0)
 
-/* Dispatch by kernel id; with a constant id the switch folds away. */
-static inline double kernel_w(int kernel, double q)
-{
-    switch (kernel) {
-#define KERNEL_CASE(id, name, prefix, support) case id: return prefix##_w(q);
-        SPH_KERNELS(KERNEL_CASE)
-#undef KERNEL_CASE
-    }
-    return 0.0;
-}
+/* Dispatch by kernel id over the registry; with a constant id the switch
+ * folds away.  KERNEL_SWITCH(kernel, CASE) expands CASE(id, name, prefix,
+ * support) for every row as the cases of one switch. */
+#define KERNEL_SWITCH(kernel, CASE)                                           \
+    switch (kernel) {                                                         \
+        SPH_KERNELS(CASE)                                                     \
+    }                                                                         \
+    return 0.0
+#define KERNEL_CASE_W(id, name, prefix, support) case id: return prefix##_w(q);
+#define KERNEL_CASE_F(id, name, prefix, support) case id: return prefix##_f(q);
+#define KERNEL_CASE_SIGMA(id, name, prefix, support) case id: return prefix##_sigma(dim);
+#define KERNEL_CASE_SUPPORT(id, name, prefix, support) case id: return support;
 
-static inline double kernel_f(int kernel, double q)
-{
-    switch (kernel) {
-#define KERNEL_CASE(id, name, prefix, support) case id: return prefix##_f(q);
-        SPH_KERNELS(KERNEL_CASE)
-#undef KERNEL_CASE
-    }
-    return 0.0;
-}
-
-static inline double kernel_sigma(int kernel, int dim)
-{
-    switch (kernel) {
-#define KERNEL_CASE(id, name, prefix, support) case id: return prefix##_sigma(dim);
-        SPH_KERNELS(KERNEL_CASE)
-#undef KERNEL_CASE
-    }
-    return 0.0;
-}
-
+static inline double kernel_w(int kernel, double q) { KERNEL_SWITCH(kernel, KERNEL_CASE_W); }
+static inline double kernel_f(int kernel, double q) { KERNEL_SWITCH(kernel, KERNEL_CASE_F); }
+static inline double kernel_sigma(int kernel, int dim) { KERNEL_SWITCH(kernel, KERNEL_CASE_SIGMA); }
 /* Support radius in units of h. */
-static inline double kernel_support(int kernel)
-{
-    switch (kernel) {
-#define KERNEL_CASE(id, name, prefix, support) case id: return support;
-        SPH_KERNELS(KERNEL_CASE)
-#undef KERNEL_CASE
-    }
-    return 0.0;
-}
+static inline double kernel_support(int kernel) { KERNEL_SWITCH(kernel, KERNEL_CASE_SUPPORT); }
 
 #endif

@@ -42,8 +42,11 @@ static sph_status add_material(sph_sim *sim, double K, double mu, double rho0,
     return sph_ok(sim);
 }
 
-static sph_status check_poisson(sph_sim *sim, double nu)
+/* The modulus of an (X, nu) pair must be finite and > 0, nu in (-1, 0.5). */
+static sph_status check_pair(sph_sim *sim, const char *modulus, double value, double nu)
 {
+    if (!(value > 0.0) || !isfinite(value))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s=%g: must be finite and > 0", modulus, value);
     if (!(nu > -1.0 && nu < 0.5))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "Poisson ratio nu=%g: must be in (-1, 0.5)", nu);
     return SPH_OK;
@@ -60,23 +63,18 @@ sph_status sph_add_material_E_nu(sph_sim *sim, double E, double nu, double rho0,
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
-    if (!(E > 0.0) || !isfinite(E))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "Young's modulus E=%g: must be finite and > 0", E);
-    if (check_poisson(sim, nu))
-        return SPH_ERR_ARGUMENT;
-    return add_material(sim, E / (3.0 * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu)), rho0, id);
+    const sph_status st = check_pair(sim, "Young's modulus E", E, nu);
+    /* isotropic elasticity: K = E / (3 (1 - 2 nu)), mu = E / (2 (1 + nu)) */
+    return st ? st : add_material(sim, E / (3.0 * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu)), rho0, id);
 }
 
 sph_status sph_add_material_K_nu(sph_sim *sim, double K, double nu, double rho0, int *id)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
-    if (!(K > 0.0) || !isfinite(K))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "bulk modulus K=%g: must be finite and > 0", K);
-    if (check_poisson(sim, nu))
-        return SPH_ERR_ARGUMENT;
+    const sph_status st = check_pair(sim, "bulk modulus K", K, nu);
     /* isotropic elasticity: mu = 3K (1 - 2 nu) / (2 (1 + nu)) */
-    return add_material(sim, K, 3.0 * K * (1.0 - 2.0 * nu) / (2.0 * (1.0 + nu)), rho0, id);
+    return st ? st : add_material(sim, K, 3.0 * K * (1.0 - 2.0 * nu) / (2.0 * (1.0 + nu)), rho0, id);
 }
 
 sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
