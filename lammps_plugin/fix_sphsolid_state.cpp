@@ -11,6 +11,7 @@
 #include "memory.h"
 
 #include <algorithm>
+#include <string>
 
 using namespace LAMMPS_NS;
 
@@ -23,7 +24,25 @@ FixSPHSolidState::FixSPHSolidState(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, "fix SPHSOLID/STATE is created by pair sphsolid and takes no arguments");
   dim = domain->dimension;
   ncomp = SPH_STRESS_COMPONENTS(dim);
-  nsaved = dim + 1 + ncomp + dim;    // v, rho, S and, with XSPH, the transport velocity
+  // the largest stage buffer of the library's integrators (Improved
+  // Euler's with XSPH: v, rho, S and the transport velocity)
+  nsaved = 0;
+  sph_sim *probe = nullptr;
+  if (sph_create(dim, &probe) == SPH_OK && sph_effect(probe, "xsph", "") == SPH_OK) {
+    std::string names = sph_integrator_names();
+    for (size_t start = 0; start < names.size();) {
+      size_t end = names.find(' ', start);
+      if (end == std::string::npos) end = names.size();
+      sph_integrator_info info;
+      if (sph_integrator_info_get(probe, names.substr(start, end - start).c_str(), &info) ==
+          SPH_OK)
+        nsaved = std::max(nsaved, (int) info.saved_values);
+      start = end + 1;
+    }
+  }
+  sph_destroy(probe);
+  if (nsaved == 0)
+    error->all(FLERR, "fix SPHSOLID/STATE: cannot ask libsphsolid for its integrators' stage size");
 
   restart_peratom = 1;
   create_attribute = 1;
