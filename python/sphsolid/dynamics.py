@@ -60,7 +60,15 @@ class Dynamics:
                             "Leapfrog")
         self.scene = scene
         self.calc = scene.calc
-        self.calc.set_integrator(self.integrator)
+        try:
+            self.calc.set_integrator(self.integrator)
+        except RuntimeError as error:
+            if "exceeds its stability limit" not in str(error):
+                raise
+            # a step set for the previous integrator is above this one's
+            # limit: step within both, then this dynamics sets its own below
+            self.calc.set_dt(0.5 * self.calc.stable_dt())
+            self.calc.set_integrator(self.integrator)
         if dt is None:
             dt = self.calc.default_dt()
         self.calc.set_dt(dt, allow_unstable)

@@ -168,3 +168,16 @@ def test_calculator_evaluates_forces_and_stress(coarse_piston):
     assert np.abs(forces).max() > 0      # the piston squeezes the specimen
     stress = calc.get_stress()
     np.testing.assert_array_equal(stress, coarse_piston.stress)
+
+
+def test_switching_integrators_takes_the_new_default_step(coarse_piston):
+    """The leapfrog's step is above Improved Euler's limit: a new
+    ImprovedEuler on the same scene takes its own default step."""
+    leapfrog = sphsolid.Leapfrog(coarse_piston)
+    leapfrog.run(steps=3)
+    dt_leapfrog = leapfrog.dt
+    euler = sphsolid.ImprovedEuler(coarse_piston)
+    assert coarse_piston.calc.integrator == "improved_euler"
+    assert euler.dt == pytest.approx(dt_leapfrog / 2, rel=1e-12)
+    euler.run(steps=3)
+    assert coarse_piston.step == 6
