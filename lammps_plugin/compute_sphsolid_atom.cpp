@@ -32,6 +32,8 @@ ComputeSPHSolidAtom::ComputeSPHSolidAtom(LAMMPS *lmp, int narg, char **arg) :
     quantity = PRESSURE;
   else if (name == "sphsolid/vonmises/atom")
     quantity = VON_MISES;
+  else if (name == "sphsolid/energy/atom")
+    quantity = ENERGY;
   else
     quantity = STRESS;
 
@@ -85,11 +87,24 @@ void ComputeSPHSolidAtom::compute_peratom()
     return;
   }
 
-  // pressure, Cauchy stress or von Mises of every owned atom from the
-  // library, in place; atoms outside the group are zeroed afterwards
+  // pressure, Cauchy stress, von Mises or elastic energy of every owned
+  // atom from the library, in place; atoms outside the group are zeroed
+  // afterwards
   if ((int) material.size() < nmax) material.resize(nmax);
   const int *type = atom->type;
   for (int i = 0; i < nlocal; i++) material[i] = pair->material_of_type(type[i]);
+  if (quantity == ENERGY) {
+    if ((int) mass.size() < nmax) mass.resize(nmax);
+    for (int i = 0; i < nlocal; i++) mass[i] = atom->rmass ? atom->rmass[i] : atom->mass[type[i]];
+    const sph_status status = sph_energy_fields(pair->handle(), nlocal, mass.data(), state->rho,
+                                                state->S_data(), material.data(), values);
+    if (status != SPH_OK)
+      error->one(FLERR, "compute {}: {} ({})", style, sph_errmsg(pair->handle()),
+                 sph_status_name(status));
+    for (int i = 0; i < nlocal; i++)
+      if (!(mask[i] & groupbit)) values[i] = 0.0;
+    return;
+  }
   const sph_status status =
       sph_derived_fields(pair->handle(), nlocal, state->rho, state->S_data(), material.data(),
                          quantity == PRESSURE ? values : nullptr,
@@ -112,5 +127,5 @@ void ComputeSPHSolidAtom::compute_peratom()
 double ComputeSPHSolidAtom::memory_usage()
 {
   return (double) nmax * (quantity == STRESS ? ncomp : 1) * sizeof(double) +
-      (double) material.capacity() * sizeof(int);
+      (double) material.capacity() * sizeof(int) + (double) mass.capacity() * sizeof(double);
 }

