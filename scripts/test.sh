@@ -37,13 +37,29 @@ build/install-test/consumer/consumer_static
 export PKG_CONFIG_PATH="$PWD/build/install-test/prefix/lib/pkgconfig"
 cc tests/install/consumer.c $(pkg-config --cflags --libs sphsolid) -o build/install-test/consumer_pc
 LD_LIBRARY_PATH="$PWD/build/install-test/prefix/lib" build/install-test/consumer_pc
+# the static library through pkg-config --static (HDF5 from Requires.private)
+pkg-config --static --libs sphsolid | grep -q -- "-lhdf5" \
+    || { echo "pkg-config --static --libs sphsolid lists no HDF5" >&2; exit 1; }
+static_libs=$(pkg-config --static --libs sphsolid \
+              | sed "s|-lsphsolid|$PWD/build/install-test/prefix/lib/libsphsolid.a|")
+cc tests/install/consumer.c $(pkg-config --cflags sphsolid) $static_libs \
+    -o build/install-test/consumer_pc_static
+build/install-test/consumer_pc_static
 unset PKG_CONFIG_PATH
+# the exported CMake targets name no absolute paths (a relocatable package)
+if grep -n -E '"/|;/' build/install-test/prefix/lib/cmake/sphsolid/sphsolidTargets*.cmake \
+        | grep -v -E '_IMPORT_PREFIX|CMAKE_CURRENT_LIST_FILE'; then
+    echo "sphsolidTargets*.cmake holds absolute paths (above)" >&2; exit 1
+fi
 
 echo "== C library without OpenMP and HDF5 (-Werror)"
 cmake -S . -B build-plain -DSPHSOLID_OPENMP=OFF -DSPHSOLID_HDF5=OFF -DSPHSOLID_WERROR=ON \
     -DSPHSOLID_LAMMPS_PLUGIN=OFF -DSPHSOLID_BENCH=OFF >/dev/null
 cmake --build build-plain -j"$(nproc)" >/dev/null
 ctest --test-dir build-plain --output-on-failure
+
+echo "== the wheel: built, repaired (auditwheel), installed in a fresh venv, run without the system's HDF5"
+bash scripts/test_wheel.sh
 
 echo "== Python, LAMMPS plugin and stability tests (pytest)"
 suites=(tests/python)
