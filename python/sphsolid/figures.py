@@ -1,8 +1,11 @@
 """Figures like the paper's: von Mises field maps and probe time series.
 
-Both write PNG files with units on the axes. They take data, not a scene:
-frames from a :class:`~sphsolid.Trajectory` (or anything with
-``positions``, ``von_mises`` and ``time``) and probe series from
+Both return a :class:`matplotlib.figure.Figure` with units on the axes
+(shown inline in Jupyter) and write it only when given a ``path``. They
+never touch pyplot's state or the user's backend: the figure is made with
+``matplotlib.figure.Figure`` directly. They take data, not a scene: frames
+from a :class:`~sphsolid.Trajectory` (or anything with ``positions``,
+``von_mises`` and ``time``) and probe series from
 :class:`~sphsolid.Probes` or a trajectory file.
 """
 from __future__ import annotations
@@ -33,11 +36,17 @@ def time_unit(max_time: float) -> tuple[str, float]:
     return "µs", 1e-6
 
 
-def _pyplot():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
+def _figure(**kwargs):
+    """A Figure outside pyplot (no backend selected, no global state)."""
+    from matplotlib.figure import Figure
+    return Figure(constrained_layout=True, **kwargs)
+
+
+def _finish(fig, path):
+    if path is not None:
+        from pathlib import Path
+        fig.savefig(Path(path), dpi=120)
+    return fig
 
 
 def _spacing(frame, positions: np.ndarray) -> float:
@@ -49,7 +58,7 @@ def _spacing(frame, positions: np.ndarray) -> float:
     return float(np.sqrt(max(extent[0] * extent[1], 1e-300) / len(positions)))
 
 
-def von_mises_map(frames, path, mask=None, vmax: float | None = None,
+def von_mises_map(frames, path=None, mask=None, vmax: float | None = None,
                   title: str | None = None, columns: int | None = None):
     """von Mises stress field maps (like the paper's Figs 2-4 and 12).
 
@@ -59,8 +68,8 @@ def von_mises_map(frames, path, mask=None, vmax: float | None = None,
         Each with ``positions`` [m] (n, 2 or 3; x and y are drawn),
         ``von_mises`` [Pa] (n,), ``time`` [s] and optionally ``spacing``
         [m] (the size of the square drawn per particle).
-    path : str or Path
-        PNG file to write.
+    path : str or Path, optional
+        File to write (PNG, PDF, SVG: by its suffix); default none.
     mask : callable(frame) -> bool array, optional
         Particles to draw (e.g. only the specimen); default all.
     vmax : float, optional
@@ -69,10 +78,9 @@ def von_mises_map(frames, path, mask=None, vmax: float | None = None,
 
     Returns
     -------
-    pathlib.Path
+    matplotlib.figure.Figure
     """
-    from pathlib import Path
-    plt = _pyplot()
+    from matplotlib.colors import Normalize
     from matplotlib.patches import Rectangle
     from matplotlib.collections import PatchCollection
     if not isinstance(frames, (list, tuple)):
@@ -90,10 +98,9 @@ def von_mises_map(frames, path, mask=None, vmax: float | None = None,
     n = len(frames)
     columns = columns or min(n, 4)
     rows = -(-n // columns)
-    fig, axes = plt.subplots(rows, columns, squeeze=False,
-                             figsize=(3.2 * columns + 1.0, 4.6 * rows),
-                             constrained_layout=True)
-    norm = plt.Normalize(0.0, top / scale if top > 0 else 1.0)
+    fig = _figure(figsize=(3.2 * columns + 1.0, 4.6 * rows))
+    axes = fig.subplots(rows, columns, squeeze=False)
+    norm = Normalize(0.0, top / scale if top > 0 else 1.0)
     mappable = None
     for ax, (frame, x, vm) in zip(axes.ravel(), selected):
         spacing = _spacing(frame, x) * 1e3
@@ -122,24 +129,22 @@ def von_mises_map(frames, path, mask=None, vmax: float | None = None,
                  label=f"von Mises stress [{unit}]")
     if title:
         fig.suptitle(title)
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _finish(fig, path)
 
 
 def probe_curves(times: Sequence[float],
-                 series: Mapping[str, Sequence[float]], path,
+                 series: Mapping[str, Sequence[float]], path=None,
                  quantity: str = "von Mises stress",
                  title: str | None = None,
                  bands: Mapping[str, Sequence[float]] | None = None):
-    """Probe time series (like the paper's Figs 6-9) as a PNG.
+    """Probe time series (like the paper's Figs 6-9).
 
     Parameters
     ----------
     times : array [s]
     series : mapping of label to array [Pa], each as long as ``times``
-    path : str or Path
+    path : str or Path, optional
+        File to write (by its suffix); default none.
     quantity : str
         Label of the y axis (its unit is added).
     bands : mapping of label to array [Pa], optional
@@ -148,10 +153,8 @@ def probe_curves(times: Sequence[float],
 
     Returns
     -------
-    pathlib.Path
+    matplotlib.figure.Figure
     """
-    from pathlib import Path
-    plt = _pyplot()
     times = np.asarray(times, dtype=float)
     if not series:
         raise ValueError("probe_curves: no series given")
@@ -163,7 +166,8 @@ def probe_curves(times: Sequence[float],
               default=0.0)
     unit, scale = stress_unit(top)
     tname, tscale = time_unit(times.max() if len(times) else 0.0)
-    fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
+    fig = _figure(figsize=(6.4, 4.2))
+    ax = fig.subplots()
     for label, values in series.items():
         line, = ax.plot(times / tscale, np.asarray(values) / scale,
                         label=label)
@@ -179,7 +183,4 @@ def probe_curves(times: Sequence[float],
     ax.legend()
     if title:
         ax.set_title(title)
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _finish(fig, path)

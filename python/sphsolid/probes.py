@@ -149,6 +149,30 @@ class Probes:
     def __len__(self) -> int:
         return len(self.names)
 
+    def __repr__(self):
+        span = (f", t = {self._times[0]:.6g} .. {self._times[-1]:.6g} s"
+                if self._times else "")
+        return (f"Probes([{', '.join(self.names)}], {len(self._times)} "
+                f"samples{span})")
+
+    def to_pandas(self):
+        """The series as a pandas DataFrame indexed by time [s], with a
+        ``step`` column and columns ``(probe, value)`` [Pa] (a two-level
+        column index: ``df["A"]["von_mises"]``). Needs pandas."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Probes.to_pandas needs pandas (pip install "
+                              "pandas)") from None
+        data = (np.array(self._samples) if self._samples
+                else np.empty((0, len(self.names), len(self.values))))
+        columns = pd.MultiIndex.from_product([self.names, self.values],
+                                             names=["probe", "value"])
+        frame = pd.DataFrame(data.reshape(len(data), -1), columns=columns,
+                             index=pd.Index(self.times, name="time_s"))
+        frame.insert(0, ("step", ""), self.steps)
+        return frame
+
     def write_csv(self, path) -> None:
         """Write the series as CSV: time [s], step, then
         ``<probe>_<value>`` [Pa] columns."""

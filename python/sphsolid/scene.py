@@ -15,6 +15,7 @@ import numpy as np
 from . import _lib
 from ._lib import lib
 from .build import Body, Free, layer_spacing
+from .units import check_scale
 
 __all__ = ["Scene", "DEFAULT_SMOOTHING_RATIO"]
 
@@ -225,6 +226,9 @@ class Scene:
                     f"{body.layers * spacing:g} m, thinner than the kernel "
                     f"support {lib.sph_support_radius(self._handle):g} m "
                     f"({needed} layers)")
+        lo, hi = body.bounds
+        check_scale(body.name, [b - a for a, b in zip(lo, hi)], body.dx,
+                    body.count)
         material = self._material_index(body.material)
         index = ctypes.c_int()
         name = body.name.encode()
@@ -506,6 +510,9 @@ class Scene:
         self._calc = calculator
 
     def __repr__(self):
-        bodies = ", ".join(f"{b.name}" for b in self.bodies)
-        return (f"Scene({self.dimension}D, {len(self)} particles, "
-                f"bodies=[{bodies}], effects={sorted(self._effects)})")
+        bodies = ", ".join(f"{b.name}: {b.count:,}" for b in self.bodies)
+        clock = ""
+        if self._calc is not None:
+            clock = f", t={self.time:.6g} s, step {self.step}"
+        return (f"Scene({self.dimension}D, {len(self):,} particles "
+                f"[{bodies}], effects={sorted(self._effects)}{clock})")

@@ -57,17 +57,43 @@ def test_figures_write_pngs_with_the_units(tmp_path):
     dyn.run(steps=100)
     traj.close()
     with sphsolid.Trajectory(path) as reader:
-        png = figures.von_mises_map(reader[1:], tmp_path / "map.png",
+        frames = reader[1:]
+        fig = figures.von_mises_map(frames, tmp_path / "map.png",
                                     mask=lambda f: f.body_ids == 0)
     curves = figures.probe_curves(
         probes.times, {n: probes[n]["von_mises"] for n in probes.names},
         tmp_path / "curves.png")
-    for file in (png, curves):
+    for file in (tmp_path / "map.png", tmp_path / "curves.png"):
         assert file.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # Figures returned: one panel per frame (+ colour bar), one curve per
+    # probe; nothing written without a path
+    from matplotlib.figure import Figure
+    assert isinstance(fig, Figure) and isinstance(curves, Figure)
+    assert len(fig.axes) == len(frames) + 1
+    assert [line.get_label() for line in curves.axes[0].lines] == probes.names
+    before = set(tmp_path.iterdir())
+    figures.probe_curves(probes.times, {"A": probes["A"]["von_mises"]})
+    assert set(tmp_path.iterdir()) == before
     assert figures.stress_unit(2.5e4) == ("kPa", 1e3)
     assert figures.time_unit(3e-4) == ("µs", 1e-6)
     with pytest.raises(ValueError, match="series 'A'"):
         figures.probe_curves([0.0, 1.0], {"A": [1.0]}, tmp_path / "x.png")
+
+
+def test_figures_leave_the_users_backend_alone(tmp_path):
+    # a user who chose a backend (here svg, through MPLBACKEND) keeps it,
+    # and pyplot's list of open figures stays empty
+    code = ("import matplotlib, numpy as np; from sphsolid import figures;"
+            "fig = figures.probe_curves(np.arange(3.0), {'A': np.ones(3)});"
+            "import matplotlib.pyplot as plt;"
+            "print(matplotlib.get_backend(), len(plt.get_fignums()),"
+            " type(fig).__name__)")
+    env = dict(os.environ, MPLBACKEND="svg", PYTHONPATH=str(
+        Path(sphsolid.__file__).resolve().parents[1]))
+    done = subprocess.run([sys.executable, "-c", code], env=env,
+                          capture_output=True, text=True, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["svg", "0", "Figure"]
 
 
 def test_cli_piston_writes_its_outputs_and_info_reads_them(tmp_path):
