@@ -177,12 +177,12 @@ class Dynamics:
             whole, last = calc.steps_until(until)
             total = whole + (last > 0.0)
         bar = self._progress_bar(total)
-        last = [start]
+        shown = [start]          # the step the bar shows
 
         def progress(step: int) -> bool:
             if bar is not None:
-                bar.update(step - last[0])
-                last[0] = step
+                bar.update(step - shown[0])
+                shown[0] = step
             return self._interrupted
 
         self._interrupted = False
@@ -226,7 +226,7 @@ class Dynamics:
             raise
         finally:
             if bar is not None:
-                bar.update(calc.step - last[0])
+                bar.update(calc.step - shown[0])
                 bar.close()
             self._restore_sigint(previous)
         return calc.step - start
@@ -238,13 +238,17 @@ class Dynamics:
         notebook = _in_notebook()
         if notebook:
             try:                      # a widget bar (needs ipywidgets)
-                from tqdm.notebook import tqdm
-                return tqdm(total=total, unit="step")
+                import ipywidgets  # noqa: F401
             except ImportError:
                 pass
+            else:
+                from tqdm.notebook import tqdm
+                return tqdm(total=total, unit="step")
         from tqdm.std import tqdm
         # on a terminal or in a notebook by default; not in logs and pipes
-        return tqdm(total=total, unit="step", dynamic_ncols=True,
+        # (in a kernel without widgets: a text bar of fixed width, as the
+        # kernel's stderr has no terminal size)
+        return tqdm(total=total, unit="step", dynamic_ncols=not notebook,
                     disable=None if show is None and not notebook else False)
 
     def _install_sigint(self):

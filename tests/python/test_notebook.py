@@ -64,3 +64,13 @@ def test_short_reprs_and_pandas_table(tmp_path):
     np.testing.assert_array_equal(table["step"].to_numpy(), [0, 5, 10])
     np.testing.assert_array_equal(table["B"]["von_mises"].to_numpy(),
                                   probes["B"]["von_mises"])
+
+
+def test_progress_bar_counts_every_step_of_a_run_until(capsys):
+    # a forced bar on run(until=...), which ends with a shortened step
+    scene = scenes.uniaxial_piston(dx="8mm")
+    dyn = sphsolid.ImprovedEuler(scene, progress=True)
+    taken = dyn.run(until=10.5 * dyn.dt)
+    assert taken == 11
+    err = capsys.readouterr().err
+    assert "11/11" in err
