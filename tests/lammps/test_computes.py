@@ -114,8 +114,9 @@ def test_energy_compute_is_the_elastic_energy_of_an_undamped_vibration(plugin):
         lmp.commands_string(ENERGY_DECK)
         lmp.command("run 0")
         ke0 = lmp.get_thermo("ke")
-        elastic_now = lambda: lmp.extract_compute("elastic", LMP_STYLE_GLOBAL,
-                                                  LMP_TYPE_SCALAR)
+        def elastic_now():
+            return lmp.extract_compute("elastic", LMP_STYLE_GLOBAL, LMP_TYPE_SCALAR)
+
         assert elastic_now() == 0.0                 # rho = rho0, S = 0
         assert ke0 > 0
         kinetic, elastic = [], []

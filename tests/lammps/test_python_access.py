@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import REPOSITORY, lmp_command
+from conftest import lmp_command
 
 CLEAN = {k: v for k, v in os.environ.items()
          if k not in ("SPHSOLID_LAMMPS_PLUGIN", "PYTHONPATH", "LAMMPS_PLUGIN_PATH",
