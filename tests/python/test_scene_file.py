@@ -90,6 +90,15 @@ def test_output_opens_as_xdmf(pulled):
                     assert file == "pull.h5" and dataset in f
 
 
+def test_sphsolid_xdmf_rewrites_the_companion(pulled, tmp_path):
+    (tmp_path / "pull.h5").write_bytes((pulled / "pull.h5").read_bytes())
+    done = cli("xdmf", str(tmp_path / "pull.h5"))
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "pull.xmf").read_text() == (pulled / "pull.xmf").read_text()
+    done = cli("xdmf", str(tmp_path / "missing.h5"))
+    assert done.returncode == 2 and "missing.h5" in done.stderr
+
+
 def test_tensile_wave_of_the_pull_arrives_at_the_wave_speed(pulled):
     data = np.genfromtxt(pulled / "pull_probes.csv", delimiter=",", names=True)
     t = data["time_s"]
