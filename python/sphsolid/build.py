@@ -79,7 +79,8 @@ class Velocity(Motion):
     kind = "velocity"
 
     def __post_init__(self):
-        _lib.numbers(self.velocity, "Velocity.velocity", (2, 3))
+        _lib.numbers(_to_si(self.velocity, "velocity", "Velocity.velocity"),
+                     "Velocity.velocity", (2, 3))
 
     def vector(self, body, dim):
         return _vector("Velocity.velocity", self.velocity, dim, "velocity")
@@ -97,7 +98,8 @@ class Force(Motion):
     kind = "force"
 
     def __post_init__(self):
-        _lib.numbers(self.force, "Force.force", (2, 3))
+        _lib.numbers(_to_si(self.force, "force", "Force.force"), "Force.force",
+                     (2, 3))
 
     def vector(self, body, dim):
         return _vector("Force.force", self.force, dim, "force")
