@@ -516,9 +516,27 @@ SPH_API sph_status sph_build_paper_scene(sph_sim *sim, double dx,
  * plugin): evaluate the rates of particles [0, n_local) of arrays laid out as
  * above, with neighbours drawn from [0, n_total).  Materials, kernel,
  * smoothing length and effects are those of `sim`, which needs no bodies.
- * The neighbour list is full (b in list(a) iff a in list(b)) and given
- * either as CSR (offsets, n_local + 1 entries, and indices) or as one
- * pointer and count per particle (lists, counts).
+ * Neighbours are given either as CSR (offsets, n_local + 1 entries, and
+ * indices) or as one pointer and count per particle (lists, counts).
+ *
+ * Two ways to call it:
+ *  - sph_rates_evaluate: one call, a full list (b in list(a) iff a in
+ *    list(b) for local a and b; a ghost b is listed in a's row only).  Each
+ *    pair of locals is still computed once.
+ *  - sph_rates_pairs, then sph_rates_finish: for Newton's third law across
+ *    processes (LAMMPS newton_pair on).  sph_rates_pairs takes a half list
+ *    (every pair at most once over all rows and all processes; rows sorted
+ *    by index and local pairs listed in the row of the smaller index run
+ *    fastest) and writes partial sums for all n_total particles, ghosts
+ *    included: sph_rates_partial_size(sim) doubles per particle.  The caller
+ *    adds each ghost's partial sums to its owner's (a reverse
+ *    communication), then sph_rates_finish turns the sums of the n_local
+ *    particles into rates.  The partial sums are plain sums over pairs, so
+ *    adding them in any order is correct (the order decides the rounding).
+ *    Without ghosts shared by processes (one process, or newton_pair off
+ *    with each local-ghost pair listed on both sides) the ghost sums are
+ *    simply not used.
+ * Results do not depend on the number of threads (bitwise).
  */
 typedef struct sph_particles {
     size_t n_local;
@@ -551,6 +569,19 @@ typedef struct sph_rates {
 SPH_API sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *particles,
                               const sph_neighbours *neighbours,
                               sph_rates *rates);
+
+/* Doubles per particle of the partial sums of sph_rates_pairs (depends on
+ * the dimension and on kernel_correction and xsph being on). */
+SPH_API size_t sph_rates_partial_size(const sph_sim *sim);
+/* The pair pass over a half list: partial[n_total * sph_rates_partial_size]
+ * is overwritten with the sums of every particle, local and ghost. */
+SPH_API sph_status sph_rates_pairs(sph_sim *sim, const sph_particles *particles,
+                                   const sph_neighbours *half_list, double *partial);
+/* Rates of the n_local particles from their complete partial sums (ghost
+ * contributions already added): the corrected velocity gradient, the
+ * Jaumann stress rate, gravity, damping and the XSPH velocity. */
+SPH_API sph_status sph_rates_finish(sph_sim *sim, const sph_particles *particles,
+                                    const double *partial, sph_rates *rates);
 
 /* Improved Euler stages on external arrays of n particles (dim, ncomp
  * from sim).  Stage 1 (predict): saves y_n into `saved` (v, rho, S:

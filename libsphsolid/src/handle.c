@@ -45,7 +45,12 @@ void sph_destroy(sph_sim *sim)
     free(sim->saved);
     free(sim->x_saved);
     free(sim->dv_dt); free(sim->drho_dt); free(sim->dS_dt); free(sim->dx_dt);
-    free(sim->pair_data); free(sim->stress_R);
+    free(sim->pair_data); free(sim->stress_R); free(sim->sum_scratch);
+    for (size_t c = 0; c < sim->n_far; ++c) {
+        free(sim->far[c].target);
+        free(sim->far[c].terms);
+    }
+    free(sim->far);
     neighbour_free(&sim->nl);
     free(sim);
 }

@@ -25,6 +25,7 @@ size_t sph_memory_bytes(const sph_sim *sim)
     bytes += sim->scratch_n * (ns + 1) * sizeof(double);
     if (sim->stress_R)
         bytes += sim->scratch_n * ns * sizeof(double);
+    bytes += sim->sum_scratch_n * sizeof(double) + rates_far_bytes(sim);
     if (sim->nl.offsets)
         bytes += (sim->nl.n + 1) * sizeof(size_t) + sim->nl.capacity * sizeof(int);
     bytes += (size_t)sim->n_materials * sizeof(material) + (size_t)sim->n_bodies * sizeof(body) +

@@ -1,7 +1,8 @@
 /*
  * Neighbour search: a cell list with cells at least as wide as the cutoff
- * 2h + skin, turned into a full neighbour list in CSR form (O(N)).  Each
- * row is sorted by index so the order of the pair sums, and with it every
+ * 2h + skin, turned into a half neighbour list in CSR form (O(N)): row a
+ * holds the neighbours b > a, so each pair is listed once.  Each row is
+ * sorted by index so the order of the pair sums, and with it every
  * rounding, does not depend on when the list was built or on the threads.
  * The list is rebuilt when any particle may have moved more than skin/2.
  */
@@ -72,8 +73,8 @@ static int compare_int(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Visit the neighbours of particle a within rc; fill `out` if not NULL.
- * Returns the count. */
+/* Visit the neighbours b > a of particle a within rc; fill `out` if not
+ * NULL.  Returns the count. */
 static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2,
                    int *out)
 {
@@ -98,7 +99,7 @@ static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2,
                     key += (size_t)g->ncell[0] * (size_t)g->ncell[1] * (size_t)nbr[2][iz];
                 for (size_t m = g->start[key]; m < g->start[key + 1]; ++m) {
                     const size_t b = (size_t)g->members[m];
-                    if (b == a)
+                    if (b <= a)
                         continue;
                     const double *xb = sim->x + b * (size_t)dim;
                     double r2 = 0.0;

@@ -1,21 +1,35 @@
 /*
- * The rate engine: one evaluation of drho/dt, dv/dt and dS/dt for a set of
- * particles.  All three rates depend only on the current state, so one pass
- * over the pairs computes them together.
+ * The rate engine: one evaluation of drho/dt, dv/dt and dS/dt (and the
+ * XSPH velocity) for a set of particles.  All rates depend only on the
+ * current state, so one pass over the pairs computes them together.
  *
- * Passes, each over particles (OpenMP only here):
+ * Passes (OpenMP only here):
  *   1. per particle: volume m/rho, sigma/rho^2 and, if on, the artificial
  *      stress R (over local and ghost particles);
- *   2. the pair loop: continuity, velocity gradient (with kernel_correction
- *      also the correction matrix M over the same pairs, then L M^-1),
- *      momentum, and the pair terms of the effects that are on, then the
- *      Jaumann stress rate;
- *   3. if xsph is on: the XSPH velocity;
- *   4. if gravity or damping is on: body forces.
- * The pair loop is compiled in one variant per (dimension, kernel, kernel
- * correction, viscosity, artificial stress: off, exponent 4, any
- * exponent), so an effect that is off has no branch in it.  Each particle gathers from its full neighbour list in
- * a fixed order, so results do not depend on the number of threads.
+ *   2. the pair pass over a half list (each pair once): for every pair the
+ *      symmetric terms (continuity, velocity gradient, momentum with
+ *      viscosity and artificial stress, the kernel-correction matrix M,
+ *      XSPH) are computed once and added to both particles (Newton's third
+ *      law), into per-particle sums;
+ *   3. the finish per particle: L M^-1, the Jaumann stress rate, gravity,
+ *      damping and the XSPH velocity v + u.
+ *
+ * Deterministic threading.  The rows of the list are cut into chunks whose
+ * size depends only on the number of particles, never on the threads.  A
+ * chunk adds the terms of its pairs directly to the sums of particles in
+ * itself and the next chunk; chunks of even index run together, then those
+ * of odd index, so no two running chunks write the same particle.  Terms
+ * for any other particle (a pair reaching further in index, a ghost) are
+ * appended to the chunk's "far" list and added after the pass, in chunk
+ * order.  Every sum therefore runs in an order fixed by the list and the
+ * chunk bounds alone: results are bitwise the same on any number of
+ * threads.  Rows are sorted by index and pairs beyond the support add exact
+ * zeros, so the extra pairs of the skin do not change any sum either:
+ * results do not depend on when the list was rebuilt.
+ *
+ * The pair loop is compiled in one variant per (dimension, kernel); the
+ * effects are runtime switches tested once per block of PAIR_BLOCK pairs,
+ * each effect's terms computed in its own short loop that vectorises.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -28,8 +42,22 @@
 #include "kernel.h"
 #include "sim.h"
 
+/* The per-particle sums of the pair pass: each an array with its own
+ * stride (doubles from one particle to the next).  A far-list record and a
+ * row of the public partial-sum buffer hold them one after the other, at
+ * `offset`. */
+enum { SUM_RHO, SUM_DV, SUM_L, SUM_M, SUM_U, N_SUMS };
+
+typedef struct sums {
+    double *p[N_SUMS];
+    size_t stride[N_SUMS];
+    int width[N_SUMS];          /* components; 0: not summed */
+    int offset[N_SUMS];
+    int record;                 /* doubles of all sums of one particle */
+} sums;
+
 typedef struct engine {
-    int dim, ncomp, nsym, stride, threads;
+    int dim, ncomp, nsym, threads;
     size_t n_local, n_total;
     const double *x, *v, *rho, *S, *mass;
     size_t xs;                  /* doubles between particles in x and v */
@@ -39,14 +67,22 @@ typedef struct engine {
     const int *indices;
     const int *const *lists;
     const int *counts;
-    const double *pair_data;    /* stride doubles: volume, sigma/rho^2 */
+    const double *pair_data;    /* nsym + 1 doubles: volume, sigma/rho^2 */
     const double *R;            /* nsym per particle, or NULL */
-    double h, inv_h, support2, w_norm, f_norm;
+    double h, inv_h, w_norm, f_norm;
     double box[3], half_box[3];
     int periodic_axis[3];
     int periodic;               /* some axis is periodic */
     effects fx;
     double inv_W_dx;
+    /* pair pass */
+    int full;                   /* full list: a pair with b < a is skipped */
+    int ghost_sums;             /* keep the terms of ghosts (b >= n_local) */
+    size_t chunk;               /* rows per chunk */
+    long n_chunks;
+    sums acc;
+    far_list *far;              /* one per chunk */
+    /* finish */
     double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
 } engine;
 
@@ -71,6 +107,17 @@ static void thread_block(long n, long *begin, long *end)
     const long base = n / nt, extra = n % nt;
     *begin = t * base + (t < extra ? t : extra);
     *end = *begin + base + (t < extra ? 1 : 0);
+}
+
+/* Rows per chunk: from the particle count and dimension only (never the
+ * threads), about 64 chunks, and at least a few lattice rows (2D) or
+ * planes (3D) of a block built in index order, so that most pairs of a
+ * chunk stay within it and the next one. */
+size_t rates_chunk_rows(int dim, size_t n)
+{
+    const size_t least = dim == 2 ? 256 : 4096;
+    size_t c = (n + 63) / 64;
+    return c > least ? c : least;
 }
 
 static inline void neighbours_of(const engine *e, size_t a, const int **list,
@@ -111,199 +158,386 @@ static inline double separation(const engine *e, const double *xa, size_t b,
 #define ALWAYS_INLINE inline
 #endif
 
-/* Pass 3 for one particle.  Neighbours are taken in blocks: their data are
- * gathered into short arrays, every pair term is computed in a loop without
- * branches (which the compiler vectorises), and the terms are then summed in
- * neighbour order.  Pairs beyond the support have zero kernel gradient and
- * contribute exact zeros. */
+/* Append one far record (the terms for particle b); on allocation failure
+ * the list is marked and the pass reports it. */
+static void far_append(far_list *f, int record, size_t b, const double *terms)
+{
+    if (f->failed)
+        return;
+    if (f->count == f->capacity) {
+        const size_t cap = f->capacity ? 2 * f->capacity : 256;
+        int *t = realloc(f->target, cap * sizeof *t);
+        if (t)
+            f->target = t;
+        double *v = t ? realloc(f->terms, cap * (size_t)record * sizeof *v) : NULL;
+        if (!t || !v) {
+            f->failed = 1;
+            return;
+        }
+        f->terms = v;
+        f->capacity = cap;
+    }
+    f->target[f->count] = (int)b;
+    memcpy(f->terms + f->count * (size_t)record, terms, (size_t)record * sizeof *terms);
+    f->count++;
+}
+
+/* The pair pass for row a of a chunk whose direct targets are [b0, dend).
+ * Neighbours are taken in blocks: their data are gathered into short
+ * arrays, the terms of every pair are computed in loops without branches
+ * (which the compiler vectorises), and then added in neighbour order: the
+ * a-side into registers, the b-side into b's sums (or b's far record). */
 #define PAIR_BLOCK 32
 
-static ALWAYS_INLINE void particle_rates(const engine *e, size_t a,
-                                         const int dim, const int kernel,
-                                         const int correct,
-                                         const int viscosity,
-                                         const int art_stress)
+static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t dend,
+                                   far_list *far, const int dim, const int kernel)
 {
-    const int periodic = e->periodic;   /* scalar gather only: a runtime flag */
+    const int periodic = e->periodic;
     const int nsym = dim == 2 ? 3 : 6;
-    const int stride = nsym + 1;
+    const int pstride = nsym + 1;
+    const int viscosity = e->fx.viscosity;
+    const int stress = !e->R ? 0 : e->fx.stress_exponent == 4.0 ? 1 : 2;
+    const int correct = e->acc.width[SUM_M] > 0;
+    const int xsph = e->acc.width[SUM_U] > 0;
+    const size_t n_local = e->n_local;
     const double *xa = e->x + a * e->xs;
     const double *va = e->v + a * e->xs;
-    const double *Pa = e->pair_data + a * (size_t)stride;
+    const double *Pa = e->pair_data + a * (size_t)pstride;
+    const double m_a = e->mass[a], V_a = Pa[0];
     const double rho_a = e->rho[a];
     const double c_a = viscosity ? e->materials[e->material_of[a]].c0 : 0.0;
-    const double *Ra = art_stress ? e->R + a * (size_t)nsym : NULL;
+    const double *Ra = stress ? e->R + a * (size_t)nsym : NULL;
+    double *const sr = e->acc.p[SUM_RHO], *const sv = e->acc.p[SUM_DV];
+    double *const sL = e->acc.p[SUM_L], *const sM = e->acc.p[SUM_M], *const su = e->acc.p[SUM_U];
+    const size_t zr = e->acc.stride[SUM_RHO], zv = e->acc.stride[SUM_DV];
+    const size_t zL = e->acc.stride[SUM_L], zM = e->acc.stride[SUM_M], zu = e->acc.stride[SUM_U];
+    const int record = e->acc.record;
 
     double L[3][3] = {{0.0}};
     double M[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    double dv[3] = {0.0, 0.0, 0.0};
+    double dv[3] = {0.0, 0.0, 0.0}, u[3] = {0.0, 0.0, 0.0};
     double drho = 0.0;
 
     const int *list;
     int count;
     neighbours_of(e, a, &list, &count);
     for (int k0 = 0; k0 < count; k0 += PAIR_BLOCK) {
-        const int nk = count - k0 < PAIR_BLOCK ? count - k0 : PAIR_BLOCK;
+        const int kn = count - k0 < PAIR_BLOCK ? count - k0 : PAIR_BLOCK;
         /* gathered per-pair inputs */
-        double r[3][PAIR_BLOCK], vr[3][PAIR_BLOCK], m[PAIR_BLOCK], vol[PAIR_BLOCK];
-        double T[6][PAIR_BLOCK], rho_mean[PAIR_BLOCK], c_mean[PAIR_BLOCK];
+        int bidx[PAIR_BLOCK];
+        double r[3][PAIR_BLOCK], vr[3][PAIR_BLOCK], mb[PAIR_BLOCK], Vb[PAIR_BLOCK];
+        double T[6][PAIR_BLOCK], RR[6][PAIR_BLOCK], rho_mean[PAIR_BLOCK], c_mean[PAIR_BLOCK];
         /* per-pair terms */
-        double t_rho[PAIR_BLOCK], t_L[3][3][PAIR_BLOCK], t_dv[3][PAIR_BLOCK];
-        double t_M[6][PAIR_BLOCK];
-        for (int k = 0; k < nk; ++k) {
-            const size_t b = (size_t)list[k0 + k];
+        double gW[3][PAIR_BLOCK], tc[PAIR_BLOCK], f[3][PAIR_BLOCK], W[PAIR_BLOCK];
+        double H[6][PAIR_BLOCK], s[3][PAIR_BLOCK], r2[PAIR_BLOCK];
+        int nk = 0;
+        for (int kk = 0; kk < kn; ++kk) {
+            const int b = list[k0 + kk];
+            if (e->full && (size_t)b < a)
+                continue;           /* a full list: the pair is in b's row */
+            const int k = nk++;
+            bidx[k] = b;
             double r_ab[3];
-            separation(e, xa, b, dim, periodic, r_ab);
-            const double *vb = e->v + b * e->xs;
-            const double *Pb = e->pair_data + b * (size_t)stride;
+            separation(e, xa, (size_t)b, dim, periodic, r_ab);
+            const double *vb = e->v + (size_t)b * e->xs;
+            const double *Pb = e->pair_data + (size_t)b * (size_t)pstride;
             for (int i = 0; i < dim; ++i) {
                 r[i][k] = r_ab[i];
                 vr[i][k] = va[i] - vb[i];
             }
-            m[k] = e->mass[b];
-            vol[k] = Pb[0];
+            mb[k] = e->mass[b];
+            Vb[k] = Pb[0];
             for (int c = 0; c < nsym; ++c)
                 T[c][k] = Pa[1 + c] + Pb[1 + c];
-            if (viscosity) {
+            if (viscosity || xsph)
                 rho_mean[k] = 0.5 * (rho_a + e->rho[b]);
+            if (viscosity)
                 c_mean[k] = 0.5 * (c_a + e->materials[e->material_of[b]].c0);
+            if (stress) {
+                const double *Rb = e->R + (size_t)b * (size_t)nsym;
+                for (int c = 0; c < nsym; ++c)
+                    RR[c][k] = Ra[c] + Rb[c];
             }
         }
+        /* kernel gradient and continuity */
         for (int k = 0; k < nk; ++k) {
-            double r_ab[3], v_ab[3], grad_W[3], Tk[6], dvk[3] = {0.0, 0.0, 0.0};
-            double Lk[3][3] = {{0.0}};
-            double r2 = 0.0;
+            double q2 = 0.0;
+            for (int i = 0; i < dim; ++i)
+                q2 += r[i][k] * r[i][k];
+            r2[k] = q2;
+            const double F = kernel_f(kernel, sqrt(q2) * e->inv_h) * e->f_norm;
+            double c = 0.0;
             for (int i = 0; i < dim; ++i) {
-                r_ab[i] = r[i][k];
-                v_ab[i] = vr[i][k];
-                r2 += r_ab[i] * r_ab[i];
+                gW[i][k] = F * r[i][k];
+                c += vr[i][k] * gW[i][k];
             }
-            const double q = sqrt(r2) * e->inv_h;
-            const double F = kernel_f(kernel, q) * e->f_norm;
-            for (int i = 0; i < dim; ++i)
-                grad_W[i] = F * r_ab[i];
-            t_rho[k] = continuity_pair(dim, m[k], v_ab, grad_W);
-            velocity_gradient_pair(dim, vol[k], v_ab, grad_W, Lk);
-            for (int i = 0; i < dim; ++i)
-                for (int j = 0; j < dim; ++j)
-                    t_L[i][j][k] = Lk[i][j];
-            if (correct) {
-                double Mk[6];
-                correction_matrix_pair(dim, vol[k], r_ab, grad_W, Mk);
-                for (int c = 0; c < nsym; ++c)
-                    t_M[c][k] = Mk[c];
-            }
-            for (int c = 0; c < nsym; ++c)
-                Tk[c] = T[c][k];
-            if (viscosity) {
+            tc[k] = c;
+        }
+        if (viscosity)
+            for (int k = 0; k < nk; ++k) {
                 double v_dot_r = 0.0;
                 for (int i = 0; i < dim; ++i)
-                    v_dot_r += v_ab[i] * r_ab[i];
-                const double Pi = viscosity_pair(e->fx.alpha, e->fx.beta, e->h, v_dot_r, r2,
+                    v_dot_r += vr[i][k] * r[i][k];
+                const double Pi = viscosity_pair(e->fx.alpha, e->fx.beta, e->h, v_dot_r, r2[k],
                                                  c_mean[k], rho_mean[k]);
                 for (int i = 0; i < dim; ++i)
-                    Tk[i] -= Pi;
+                    T[i][k] -= Pi;
             }
-            if (art_stress) {
-                const double W = kernel_w(kernel, q) * e->w_norm;
-                /* art_stress 1: n = 4 compiled in; 2: any n, through pow */
-                const double fn = art_stress == 1
-                                      ? artificial_stress_factor_4(W, e->inv_W_dx)
-                                      : artificial_stress_factor(W, e->inv_W_dx, e->fx.stress_exponent);
-                const double *Rb = e->R + (size_t)list[k0 + k] * (size_t)nsym;
+        if (stress || xsph)
+            for (int k = 0; k < nk; ++k)
+                W[k] = kernel_w(kernel, sqrt(r2[k]) * e->inv_h) * e->w_norm;
+        if (stress == 1)
+            for (int k = 0; k < nk; ++k) {
+                const double fn = artificial_stress_factor_4(W[k], e->inv_W_dx);
                 for (int c = 0; c < nsym; ++c)
-                    Tk[c] += (Ra[c] + Rb[c]) * fn;
+                    T[c][k] += RR[c][k] * fn;
             }
-            momentum_pair(dim, m[k], Tk, grad_W, dvk);
-            for (int i = 0; i < dim; ++i)
-                t_dv[i][k] = dvk[i];
-        }
+        else if (stress == 2)
+            for (int k = 0; k < nk; ++k) {
+                const double fn = artificial_stress_factor(W[k], e->inv_W_dx, e->fx.stress_exponent);
+                for (int c = 0; c < nsym; ++c)
+                    T[c][k] += RR[c][k] * fn;
+            }
+        /* momentum: T_ab . grad_a W_ab */
         for (int k = 0; k < nk; ++k) {
-            drho += t_rho[k];
+            double Tk[6], gk[3], fk[3] = {0.0, 0.0, 0.0};
+            for (int c = 0; c < nsym; ++c)
+                Tk[c] = T[c][k];
+            for (int i = 0; i < dim; ++i)
+                gk[i] = gW[i][k];
+            momentum_pair(dim, 1.0, Tk, gk, fk);
+            for (int i = 0; i < dim; ++i)
+                f[i][k] = fk[i];
+        }
+        if (correct)
+            for (int k = 0; k < nk; ++k) {
+                double rk[3], gk[3], Hk[6];
+                for (int i = 0; i < dim; ++i) {
+                    rk[i] = r[i][k];
+                    gk[i] = gW[i][k];
+                }
+                correction_matrix_pair(dim, 1.0, rk, gk, Hk);
+                for (int c = 0; c < nsym; ++c)
+                    H[c][k] = Hk[c];
+            }
+        if (xsph)
+            for (int k = 0; k < nk; ++k) {
+                double vk[3], t[3] = {0.0, 0.0, 0.0};
+                for (int i = 0; i < dim; ++i)
+                    vk[i] = vr[i][k];
+                xsph_pair(dim, e->fx.xsph_epsilon, 1.0, rho_mean[k], vk, W[k], t);
+                for (int i = 0; i < dim; ++i)
+                    s[i][k] = t[i];
+            }
+        /* Sums in neighbour order.  With g the unweighted term of the pair
+         * (grad_b W_ba = -grad_a W_ab, v_ba = -v_ab, r_ba = -r_ab):
+         *   continuity  a: +m_b g     b: +m_a g
+         *   L, M        a: +V_b g     b: +V_a g   (g = -v_ab (x) grad W, H)
+         *   momentum    a: +m_b g     b: -m_a g
+         *   XSPH        a: +m_b g     b: -m_a g                          */
+        for (int k = 0; k < nk; ++k) {
+            const double m = mb[k], V = Vb[k];
+            drho += m * tc[k];
             for (int i = 0; i < dim; ++i) {
-                dv[i] += t_dv[i][k];
+                dv[i] += m * f[i][k];
                 for (int j = 0; j < dim; ++j)
-                    L[i][j] += t_L[i][j][k];
+                    L[i][j] -= V * vr[i][k] * gW[j][k];
             }
             if (correct)
                 for (int c = 0; c < nsym; ++c)
-                    M[c] += t_M[c][k];
+                    M[c] += V * H[c][k];
+            if (xsph)
+                for (int i = 0; i < dim; ++i)
+                    u[i] += m * s[i][k];
+
+            const size_t b = (size_t)bidx[k];
+            if (b >= b0 && b < dend) {
+                sr[b * zr] += m_a * tc[k];
+                for (int i = 0; i < dim; ++i) {
+                    sv[b * zv + (size_t)i] -= m_a * f[i][k];
+                    for (int j = 0; j < dim; ++j)
+                        sL[b * zL + (size_t)(i * dim + j)] -= V_a * vr[i][k] * gW[j][k];
+                }
+                if (correct)
+                    for (int c = 0; c < nsym; ++c)
+                        sM[b * zM + (size_t)c] += V_a * H[c][k];
+                if (xsph)
+                    for (int i = 0; i < dim; ++i)
+                        su[b * zu + (size_t)i] -= m_a * s[i][k];
+            } else if (b < n_local || e->ghost_sums) {
+                double t[1 + 3 + 9 + 6 + 3];
+                double *o = t;
+                *o++ = m_a * tc[k];
+                for (int i = 0; i < dim; ++i)
+                    *o++ = -(m_a * f[i][k]);
+                for (int i = 0; i < dim; ++i)
+                    for (int j = 0; j < dim; ++j)
+                        *o++ = -(V_a * vr[i][k] * gW[j][k]);
+                if (correct)
+                    for (int c = 0; c < nsym; ++c)
+                        *o++ = V_a * H[c][k];
+                if (xsph)
+                    for (int i = 0; i < dim; ++i)
+                        *o++ = -(m_a * s[i][k]);
+                far_append(far, record, b, t);
+            }
         }
     }
 
-    e->drho_dt[a] = drho;
-    /* L stays in registers through the pair loop only if its address never
-     * escapes: the out-of-line correction works on a copy. */
-    double grad_v[3][3];
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            grad_v[i][j] = L[i][j];
-    if (correct) {
-        double Mc[6];
-        for (int c = 0; c < 6; ++c)
-            Mc[c] = M[c];
-        correct_velocity_gradient(dim, Mc, grad_v);
+    sr[a * zr] += drho;
+    for (int i = 0; i < dim; ++i) {
+        sv[a * zv + (size_t)i] += dv[i];
+        for (int j = 0; j < dim; ++j)
+            sL[a * zL + (size_t)(i * dim + j)] += L[i][j];
     }
-    const int ncomp = dim == 2 ? 4 : 6;
-    jaumann_stress_rate(dim, e->materials[e->material_of[a]].mu, grad_v,
-                        e->S + a * (size_t)ncomp, e->dS_dt + a * (size_t)ncomp);
-    for (int i = 0; i < dim; ++i)
-        e->dv_dt[a * (size_t)dim + i] = dv[i];
+    if (correct)
+        for (int c = 0; c < nsym; ++c)
+            sM[a * zM + (size_t)c] += M[c];
+    if (xsph)
+        for (int i = 0; i < dim; ++i)
+            su[a * zu + (size_t)i] += u[i];
 }
 
-/* One function per variant of the pair loop.  Each thread takes one
- * contiguous block of particles (the same split as schedule(static)); the
- * block loop is compiled for AVX2+FMA as well as the baseline and picked at
- * load time where the CPU has it. */
+/* One function per (dimension, kernel): the rows of one chunk.  Compiled
+ * for AVX2+FMA as well as the baseline and picked at load time where the
+ * CPU has it. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(SPHSOLID_NO_CLONES)
 #define RATE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define RATE_CLONES
 #endif
-#define RATE_VARIANT(DIM, KERNEL, CORRECT, VISC, STRESS)                     \
-    RATE_CLONES static void block_##DIM##_##KERNEL##_##CORRECT##_##VISC##_##STRESS( \
-        const engine *e, long begin, long end)                                 \
+
+typedef void (*chunk_fn)(const engine *, long);
+
+static ALWAYS_INLINE void chunk_rows(const engine *e, long c, const int dim, const int kernel)
+{
+    const size_t b0 = (size_t)c * e->chunk;
+    const size_t b1 = b0 + e->chunk < e->n_local ? b0 + e->chunk : e->n_local;
+    const size_t dend = b1 + e->chunk < e->n_local ? b1 + e->chunk : e->n_local;
+    for (size_t a = b0; a < b1; ++a)
+        row_sums(e, a, b0, dend, &e->far[c], dim, kernel);
+}
+
+#define CHUNK_VARIANT(DIM, KERNEL)                                             \
+    RATE_CLONES static void chunk_##DIM##_##KERNEL(const engine *e, long c)    \
     {                                                                          \
-        for (long a = begin; a < end; ++a)                                     \
-            particle_rates(e, (size_t)a, DIM, KERNEL, CORRECT, VISC, STRESS); \
-    }                                                                          \
-    static void rates_##DIM##_##KERNEL##_##CORRECT##_##VISC##_##STRESS(       \
-        const engine *e)                                                       \
-    {                                                                          \
-        const long n = (long)e->n_local;                                       \
-        _Pragma("omp parallel num_threads(e->threads)")                        \
-        {                                                                      \
-            long begin, end;                                                   \
-            thread_block(n, &begin, &end);                                     \
-            block_##DIM##_##KERNEL##_##CORRECT##_##VISC##_##STRESS(e, begin, end); \
-        }                                                                      \
+        chunk_rows(e, c, DIM, KERNEL);                                         \
     }
-#define RATE_VARIANTS_STRESS(DIM, KERNEL, CORRECT, VISC)                      \
-    RATE_VARIANT(DIM, KERNEL, CORRECT, VISC, 0)                               \
-    RATE_VARIANT(DIM, KERNEL, CORRECT, VISC, 1)                               \
-    RATE_VARIANT(DIM, KERNEL, CORRECT, VISC, 2)
-#define RATE_VARIANTS_VISC(DIM, KERNEL, CORRECT)                              \
-    RATE_VARIANTS_STRESS(DIM, KERNEL, CORRECT, 0)                             \
-    RATE_VARIANTS_STRESS(DIM, KERNEL, CORRECT, 1)
-#define RATE_VARIANTS_CORRECT(DIM, KERNEL)                                    \
-    RATE_VARIANTS_VISC(DIM, KERNEL, 0)                                         \
-    RATE_VARIANTS_VISC(DIM, KERNEL, 1)
-RATE_VARIANTS_CORRECT(2, 0)
-RATE_VARIANTS_CORRECT(2, 1)
-RATE_VARIANTS_CORRECT(3, 0)
-RATE_VARIANTS_CORRECT(3, 1)
+/* generated from the kernel registry (kernel.h) */
+#define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT) CHUNK_VARIANT(2, ID) CHUNK_VARIANT(3, ID)
+SPH_KERNELS(CHUNK_VARIANTS_OF_KERNEL)
+#define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT) [ID] = {chunk_2_##ID, chunk_3_##ID},
+static const chunk_fn chunk_variants[][2] = {SPH_KERNELS(CHUNK_ENTRY)};
+#undef CHUNK_ENTRY
 
-typedef void (*rate_variant)(const engine *);
-#define V(D, K, P) {{rates_##D##_##K##_##P##_0_0, rates_##D##_##K##_##P##_0_1,   \
-                     rates_##D##_##K##_##P##_0_2},                               \
-                    {rates_##D##_##K##_##P##_1_0, rates_##D##_##K##_##P##_1_1,   \
-                     rates_##D##_##K##_##P##_1_2}}
-static const rate_variant variants[2][2][2][2][3] = {
-    {{V(2, 0, 0), V(2, 0, 1)}, {V(2, 1, 0), V(2, 1, 1)}},
-    {{V(3, 0, 0), V(3, 0, 1)}, {V(3, 1, 0), V(3, 1, 1)}},
-};
-#undef V
+/* Pass 2: the pair sums.  Even chunks, then odd chunks, then the far
+ * records in chunk order (each thread adds those of its own particles). */
+static void pass_pairs(const engine *e, int kernel, size_t n_sums)
+{
+    const chunk_fn run = chunk_variants[kernel][e->dim - 2];
+    const long n_chunks = e->n_chunks;
+#pragma omp parallel num_threads(e->threads)
+    {
+        for (int phase = 0; phase < 2; ++phase) {
+#pragma omp for schedule(dynamic, 1)
+            for (long c = phase; c < n_chunks; c += 2)
+                run(e, c);
+        }
+        long begin, end;
+        thread_block((long)n_sums, &begin, &end);
+        const int record = e->acc.record;
+        for (long c = 0; c < n_chunks; ++c) {
+            const far_list *f = &e->far[c];
+            for (size_t k = 0; k < f->count; ++k) {
+                const long b = f->target[k];
+                if (b < begin || b >= end)
+                    continue;
+                const double *t = f->terms + k * (size_t)record;
+                for (int q = 0; q < N_SUMS; ++q) {
+                    double *dst = e->acc.p[q] + (size_t)b * e->acc.stride[q];
+                    for (int i = 0; i < e->acc.width[q]; ++i)
+                        dst[i] += t[e->acc.offset[q] + i];
+                }
+            }
+        }
+    }
+}
 
+/* Pass 3 for one particle: the rates from its sums. */
+static void finish_particle(const engine *e, size_t a)
+{
+    const int dim = e->dim;
+    const sums *s = &e->acc;
+    double *dv = e->dv_dt + a * (size_t)dim;
+    const double *sv = s->p[SUM_DV] + a * s->stride[SUM_DV];
+    e->drho_dt[a] = s->p[SUM_RHO][a * s->stride[SUM_RHO]];
+    for (int i = 0; i < dim; ++i) {
+        double acc = sv[i];
+        if (e->fx.gravity)
+            acc += e->fx.g[i];
+        if (e->fx.damping)
+            acc -= e->fx.damping_rate * e->v[a * e->xs + (size_t)i];
+        dv[i] = acc;
+    }
+    double grad_v[3][3] = {{0.0}};
+    const double *sL = s->p[SUM_L] + a * s->stride[SUM_L];
+    for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j)
+            grad_v[i][j] = sL[i * dim + j];
+    if (s->width[SUM_M]) {
+        double Mc[6];
+        for (int c = 0; c < e->nsym; ++c)
+            Mc[c] = s->p[SUM_M][a * s->stride[SUM_M] + (size_t)c];
+        correct_velocity_gradient(dim, Mc, grad_v);
+    }
+    /* (in 2D the sums of L may share dS_dt: L was read above) */
+    jaumann_stress_rate(dim, e->materials[e->material_of[a]].mu, grad_v,
+                        e->S + a * (size_t)e->ncomp, e->dS_dt + a * (size_t)e->ncomp);
+    if (s->width[SUM_U] && e->dx_dt) {
+        const double *su = s->p[SUM_U] + a * s->stride[SUM_U];
+        const double *va = e->v + a * e->xs;
+        double u[3];
+        for (int i = 0; i < dim; ++i)
+            u[i] = su[i];
+        for (int i = 0; i < dim; ++i)
+            e->dx_dt[a * (size_t)dim + (size_t)i] = va[i] + u[i];
+    }
+}
+
+static void pass_finish(const engine *e)
+{
+    const long n = (long)e->n_local;
+#pragma omp parallel for schedule(static) num_threads(e->threads)
+    for (long a = 0; a < n; ++a)
+        finish_particle(e, (size_t)a);
+}
+
+/* The layout of the sums: widths and offsets in a record. */
+static void sums_layout(const sph_sim *sim, int xsph, sums *s)
+{
+    const int dim = sim->dim;
+    memset(s, 0, sizeof *s);
+    s->width[SUM_RHO] = 1;
+    s->width[SUM_DV] = dim;
+    s->width[SUM_L] = dim * dim;
+    s->width[SUM_M] = sim->fx.kernel_correction ? sim->nsym : 0;
+    s->width[SUM_U] = xsph ? dim : 0;
+    int o = 0;
+    for (int q = 0; q < N_SUMS; ++q) {
+        s->offset[q] = o;
+        o += s->width[q];
+    }
+    s->record = o;
+}
+
+/* Sums as rows of one buffer of `record` doubles per particle. */
+static void sums_in_buffer(sums *s, double *buffer)
+{
+    for (int q = 0; q < N_SUMS; ++q) {
+        s->p[q] = s->width[q] ? buffer + s->offset[q] : buffer;
+        s->stride[q] = (size_t)s->record;
+    }
+}
 /* Pass 1: per-particle factors of the pair terms. */
 static void pass_pair_data(const engine *e, double *pair_data, double *R)
 {
@@ -324,98 +558,6 @@ static void pass_pair_data(const engine *e, double *pair_data, double *R)
     }
 }
 
-/* Pass 3 for one particle, blocked like the pair loop: neighbour data
- * gathered, the XSPH terms computed without branches (pairs beyond the
- * support have a zero kernel and add exact zeros), then summed in neighbour
- * order. */
-static ALWAYS_INLINE void particle_xsph(const engine *e, size_t a, const int dim,
-                                        const int kernel)
-{
-    const double *xa = e->x + a * e->xs;
-    const double *va = e->v + a * e->xs;
-    const double rho_a = e->rho[a];
-    double u[3] = {0.0, 0.0, 0.0};
-    const int *list;
-    int count;
-    neighbours_of(e, a, &list, &count);
-    for (int k0 = 0; k0 < count; k0 += PAIR_BLOCK) {
-        const int nk = count - k0 < PAIR_BLOCK ? count - k0 : PAIR_BLOCK;
-        double r[3][PAIR_BLOCK], vr[3][PAIR_BLOCK], m[PAIR_BLOCK], rho_mean[PAIR_BLOCK];
-        double t[3][PAIR_BLOCK];
-        for (int k = 0; k < nk; ++k) {
-            const size_t b = (size_t)list[k0 + k];
-            double r_ab[3];
-            separation(e, xa, b, dim, e->periodic, r_ab);
-            for (int i = 0; i < dim; ++i) {
-                r[i][k] = r_ab[i];
-                vr[i][k] = va[i] - e->v[b * e->xs + i];
-            }
-            m[k] = e->mass[b];
-            rho_mean[k] = 0.5 * (rho_a + e->rho[b]);
-        }
-        for (int k = 0; k < nk; ++k) {
-            double v_ab[3], term[3] = {0.0, 0.0, 0.0};
-            double r2 = 0.0;
-            for (int i = 0; i < dim; ++i) {
-                r2 += r[i][k] * r[i][k];
-                v_ab[i] = vr[i][k];
-            }
-            const double W = kernel_w(kernel, sqrt(r2) * e->inv_h) * e->w_norm;
-            xsph_pair(dim, e->fx.xsph_epsilon, m[k], rho_mean[k], v_ab, W, term);
-            for (int i = 0; i < dim; ++i)
-                t[i][k] = term[i];
-        }
-        for (int k = 0; k < nk; ++k)
-            for (int i = 0; i < dim; ++i)
-                u[i] += t[i][k];
-    }
-    for (int i = 0; i < dim; ++i)
-        e->dx_dt[a * (size_t)dim + i] = va[i] + u[i];
-}
-
-#define XSPH_VARIANT(DIM, KERNEL)                                              \
-    RATE_CLONES static void xsph_##DIM##_##KERNEL(const engine *e, long begin, long end) \
-    {                                                                          \
-        for (long a = begin; a < end; ++a)                                     \
-            particle_xsph(e, (size_t)a, DIM, KERNEL);                          \
-    }
-XSPH_VARIANT(2, 0)
-XSPH_VARIANT(2, 1)
-XSPH_VARIANT(3, 0)
-XSPH_VARIANT(3, 1)
-
-/* Pass 3: XSPH velocities. */
-static void pass_xsph(const engine *e, int kernel)
-{
-    typedef void (*xsph_variant)(const engine *, long, long);
-    static const xsph_variant table[2][2] = {{xsph_2_0, xsph_2_1}, {xsph_3_0, xsph_3_1}};
-    const xsph_variant f = table[e->dim - 2][kernel];
-    const long n = (long)e->n_local;
-#pragma omp parallel num_threads(e->threads)
-    {
-        long begin, end;
-        thread_block(n, &begin, &end);
-        f(e, begin, end);
-    }
-}
-
-/* Pass 4: gravity and damping. */
-static void pass_body_forces(const engine *e)
-{
-    const int dim = e->dim;
-    const long n = (long)e->n_local;
-    const int gravity = e->fx.gravity, damping = e->fx.damping;
-#pragma omp parallel for schedule(static) num_threads(e->threads)
-    for (long a = 0; a < n; ++a)
-        for (int i = 0; i < dim; ++i) {
-            double acc = e->dv_dt[(size_t)a * dim + i];
-            if (gravity)
-                acc += e->fx.g[i];
-            if (damping)
-                acc -= e->fx.damping_rate * e->v[(size_t)a * e->xs + i];
-            e->dv_dt[(size_t)a * dim + i] = acc;
-        }
-}
 
 static sph_status grow_scratch(sph_sim *sim, size_t n)
 {
@@ -436,7 +578,48 @@ static sph_status grow_scratch(sph_sim *sim, size_t n)
     return SPH_OK;
 }
 
-sph_status rates_run(sph_sim *sim, const rate_call *call)
+/* Room for `doubles` in sim->sum_scratch. */
+static sph_status grow_sum_scratch(sph_sim *sim, size_t doubles)
+{
+    if (doubles <= sim->sum_scratch_n)
+        return SPH_OK;
+    double *p = realloc(sim->sum_scratch, doubles * sizeof(double));
+    if (!p)
+        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu doubles of pair sums", doubles);
+    sim->sum_scratch = p;
+    sim->sum_scratch_n = doubles;
+    return SPH_OK;
+}
+
+/* One far list per chunk, emptied. */
+static sph_status prepare_far(sph_sim *sim, long n_chunks)
+{
+    if ((size_t)n_chunks > sim->n_far) {
+        far_list *f = realloc(sim->far, (size_t)n_chunks * sizeof *f);
+        if (!f)
+            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %ld chunk lists", n_chunks);
+        memset(f + sim->n_far, 0, ((size_t)n_chunks - sim->n_far) * sizeof *f);
+        sim->far = f;
+        sim->n_far = (size_t)n_chunks;
+    }
+    for (size_t c = 0; c < sim->n_far; ++c) {
+        sim->far[c].count = 0;
+        sim->far[c].failed = 0;
+    }
+    return SPH_OK;
+}
+
+size_t rates_far_bytes(const sph_sim *sim)
+{
+    size_t bytes = sim->n_far * sizeof(far_list);
+    const int record = 1 + sim->dim + sim->dim * sim->dim + sim->nsym + sim->dim;
+    for (size_t c = 0; c < sim->n_far; ++c)
+        bytes += sim->far[c].capacity * (sizeof(int) + (size_t)record * sizeof(double));
+    return bytes;
+}
+
+/* The engine for a call: everything but the sums. */
+static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
 {
     if (sim->h <= 0.0)
         return sph_fail(sim, SPH_ERR_STATE,
@@ -444,93 +627,244 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
     sph_status st = grow_scratch(sim, call->n_total);
     if (st)
         return st;
-
-    engine e;
-    memset(&e, 0, sizeof e);
-    e.dim = sim->dim;
-    e.ncomp = sim->ncomp;
-    e.nsym = sim->nsym;
-    e.stride = sim->nsym + 1;
-    e.threads = sim_threads(sim);
-    e.n_local = call->n_local;
-    e.n_total = call->n_total;
-    e.x = call->x;
-    e.xs = call->stride;
-    e.v = call->v;
-    e.rho = call->rho;
-    e.S = call->S;
-    e.mass = call->mass;
-    e.material_of = call->material;
-    e.materials = sim->materials;
-    e.offsets = call->neighbours->offsets;
-    e.indices = call->neighbours->indices;
-    e.lists = call->neighbours->lists;
-    e.counts = call->neighbours->counts;
-    e.h = sim->h;
-    e.inv_h = 1.0 / sim->h;
-    e.support2 = 4.0 * sim->h * sim->h;
-    const double sigma = kernel_sigma(sim->kernel, sim->dim);
-    e.w_norm = sigma / pow(sim->h, sim->dim);
-    e.f_norm = sigma / pow(sim->h, sim->dim + 2);
-    e.fx = sim->fx;
-    e.inv_W_dx = 1.0 / (kernel_w(sim->kernel, sim->dx_ref / sim->h) * e.w_norm);
-    for (int i = 0; i < sim->dim; ++i) {
-        e.periodic_axis[i] = call->periodic && sim->periodic[i];
-        e.box[i] = sim->hi[i] - sim->lo[i];
-        e.half_box[i] = 0.5 * e.box[i];
-        e.periodic |= e.periodic_axis[i];
+    memset(e, 0, sizeof *e);
+    e->dim = sim->dim;
+    e->ncomp = sim->ncomp;
+    e->nsym = sim->nsym;
+    e->threads = sim_threads(sim);
+    e->n_local = call->n_local;
+    e->n_total = call->n_total;
+    e->x = call->x;
+    e->xs = call->stride;
+    e->v = call->v;
+    e->rho = call->rho;
+    e->S = call->S;
+    e->mass = call->mass;
+    e->material_of = call->material;
+    e->materials = sim->materials;
+    if (call->neighbours) {
+        e->offsets = call->neighbours->offsets;
+        e->indices = call->neighbours->indices;
+        e->lists = call->neighbours->lists;
+        e->counts = call->neighbours->counts;
     }
-    e.dv_dt = call->dv_dt;
-    e.drho_dt = call->drho_dt;
-    e.dS_dt = call->dS_dt;
-    e.dx_dt = call->dx_dt;
+    e->h = sim->h;
+    e->inv_h = 1.0 / sim->h;
+    const double sigma = kernel_sigma(sim->kernel, sim->dim);
+    e->w_norm = sigma / pow(sim->h, sim->dim);
+    e->f_norm = sigma / pow(sim->h, sim->dim + 2);
+    e->fx = sim->fx;
+    e->inv_W_dx = 1.0 / (kernel_w(sim->kernel, sim->dx_ref / sim->h) * e->w_norm);
+    for (int i = 0; i < sim->dim; ++i) {
+        e->periodic_axis[i] = call->periodic && sim->periodic[i];
+        e->box[i] = sim->hi[i] - sim->lo[i];
+        e->half_box[i] = 0.5 * e->box[i];
+        e->periodic |= e->periodic_axis[i];
+    }
+    e->full = !call->half;
+    e->ghost_sums = call->partial != NULL;
+    e->chunk = rates_chunk_rows(sim->dim, call->n_local);
+    e->n_chunks = (long)((call->n_local + e->chunk - 1) / e->chunk);
+    if ((st = prepare_far(sim, e->n_chunks)))
+        return st;
+    e->far = sim->far;
+    e->dv_dt = call->dv_dt;
+    e->drho_dt = call->drho_dt;
+    e->dS_dt = call->dS_dt;
+    e->dx_dt = call->dx_dt;
+    return SPH_OK;
+}
 
-    pass_pair_data(&e, sim->pair_data, sim->fx.artificial_stress ? sim->stress_R : NULL);
-    e.pair_data = sim->pair_data;
-    e.R = sim->fx.artificial_stress ? sim->stress_R : NULL;
-    const int stress = !sim->fx.artificial_stress ? 0 : sim->fx.stress_exponent == 4.0 ? 1 : 2;
-    variants[sim->dim - 2][sim->kernel][sim->fx.kernel_correction != 0][sim->fx.viscosity != 0]
-            [stress](&e);
-    if (sim->fx.xsph && e.dx_dt)
-        pass_xsph(&e, sim->kernel);
-    if (sim->fx.gravity || sim->fx.damping)
-        pass_body_forces(&e);
+static void zero_sums(const engine *e, size_t n)
+{
+    const long nn = (long)n;
+#pragma omp parallel for schedule(static) num_threads(e->threads)
+    for (long a = 0; a < nn; ++a)
+        for (int q = 0; q < N_SUMS; ++q)
+            for (int i = 0; i < e->acc.width[q]; ++i)
+                e->acc.p[q][(size_t)a * e->acc.stride[q] + (size_t)i] = 0.0;
+}
+
+static sph_status pairs_run(sph_sim *sim, engine *e)
+{
+    pass_pair_data(e, sim->pair_data, sim->fx.artificial_stress ? sim->stress_R : NULL);
+    e->pair_data = sim->pair_data;
+    e->R = sim->fx.artificial_stress ? sim->stress_R : NULL;
+    const size_t n_sums = e->ghost_sums ? e->n_total : e->n_local;
+    zero_sums(e, n_sums);
+    pass_pairs(e, sim->kernel, n_sums);
+    for (long c = 0; c < e->n_chunks; ++c)
+        if (e->far[c].failed)
+            return sph_fail(sim, SPH_ERR_MEMORY, "cannot grow the list of pair terms of chunk %ld", c);
+    return SPH_OK;
+}
+
+sph_status rates_run(sph_sim *sim, const rate_call *call)
+{
+    engine e;
+    sph_status st = engine_setup(sim, call, &e);
+    if (st)
+        return st;
+    const int dim = sim->dim, ncomp = sim->ncomp;
+    const int xsph = sim->fx.xsph && (call->dx_dt || call->partial);
+    sums_layout(sim, xsph, &e.acc);
+    if (call->partial) {
+        sums_in_buffer(&e.acc, call->partial);
+        return pairs_run(sim, &e);
+    }
+    /* The sums live in the rate arrays where they fit: drho, dv, u in
+     * drho_dt, dv_dt, dx_dt, and L in dS_dt when it has room (2D); the rest
+     * (L in 3D, M) in scratch. */
+    const int L_in_dS = ncomp >= dim * dim;
+    const size_t scratch_record = (size_t)(L_in_dS ? 0 : dim * dim) + (size_t)e.acc.width[SUM_M];
+    if ((st = grow_sum_scratch(sim, call->n_local * scratch_record)))
+        return st;
+    e.acc.p[SUM_RHO] = call->drho_dt;
+    e.acc.stride[SUM_RHO] = 1;
+    e.acc.p[SUM_DV] = call->dv_dt;
+    e.acc.stride[SUM_DV] = (size_t)dim;
+    e.acc.p[SUM_L] = L_in_dS ? call->dS_dt : sim->sum_scratch;
+    e.acc.stride[SUM_L] = L_in_dS ? (size_t)ncomp : scratch_record;
+    e.acc.p[SUM_M] = sim->sum_scratch + (L_in_dS ? 0 : dim * dim);
+    e.acc.stride[SUM_M] = scratch_record;
+    e.acc.p[SUM_U] = xsph ? call->dx_dt : NULL;
+    e.acc.stride[SUM_U] = (size_t)dim;
+    if ((st = pairs_run(sim, &e)))
+        return st;
+    pass_finish(&e);
+    return SPH_OK;
+}
+
+/* The finish on a caller's partial sums. */
+static sph_status finish_run(sph_sim *sim, const rate_call *call, const double *partial)
+{
+    engine e;
+    rate_call c = *call;
+    c.partial = NULL;
+    sph_status st = engine_setup(sim, &c, &e);
+    if (st)
+        return st;
+    sums_layout(sim, sim->fx.xsph != 0, &e.acc);
+    sums_in_buffer(&e.acc, (double *)partial);
+    pass_finish(&e);
+    return SPH_OK;
+}
+
+/* ------------------------------------------------------- public entry points */
+
+static sph_status check_particles(sph_sim *sim, const char *fn, const sph_particles *p,
+                                  size_t *stride)
+{
+    if (p->n_local > p->n_total)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: n_local=%zu exceeds n_total=%zu", fn,
+                        p->n_local, p->n_total);
+    *stride = p->stride ? p->stride : (size_t)sim->dim;
+    if (*stride < (size_t)sim->dim)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: stride=%zu is smaller than the dimension %d", fn,
+                        *stride, sim->dim);
+    if (p->n_total > 0 && (!p->x || !p->v || !p->rho || !p->S || !p->mass || !p->material))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: a particle array (x, v, rho, S, mass, material) is NULL", fn);
+    for (size_t i = 0; i < p->n_total; ++i) {
+        if (p->material[i] < 0 || p->material[i] >= sim->n_materials)
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particle %zu has material %d, but %d materials are defined",
+                            fn, i, p->material[i], sim->n_materials);
+        if (!(p->rho[i] > 0.0))
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particle %zu has density rho=%g (must be > 0)", fn, i,
+                            p->rho[i]);
+    }
+    return SPH_OK;
+}
+
+static sph_status check_neighbours(sph_sim *sim, const char *fn, const sph_particles *p,
+                                   const sph_neighbours *nb)
+{
+    if (!((nb->offsets && nb->indices) || (nb->lists && nb->counts)) && p->n_local > 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: give neighbours as offsets+indices or lists+counts", fn);
+    return SPH_OK;
+}
+
+static sph_status check_rates(sph_sim *sim, const char *fn, const sph_particles *p,
+                              const sph_rates *rates)
+{
+    if (p->n_local > 0 && (!rates->dv_dt || !rates->drho_dt || !rates->dS_dt))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: a rate array (dv_dt, drho_dt, dS_dt) is NULL", fn);
+    if (sim->fx.xsph && !rates->dx_dt && p->n_local > 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: effect xsph is on but rates->dx_dt is NULL", fn);
     return SPH_OK;
 }
 
 sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p,
                               const sph_neighbours *nb, sph_rates *rates)
 {
+    static const char fn[] = "sph_rates_evaluate";
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!p || !nb || !rates)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: particles, neighbours and rates must not be NULL");
-    if (p->n_local > p->n_total)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: n_local=%zu exceeds n_total=%zu",
-                        p->n_local, p->n_total);
-    const size_t stride = p->stride ? p->stride : (size_t)sim->dim;
-    if (stride < (size_t)sim->dim)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: stride=%zu is smaller than the dimension %d", stride, sim->dim);
-    if (p->n_total > 0 && (!p->x || !p->v || !p->rho || !p->S || !p->mass || !p->material))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: a particle array (x, v, rho, S, mass, material) is NULL");
-    if (p->n_local > 0 && (!rates->dv_dt || !rates->drho_dt || !rates->dS_dt))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: a rate array (dv_dt, drho_dt, dS_dt) is NULL");
-    if (!((nb->offsets && nb->indices) || (nb->lists && nb->counts)) && p->n_local > 0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: give neighbours as offsets+indices or lists+counts");
-    if (sim->fx.xsph && !rates->dx_dt && p->n_local > 0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: effect xsph is on but rates->dx_dt is NULL");
-    for (size_t i = 0; i < p->n_total; ++i) {
-        if (p->material[i] < 0 || p->material[i] >= sim->n_materials)
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: particle %zu has material %d, but %d materials are defined",
-                            i, p->material[i], sim->n_materials);
-        if (!(p->rho[i] > 0.0))
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rates_evaluate: particle %zu has density rho=%g (must be > 0)", i, p->rho[i]);
-    }
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particles, neighbours and rates must not be NULL", fn);
+    size_t stride;
+    sph_status st;
+    if ((st = check_particles(sim, fn, p, &stride)) || (st = check_neighbours(sim, fn, p, nb)) ||
+        (st = check_rates(sim, fn, p, rates)))
+        return st;
     const rate_call call = {.n_local = p->n_local, .n_total = p->n_total,
                             .x = p->x, .v = p->v, .rho = p->rho, .S = p->S, .mass = p->mass,
                             .stride = stride, .material = p->material, .neighbours = nb,
-                            .periodic = 0, .dv_dt = rates->dv_dt, .drho_dt = rates->drho_dt,
+                            .dv_dt = rates->dv_dt, .drho_dt = rates->drho_dt,
                             .dS_dt = rates->dS_dt, .dx_dt = rates->dx_dt};
-    sph_status st = rates_run(sim, &call);
+    st = rates_run(sim, &call);
+    return st ? st : sph_ok(sim);
+}
+
+size_t sph_rates_partial_size(const sph_sim *sim)
+{
+    if (!sim)
+        return 0;
+    sums s;
+    sums_layout(sim, sim->fx.xsph != 0, &s);
+    return (size_t)s.record;
+}
+
+sph_status sph_rates_pairs(sph_sim *sim, const sph_particles *p, const sph_neighbours *half,
+                           double *partial)
+{
+    static const char fn[] = "sph_rates_pairs";
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!p || !half)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particles and neighbours must not be NULL", fn);
+    size_t stride;
+    sph_status st;
+    if ((st = check_particles(sim, fn, p, &stride)) || (st = check_neighbours(sim, fn, p, half)))
+        return st;
+    if (p->n_total > 0 && !partial)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: partial must hold n_total * sph_rates_partial_size() doubles", fn);
+    const rate_call call = {.n_local = p->n_local, .n_total = p->n_total,
+                            .x = p->x, .v = p->v, .rho = p->rho, .S = p->S, .mass = p->mass,
+                            .stride = stride, .material = p->material, .neighbours = half,
+                            .half = 1, .partial = partial};
+    st = rates_run(sim, &call);
+    return st ? st : sph_ok(sim);
+}
+
+sph_status sph_rates_finish(sph_sim *sim, const sph_particles *p, const double *partial,
+                            sph_rates *rates)
+{
+    static const char fn[] = "sph_rates_finish";
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!p || !rates)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particles and rates must not be NULL", fn);
+    size_t stride;
+    sph_status st;
+    if ((st = check_particles(sim, fn, p, &stride)) || (st = check_rates(sim, fn, p, rates)))
+        return st;
+    if (p->n_local > 0 && !partial)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: partial is NULL", fn);
+    const rate_call call = {.n_local = p->n_local, .n_total = p->n_total,
+                            .x = p->x, .v = p->v, .rho = p->rho, .S = p->S, .mass = p->mass,
+                            .stride = stride, .material = p->material,
+                            .dv_dt = rates->dv_dt, .drho_dt = rates->drho_dt,
+                            .dS_dt = rates->dS_dt, .dx_dt = rates->dx_dt, .half = 1};
+    st = finish_run(sim, &call, partial);
     return st ? st : sph_ok(sim);
 }

@@ -92,7 +92,7 @@ sph_status sim_evaluate(sph_sim *sim)
                             .stride = (size_t)sim->dim, .material = sim->material_of,
                             .neighbours = &nb, .periodic = 1, .dv_dt = sim->dv_dt,
                             .drho_dt = sim->drho_dt, .dS_dt = sim->dS_dt,
-                            .dx_dt = sim->fx.xsph ? sim->dx_dt : NULL};
+                            .dx_dt = sim->fx.xsph ? sim->dx_dt : NULL, .half = 1};
     sph_status st = rates_run(sim, &call);
     if (st)
         return st;

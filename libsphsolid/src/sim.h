@@ -34,8 +34,8 @@ typedef struct probe {
     double point[3];
 } probe;
 
-/* Full neighbour list in CSR form, each row sorted by index, holding every
- * pair closer than 2h + skin when built. */
+/* Half neighbour list in CSR form: row a holds the particles b > a closer
+ * than 2h + skin when built, sorted by index (each pair once). */
 typedef struct neighbour_list {
     size_t *offsets;        /* n + 1 */
     int *indices;
@@ -45,6 +45,15 @@ typedef struct neighbour_list {
     double displacement_bound; /* upper bound of any displacement since built */
     int valid;
 } neighbour_list;
+
+/* Pair terms a chunk of the rate engine adds after the pair pass: one
+ * record of sums per target particle (rates.c). */
+typedef struct far_list {
+    size_t count, capacity;
+    int *target;
+    double *terms;
+    int failed;
+} far_list;
 
 struct output_file;
 
@@ -95,6 +104,10 @@ struct sph_sim {
     size_t scratch_n;
     double *pair_data;      /* per particle: volume, then sigma/rho^2 */
     double *stress_R;       /* artificial stress, when on */
+    double *sum_scratch;    /* pair sums without room in the rate arrays */
+    size_t sum_scratch_n;   /* doubles */
+    far_list *far;          /* one per chunk of the pair pass */
+    size_t n_far;
 
     /* watchdog: 0 switches a bound off */
     double watch_speed, watch_rho_min, watch_rho_max;
@@ -134,10 +147,15 @@ typedef struct rate_call {
     const sph_neighbours *neighbours;
     int periodic;           /* apply minimum image with sim's domain */
     double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
+    int half;               /* the list holds each pair once (else full) */
+    double *partial;        /* if set: the pair pass only, its sums for all
+                               n_total particles written here (ghosts too) */
 } rate_call;
 
 sph_status rates_run(sph_sim *sim, const rate_call *call);
 int sim_threads(const sph_sim *sim);
+size_t rates_chunk_rows(int dim, size_t n);
+size_t rates_far_bytes(const sph_sim *sim);
 
 /* bodies.c (sim_support, sim_shrink_to_fit, rotation_velocity); run.c (sim_prepare) */
 double sim_support(const sph_sim *sim);
