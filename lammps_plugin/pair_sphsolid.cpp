@@ -1,9 +1,12 @@
 /*
  * pair_sphsolid.cpp - pair style sphsolid (see pair_sphsolid.h).
  *
- * No equation of the model appears here: the rates come from
- * sph_rates_evaluate(); this file only moves data between LAMMPS's arrays
- * and the library's structure-of-arrays layout.
+ * No equation of the model appears here: the rates come from the
+ * library's pair pass (sph_rates_pairs) over LAMMPS's half list and its
+ * finish (sph_rates_finish); this file only moves data between LAMMPS's
+ * arrays and the library's layout.  With newton_pair on, the partial sums
+ * of ghost atoms are sent back to their owners between the two (reverse
+ * communication, as the MACHDYN and SPH packages do for their pair sums).
  */
 #include "pair_sphsolid.h"
 
@@ -39,7 +42,7 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
     Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false),
     sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0),
-    nrates(-1)
+    nrates(-1), partial_size(0)
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -324,13 +327,17 @@ void PairSPHSolid::init_style()
     error->all(FLERR, "pair sphsolid needs the velocities of ghost atoms: add 'comm_modify vel yes'");
   if (!atom->tag_enable) error->all(FLERR, "pair sphsolid needs atom IDs (atom_modify id yes)");
 
-  neighbor->add_request(this, NeighConst::REQ_FULL);
+  // a half list: with newton_pair on each pair is listed on one rank only
+  // and the ghosts' partial sums are sent back (comm_reverse doubles each)
+  neighbor->add_request(this);
   cached_build = -1;    // materials of the types may have changed
 
   if (sim) sph_destroy(sim);
   sim = nullptr;
   sim = build_handle(true);
   support = sph_support_radius(sim);
+  partial_size = (int) sph_rates_partial_size(sim);
+  comm_reverse = partial_size;
 
   state_fix = dynamic_cast<FixSPHSolidState *>(modify->get_fix_by_id(STATE_FIX_ID));
   if (!state_fix) {
@@ -510,13 +517,16 @@ void PairSPHSolid::grow_scratch()
   rate_drho.resize(n);
   rate_dS.resize(n * ncomp);
   if (xsph) rate_dx.resize(n * dim);
+  partial.resize(n * partial_size);
 }
 
 /* ----------------------------------------------------------------------
-   LAMMPS's full list as CSR rows sorted by index, as the library's own
-   list is: neighbour data are then read in memory order, and the pair sums
-   run in the same order as in the standalone library.  Special-bond bits
-   in the top of the indices are stripped.  Only on a new list.
+   LAMMPS's half list as CSR rows sorted by index, as the library's own
+   list is: a pair of owned atoms goes to the row of the smaller index, a
+   pair with a ghost stays in the owned atom's row.  Neighbour data are then
+   read in memory order and most pair terms land in nearby rows.
+   Special-bond bits in the top of the indices are stripped.  Only on a new
+   list.
 ------------------------------------------------------------------------- */
 
 void PairSPHSolid::convert_list()
@@ -525,19 +535,34 @@ void PairSPHSolid::convert_list()
   const int inum = list->inum;
   const int *ilist = list->ilist;
   neighbour_counts.assign(nlocal, 0);
-  for (int ii = 0; ii < inum; ii++) neighbour_counts[ilist[ii]] = list->numneigh[ilist[ii]];
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const int *jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      neighbour_counts[j < nlocal && j < i ? j : i]++;
+    }
+  }
   neighbour_offsets.resize((size_t) nlocal + 1);
   neighbour_offsets[0] = 0;
   for (int i = 0; i < nlocal; i++)
     neighbour_offsets[i + 1] = neighbour_offsets[i] + neighbour_counts[i];
   neighbour_indices.resize(std::max<size_t>(neighbour_offsets[nlocal], 1));
+  std::vector<size_t> fill(neighbour_offsets.begin(), neighbour_offsets.end() - 1);
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
     const int *jlist = list->firstneigh[i];
-    int *row = neighbour_indices.data() + neighbour_offsets[i];
-    for (int jj = 0; jj < neighbour_counts[i]; jj++) row[jj] = jlist[jj] & NEIGHMASK;
-    std::sort(row, row + neighbour_counts[i]);
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (j < nlocal && j < i)
+        neighbour_indices[fill[j]++] = i;
+      else
+        neighbour_indices[fill[i]++] = j;
+    }
   }
+  for (int i = 0; i < nlocal; i++)
+    std::sort(neighbour_indices.data() + neighbour_offsets[i],
+              neighbour_indices.data() + neighbour_offsets[i + 1]);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -553,6 +578,7 @@ void PairSPHSolid::evaluate_rates(bool with_motion)
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   if (xsph && rate_dx.size() < (size_t) nmax_scratch * dim) nmax_scratch = 0;
+  if (partial.size() < (size_t) nmax_scratch * partial_size) nmax_scratch = 0;
   grow_scratch();
   nrates = nlocal;
   if (nall == 0) return;
@@ -597,7 +623,14 @@ void PairSPHSolid::evaluate_rates(bool with_motion)
   rates.dS_dt = rate_dS.data();
   rates.dx_dt = xsph ? rate_dx.data() : nullptr;
 
-  const sph_status status = sph_rates_evaluate(sim, &particles, &neighbours, &rates);
+  // pair sums on owned and ghost atoms; with newton_pair on the ghosts'
+  // sums belong to their owners (with it off, every pair with a ghost is
+  // also listed on the ghost's own rank, and the ghosts' sums are unused)
+  sph_status status = sph_rates_pairs(sim, &particles, &neighbours, partial.data());
+  if (status == SPH_OK) {
+    if (force->newton_pair) comm->reverse_comm(this);
+    status = sph_rates_finish(sim, &particles, partial.data(), &rates);
+  }
   if (status != SPH_OK) {
     // name the atom by its ID (the library sees local indices)
     const double *rho = particles.rho;
@@ -609,6 +642,25 @@ void PairSPHSolid::evaluate_rates(bool with_motion)
                    update->ntimestep, atom->tag[i], rho[i], step_advice());
     error->one(FLERR, "pair sphsolid: rate evaluation at step {}: {} ({}; {})", update->ntimestep,
                sph_errmsg(sim), sph_status_name(status), step_advice());
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+int PairSPHSolid::pack_reverse_comm(int n, int first, double *buf)
+{
+  const size_t width = partial_size;
+  const double *src = partial.data() + (size_t) first * width;
+  std::copy(src, src + (size_t) n * width, buf);
+  return n * partial_size;
+}
+
+void PairSPHSolid::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  const size_t width = partial_size;
+  for (int k = 0; k < n; k++) {
+    double *dst = partial.data() + (size_t) list[k] * width;
+    for (size_t c = 0; c < width; c++) dst[c] += buf[(size_t) k * width + c];
   }
 }
 
@@ -634,7 +686,7 @@ double PairSPHSolid::memory_usage()
   double bytes = Pair::memory_usage();
   bytes += sizeof(double) * (massbuf.capacity() +
                              rate_dv.capacity() + rate_drho.capacity() + rate_dS.capacity() +
-                             rate_dx.capacity());
+                             rate_dx.capacity() + partial.capacity());
   bytes += sizeof(int) * (materialbuf.capacity() + neighbour_counts.capacity() +
                           neighbour_indices.capacity());
   bytes += sizeof(size_t) * neighbour_offsets.capacity();

@@ -52,6 +52,8 @@ class PairSPHSolid : public Pair {
   void init_style() override;
   double init_one(int, int) override;
   double memory_usage() override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
 
   /* Rates of the owned atoms at the current state of owned and ghost atoms.
    * Density and deviatoric stress are sent to the ghosts here; with
@@ -128,6 +130,8 @@ class PairSPHSolid : public Pair {
   std::vector<size_t> neighbour_offsets;    // CSR rows of the owned atoms
   std::vector<int> neighbour_indices, neighbour_counts;
   std::vector<double> rate_dv, rate_drho, rate_dS, rate_dx;
+  int partial_size;                 // doubles per atom of the pair sums
+  std::vector<double> partial;      // pair sums of owned and ghost atoms
 
   void allocate();
   void grow_scratch();
