@@ -9,8 +9,37 @@ typedef struct rates_buf {
     double *dv, *drho, *dS;
 } rates_buf;
 
-/* Evaluate the rates of the current state with the simulation's own
- * neighbour list through the public low-level entry point. */
+/* The simulation's own (half) list made full: each pair in both rows,
+ * rows sorted. */
+static void full_list(const sph_sim *sim, size_t **offsets, int **indices)
+{
+    const size_t n = sim->n;
+    size_t *off = calloc(n + 1, sizeof *off);
+    for (size_t a = 0; a < n; ++a)
+        for (size_t k = sim->nl.offsets[a]; k < sim->nl.offsets[a + 1]; ++k) {
+            off[a + 1]++;
+            off[(size_t)sim->nl.indices[k] + 1]++;
+        }
+    for (size_t a = 0; a < n; ++a)
+        off[a + 1] += off[a];
+    int *idx = malloc((off[n] + 1) * sizeof *idx);
+    size_t *fill = malloc(n * sizeof *fill);
+    memcpy(fill, off, n * sizeof *fill);
+    for (size_t a = 0; a < n; ++a) /* a ascending: rows stay sorted */
+        for (size_t k = sim->nl.offsets[a]; k < sim->nl.offsets[a + 1]; ++k) {
+            const int b = sim->nl.indices[k];
+            idx[fill[b]++] = (int)a;
+        }
+    for (size_t a = 0; a < n; ++a)
+        for (size_t k = sim->nl.offsets[a]; k < sim->nl.offsets[a + 1]; ++k)
+            idx[fill[a]++] = sim->nl.indices[k];
+    free(fill);
+    *offsets = off;
+    *indices = idx;
+}
+
+/* Evaluate the rates of the current state through the public low-level
+ * entry point, with the full list made from the simulation's own. */
 static rates_buf evaluate(sph_sim *sim)
 {
     check(sim, sph_run(sim, 0));
@@ -19,11 +48,16 @@ static rates_buf evaluate(sph_sim *sim)
     r.dv = calloc(n * sim->dim, sizeof(double));
     r.drho = calloc(n, sizeof(double));
     r.dS = calloc(n * sim->ncomp, sizeof(double));
+    size_t *offsets;
+    int *indices;
+    full_list(sim, &offsets, &indices);
     sph_particles p = {.n_local = n, .n_total = n, .x = sim->x, .v = sim->v, .rho = sim->rho,
                        .S = sim->S, .mass = sim->mass, .material = sim->material_of};
-    sph_neighbours nb = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
+    sph_neighbours nb = {.offsets = offsets, .indices = indices};
     sph_rates out = {.dv_dt = r.dv, .drho_dt = r.drho, .dS_dt = r.dS};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &out));
+    free(offsets);
+    free(indices);
     return r;
 }
 
@@ -267,11 +301,12 @@ static void strided_entry_points_match_the_dense_ones(void **state)
         }
     rates_buf dense = evaluate(sim);
     double *dv = calloc(2 * n, sizeof *dv), *drho = calloc(n, sizeof *drho), *dS = calloc(4 * n, sizeof *dS);
-    int *indices = malloc(sim->nl.offsets[n] * sizeof *indices);
-    memcpy(indices, sim->nl.indices, sim->nl.offsets[n] * sizeof *indices);
+    size_t *offsets;
+    int *indices;
+    full_list(sim, &offsets, &indices);
     sph_particles p = {.n_local = n, .n_total = n, .x = x3, .v = v3, .rho = sim->rho, .S = sim->S,
                        .mass = sim->mass, .material = sim->material_of, .stride = 3};
-    sph_neighbours nb = {.offsets = sim->nl.offsets, .indices = indices};
+    sph_neighbours nb = {.offsets = offsets, .indices = indices};
     sph_rates r3 = {dv, drho, dS, NULL};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &r3));
     assert_memory_equal(dv, dense.dv, 2 * n * sizeof *dv);
@@ -333,7 +368,7 @@ static void strided_entry_points_match_the_dense_ones(void **state)
     assert_int_equal(sph_heun_predict_strided(sim, n, dt, x3, v3, 1, rho3, S3, &rd, integrate, saved3),
                      SPH_ERR_ARGUMENT);
     assert_non_null(strstr(sph_errmsg(sim), "stride=1"));
-    free(x3); free(v3); free(dv); free(drho); free(dS); free(indices); free(integrate);
+    free(x3); free(v3); free(dv); free(drho); free(dS); free(indices); free(offsets); free(integrate);
     free(x2); free(v2); free(rho2); free(S2); free(rho3); free(S3); free(saved2); free(saved3);
     free_rates(dense);
     sph_destroy(sim);
@@ -356,6 +391,156 @@ static double energy_drift(double dt_factor, double duration, double *kinetic_sh
     *kinetic_share = e.kinetic / E0;
     sph_destroy(sim);
     return fabs(e.kinetic + e.elastic - E0) / E0;
+}
+
+/* The split evaluation (sph_rates_pairs, sum the ghosts' partial sums into
+ * their owners, sph_rates_finish) over two "processes", each owning half the
+ * particles and seeing the others as ghosts, with every pair listed once
+ * over both: the rates of the one-process full-list evaluation, to
+ * round-off.  On one process with the half list it is the same computation
+ * as sph_rates_evaluate with the full list, to the bit.  Kernel correction
+ * and XSPH on, so every partial sum is exercised; the block spans several
+ * chunks of the pair pass. */
+static void split_evaluation_over_two_processes(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(40, 30, 1e-3);
+    check(sim, sph_effect(sim, "kernel_correction", ""));
+    check(sim, sph_effect(sim, "xsph", "epsilon=0.5"));
+    check(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 beta=2"));
+    perturb(sim, 11u);
+    check(sim, sph_run(sim, 0));
+    const size_t n = sim->n, P = sph_rates_partial_size(sim);
+    assert_int_equal(P, 1 + 2 + 4 + 3 + 2);
+    /* reference: one process, full list */
+    double *dv = calloc(2 * n, sizeof *dv), *drho = calloc(n, sizeof *drho);
+    double *dS = calloc(4 * n, sizeof *dS), *u = calloc(2 * n, sizeof *u);
+    size_t *offsets;
+    int *indices;
+    full_list(sim, &offsets, &indices);
+    sph_particles all = {.n_local = n, .n_total = n, .x = sim->x, .v = sim->v, .rho = sim->rho,
+                         .S = sim->S, .mass = sim->mass, .material = sim->material_of};
+    sph_neighbours full = {.offsets = offsets, .indices = indices};
+    sph_rates ref = {.dv_dt = dv, .drho_dt = drho, .dS_dt = dS, .dx_dt = u};
+    check(sim, sph_rates_evaluate(sim, &all, &full, &ref));
+
+    /* one process, half list: bitwise the same */
+    double *partial = calloc(n * P, sizeof *partial);
+    double *dv1 = calloc(2 * n, sizeof *dv1), *drho1 = calloc(n, sizeof *drho1);
+    double *dS1 = calloc(4 * n, sizeof *dS1), *u1 = calloc(2 * n, sizeof *u1);
+    sph_neighbours half = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
+    sph_rates one = {.dv_dt = dv1, .drho_dt = drho1, .dS_dt = dS1, .dx_dt = u1};
+    check(sim, sph_rates_pairs(sim, &all, &half, partial));
+    check(sim, sph_rates_finish(sim, &all, partial, &one));
+    assert_memory_equal(dv1, dv, 2 * n * sizeof *dv);
+    assert_memory_equal(drho1, drho, n * sizeof *drho);
+    assert_memory_equal(dS1, dS, 4 * n * sizeof *dS);
+    assert_memory_equal(u1, u, 2 * n * sizeof *u);
+
+    /* two processes: k owns the particles with owner[a] == k (alternate
+     * bands of 5 lattice rows), then holds every other particle as a ghost;
+     * a pair is listed by the owner of its smaller index */
+    int *owner = malloc(n * sizeof *owner);
+    for (size_t a = 0; a < n; ++a)
+        owner[a] = (int)((a / 200) % 2);
+    size_t *local_of = malloc(n * sizeof *local_of);
+    double *got_dv = calloc(2 * n, sizeof *got_dv), *got_drho = calloc(n, sizeof *got_drho);
+    double *got_dS = calloc(4 * n, sizeof *got_dS), *got_u = calloc(2 * n, sizeof *got_u);
+    double *part[2];
+    size_t *global[2], nloc[2];
+    double *px[2], *pv[2], *prho[2], *pS[2], *pm[2];
+    int *pmat[2];
+    size_t *poff[2];
+    int *pidx[2];
+    for (int k = 0; k < 2; ++k) {
+        global[k] = malloc(n * sizeof(size_t));
+        size_t m = 0;
+        for (size_t a = 0; a < n; ++a)
+            if (owner[a] == k)
+                global[k][m++] = a;
+        nloc[k] = m;
+        for (size_t a = 0; a < n; ++a)
+            if (owner[a] != k)
+                global[k][m++] = a;
+        for (size_t l = 0; l < n; ++l)
+            local_of[global[k][l]] = l;
+        px[k] = malloc(2 * n * sizeof(double)); pv[k] = malloc(2 * n * sizeof(double));
+        prho[k] = malloc(n * sizeof(double)); pS[k] = malloc(4 * n * sizeof(double));
+        pm[k] = malloc(n * sizeof(double)); pmat[k] = malloc(n * sizeof(int));
+        for (size_t l = 0; l < n; ++l) {
+            const size_t a = global[k][l];
+            memcpy(px[k] + 2 * l, sim->x + 2 * a, 2 * sizeof(double));
+            memcpy(pv[k] + 2 * l, sim->v + 2 * a, 2 * sizeof(double));
+            memcpy(pS[k] + 4 * l, sim->S + 4 * a, 4 * sizeof(double));
+            prho[k][l] = sim->rho[a];
+            pm[k][l] = sim->mass[a];
+            pmat[k][l] = sim->material_of[a];
+        }
+        /* rows of the locals: pairs whose smaller index this process owns */
+        poff[k] = calloc(nloc[k] + 1, sizeof(size_t));
+        pidx[k] = malloc((sim->nl.offsets[n] + 1) * sizeof(int));
+        size_t e = 0;
+        for (size_t l = 0; l < nloc[k]; ++l) {
+            const size_t a = global[k][l];
+            for (size_t q = sim->nl.offsets[a]; q < sim->nl.offsets[a + 1]; ++q)
+                pidx[k][e++] = (int)local_of[sim->nl.indices[q]];
+            poff[k][l + 1] = e;
+        }
+        part[k] = calloc(n * P, sizeof(double));
+        sph_particles pk = {.n_local = nloc[k], .n_total = n, .x = px[k], .v = pv[k], .rho = prho[k],
+                            .S = pS[k], .mass = pm[k], .material = pmat[k]};
+        sph_neighbours hk = {.offsets = poff[k], .indices = pidx[k]};
+        check(sim, sph_rates_pairs(sim, &pk, &hk, part[k]));
+    }
+    /* the "reverse communication": ghosts' sums to their owners */
+    for (int k = 0; k < 2; ++k)
+        for (size_t l = nloc[k]; l < n; ++l) {
+            const size_t a = global[k][l];
+            const int o = owner[a];
+            size_t lo = 0;
+            while (global[o][lo] != a)
+                ++lo;
+            for (size_t c = 0; c < P; ++c)
+                part[o][lo * P + c] += part[k][l * P + c];
+        }
+    for (int k = 0; k < 2; ++k) {
+        double *rdv = malloc(2 * n * sizeof(double)), *rdrho = malloc(n * sizeof(double));
+        double *rdS = malloc(4 * n * sizeof(double)), *ru = malloc(2 * n * sizeof(double));
+        sph_particles pk = {.n_local = nloc[k], .n_total = n, .x = px[k], .v = pv[k], .rho = prho[k],
+                            .S = pS[k], .mass = pm[k], .material = pmat[k]};
+        sph_rates rk = {.dv_dt = rdv, .drho_dt = rdrho, .dS_dt = rdS, .dx_dt = ru};
+        check(sim, sph_rates_finish(sim, &pk, part[k], &rk));
+        for (size_t l = 0; l < nloc[k]; ++l) {
+            const size_t a = global[k][l];
+            memcpy(got_dv + 2 * a, rdv + 2 * l, 2 * sizeof(double));
+            memcpy(got_u + 2 * a, ru + 2 * l, 2 * sizeof(double));
+            memcpy(got_dS + 4 * a, rdS + 4 * l, 4 * sizeof(double));
+            got_drho[a] = rdrho[l];
+        }
+        free(rdv); free(rdrho); free(rdS); free(ru);
+    }
+    const double *want[4] = {dv, drho, dS, u}, *got[4] = {got_dv, got_drho, got_dS, got_u};
+    const size_t len[4] = {2 * n, n, 4 * n, 2 * n};
+    const char *name[4] = {"dv/dt", "drho/dt", "dS/dt", "XSPH velocity"};
+    for (int q = 0; q < 4; ++q) {
+        double scale = 0.0, diff = 0.0;
+        for (size_t i = 0; i < len[q]; ++i) {
+            scale = fmax(scale, fabs(want[q][i]));
+            diff = fmax(diff, fabs(want[q][i] - got[q][i]));
+        }
+        assert_true(scale > 0.0);
+        if (diff > 1e-12 * scale)
+            print_error("%s: two processes differ by %g of the largest value\n", name[q], diff / scale);
+        assert_true(diff <= 1e-12 * scale);
+    }
+    for (int k = 0; k < 2; ++k) {
+        free(global[k]); free(px[k]); free(pv[k]); free(prho[k]); free(pS[k]); free(pm[k]);
+        free(pmat[k]); free(poff[k]); free(pidx[k]); free(part[k]);
+    }
+    free(owner); free(local_of); free(got_dv); free(got_drho); free(got_dS); free(got_u);
+    free(dv); free(drho); free(dS); free(u); free(dv1); free(drho1); free(dS1); free(u1);
+    free(partial); free(offsets); free(indices);
+    sph_destroy(sim);
 }
 
 static void energy_is_conserved_without_viscosity(void **state)
@@ -415,11 +600,16 @@ static void xsph_velocity_of_one_moving_particle(void **state)
     sim->v[2 * mover] = V;
     double *dv = calloc(2 * n, sizeof *dv), *drho = calloc(n, sizeof *drho);
     double *dS = calloc(4 * n, sizeof *dS), *u = calloc(2 * n, sizeof *u);
+    size_t *offsets;
+    int *indices;
+    full_list(sim, &offsets, &indices);
     sph_particles p = {.n_local = n, .n_total = n, .x = sim->x, .v = sim->v, .rho = sim->rho,
                        .S = sim->S, .mass = sim->mass, .material = sim->material_of};
-    sph_neighbours nb = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
+    sph_neighbours nb = {.offsets = offsets, .indices = indices};
     sph_rates out = {.dv_dt = dv, .drho_dt = drho, .dS_dt = dS, .dx_dt = u};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &out));
+    free(offsets);
+    free(indices);
     const double h = sim->h, volume = dx * dx;
     const double norm = kernel_cubic_sigma(2) / (h * h);
     double sum = 0.0;
@@ -506,6 +696,7 @@ int main(void)
         cmocka_unit_test(momentum_of_isolated_body_is_conserved),
         cmocka_unit_test(artificial_stress_exponent_paths_agree),
         cmocka_unit_test(strided_entry_points_match_the_dense_ones),
+        cmocka_unit_test(split_evaluation_over_two_processes),
         cmocka_unit_test(energy_is_conserved_without_viscosity),
         cmocka_unit_test(uniform_translation_changes_nothing),
         cmocka_unit_test(xsph_velocity_of_one_moving_particle),
