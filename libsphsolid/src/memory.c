@@ -22,7 +22,7 @@ size_t sph_memory_bytes(const sph_sim *sim)
         bytes += n * (dim + 1 + nc) * sizeof(double);
     if (sim->dx_dt)
         bytes += n * dim * sizeof(double);
-    bytes += sim->scratch_n * (ns + 1) * sizeof(double);
+    bytes += sim->scratch_n * (ns + 2) * sizeof(double);
     if (sim->stress_R)
         bytes += sim->scratch_n * ns * sizeof(double);
     bytes += sim->sum_scratch_n * sizeof(double) + rates_far_bytes(sim);

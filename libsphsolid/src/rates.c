@@ -67,7 +67,7 @@ typedef struct engine {
     const int *indices;
     const int *const *lists;
     const int *counts;
-    const double *pair_data;    /* nsym + 1 doubles: volume, sigma/rho^2 */
+    const double *pair_data;    /* nsym + 2 doubles: volume, sigma/rho^2, c0 */
     const double *R;            /* nsym per particle, or NULL */
     double h, inv_h, w_norm, f_norm;
     double box[3], half_box[3];
@@ -194,7 +194,7 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
 {
     const int periodic = e->periodic;
     const int nsym = dim == 2 ? 3 : 6;
-    const int pstride = nsym + 1;
+    const int pstride = nsym + 2;
     const int viscosity = e->fx.viscosity;
     const int stress = !e->R ? 0 : e->fx.stress_exponent == 4.0 ? 1 : 2;
     const int correct = e->acc.width[SUM_M] > 0;
@@ -205,7 +205,7 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
     const double *Pa = e->pair_data + a * (size_t)pstride;
     const double m_a = e->mass[a], V_a = Pa[0];
     const double rho_a = e->rho[a];
-    const double c_a = viscosity ? e->materials[e->material_of[a]].c0 : 0.0;
+    const double c_a = Pa[1 + nsym];
     const double *Ra = stress ? e->R + a * (size_t)nsym : NULL;
     double *const sr = e->acc.p[SUM_RHO], *const sv = e->acc.p[SUM_DV];
     double *const sL = e->acc.p[SUM_L], *const sM = e->acc.p[SUM_M], *const su = e->acc.p[SUM_U];
@@ -252,7 +252,7 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
             if (viscosity || xsph)
                 rho_mean[k] = 0.5 * (rho_a + e->rho[b]);
             if (viscosity)
-                c_mean[k] = 0.5 * (c_a + e->materials[e->material_of[b]].c0);
+                c_mean[k] = 0.5 * (c_a + Pb[1 + nsym]);
             if (stress) {
                 const double *Rb = e->R + (size_t)b * (size_t)nsym;
                 for (int c = 0; c < nsym; ++c)
@@ -549,9 +549,10 @@ static void pass_pair_data(const engine *e, double *pair_data, double *R)
         const double rho = e->rho[a];
         const double P = eos_pressure(m->c0_squared, rho, m->rho0);
         const double *S = e->S + (size_t)a * ncomp;
-        double *pd = pair_data + (size_t)a * (nsym + 1);
+        double *pd = pair_data + (size_t)a * (nsym + 2);
         pd[0] = e->mass[a] / rho;
         stress_over_rho2(dim, S, P, rho, pd + 1);
+        pd[1 + nsym] = m->c0;
         if (R)
             artificial_stress_tensor(dim, S, P, rho, e->fx.stress_epsilon,
                                      R + (size_t)a * nsym);
@@ -564,7 +565,7 @@ static sph_status grow_scratch(sph_sim *sim, size_t n)
     if (n <= sim->scratch_n && (!sim->fx.artificial_stress || sim->stress_R))
         return SPH_OK;
     const size_t cap = n > sim->scratch_n ? n : sim->scratch_n;
-    double *pd = realloc(sim->pair_data, cap * (size_t)(sim->nsym + 1) * sizeof(double));
+    double *pd = realloc(sim->pair_data, cap * (size_t)(sim->nsym + 2) * sizeof(double));
     if (!pd)
         return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate rate scratch for %zu particles", cap);
     sim->pair_data = pd;
