@@ -190,7 +190,8 @@ static void far_append(far_list *f, int record, size_t b, const double *terms)
 #define PAIR_BLOCK 32
 
 static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t dend,
-                                   far_list *far, const int dim, const int kernel)
+                                   far_list *far, const int dim, const int kernel,
+                                   const int split)
 {
     const int periodic = e->periodic;
     const int nsym = dim == 2 ? 3 : 6;
@@ -209,8 +210,13 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
     const double *Ra = stress ? e->R + a * (size_t)nsym : NULL;
     double *const sr = e->acc.p[SUM_RHO], *const sv = e->acc.p[SUM_DV];
     double *const sL = e->acc.p[SUM_L], *const sM = e->acc.p[SUM_M], *const su = e->acc.p[SUM_U];
-    const size_t zr = e->acc.stride[SUM_RHO], zv = e->acc.stride[SUM_DV];
-    const size_t zL = e->acc.stride[SUM_L], zM = e->acc.stride[SUM_M], zu = e->acc.stride[SUM_U];
+    /* strides: compile-time constants for the sums in the rate arrays
+     * (sums_in_rates), one record for the partial-sum buffer */
+    const size_t zr = split ? (size_t)e->acc.record : 1;
+    const size_t zv = split ? (size_t)e->acc.record : (size_t)dim;
+    const size_t zL = split ? (size_t)e->acc.record : dim == 2 ? 4 : 9;
+    const size_t zM = split ? (size_t)e->acc.record : (size_t)nsym;
+    const size_t zu = split ? (size_t)e->acc.record : (size_t)dim;
     const int record = e->acc.record;
 
     double L[3][3] = {{0.0}};
@@ -409,32 +415,37 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
 
 typedef void (*chunk_fn)(const engine *, long);
 
-static ALWAYS_INLINE void chunk_rows(const engine *e, long c, const int dim, const int kernel)
+static ALWAYS_INLINE void chunk_rows(const engine *e, long c, const int dim, const int kernel,
+                                     const int split)
 {
     const size_t b0 = (size_t)c * e->chunk;
     const size_t b1 = b0 + e->chunk < e->n_local ? b0 + e->chunk : e->n_local;
     const size_t dend = b1 + e->chunk < e->n_local ? b1 + e->chunk : e->n_local;
     for (size_t a = b0; a < b1; ++a)
-        row_sums(e, a, b0, dend, &e->far[c], dim, kernel);
+        row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split);
 }
 
-#define CHUNK_VARIANT(DIM, KERNEL)                                             \
-    RATE_CLONES static void chunk_##DIM##_##KERNEL(const engine *e, long c)    \
+#define CHUNK_VARIANT(DIM, KERNEL, SPLIT)                                      \
+    RATE_CLONES static void chunk_##DIM##_##KERNEL##_##SPLIT(const engine *e, long c) \
     {                                                                          \
-        chunk_rows(e, c, DIM, KERNEL);                                         \
+        chunk_rows(e, c, DIM, KERNEL, SPLIT);                                  \
     }
 /* generated from the kernel registry (kernel.h) */
-#define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT) CHUNK_VARIANT(2, ID) CHUNK_VARIANT(3, ID)
+#define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT)                    \
+    CHUNK_VARIANT(2, ID, 0) CHUNK_VARIANT(3, ID, 0)                            \
+    CHUNK_VARIANT(2, ID, 1) CHUNK_VARIANT(3, ID, 1)
 SPH_KERNELS(CHUNK_VARIANTS_OF_KERNEL)
-#define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT) [ID] = {chunk_2_##ID, chunk_3_##ID},
-static const chunk_fn chunk_variants[][2] = {SPH_KERNELS(CHUNK_ENTRY)};
+#define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT)                                 \
+    [ID] = {{chunk_2_##ID##_0, chunk_3_##ID##_0}, {chunk_2_##ID##_1, chunk_3_##ID##_1}},
+/* [kernel][partial-sum buffer][dimension - 2] */
+static const chunk_fn chunk_variants[][2][2] = {SPH_KERNELS(CHUNK_ENTRY)};
 #undef CHUNK_ENTRY
 
 /* Pass 2: the pair sums.  Even chunks, then odd chunks, then the far
  * records in chunk order (each thread adds those of its own particles). */
 static void pass_pairs(const engine *e, int kernel, size_t n_sums)
 {
-    const chunk_fn run = chunk_variants[kernel][e->dim - 2];
+    const chunk_fn run = chunk_variants[kernel][e->ghost_sums][e->dim - 2];
     const long n_chunks = e->n_chunks;
 #pragma omp parallel num_threads(e->threads)
     {
@@ -716,18 +727,19 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
     /* The sums live in the rate arrays where they fit: drho, dv, u in
      * drho_dt, dv_dt, dx_dt, and L in dS_dt when it has room (2D); the rest
      * (L in 3D, M) in scratch. */
-    const int L_in_dS = ncomp >= dim * dim;
-    const size_t scratch_record = (size_t)(L_in_dS ? 0 : dim * dim) + (size_t)e.acc.width[SUM_M];
-    if ((st = grow_sum_scratch(sim, call->n_local * scratch_record)))
+    const int L_in_dS = dim == 2; /* dS_dt has 4 doubles per particle in 2D */
+    const size_t n = call->n_local;
+    const size_t L_doubles = L_in_dS ? 0 : n * 9, M_doubles = n * (size_t)e.acc.width[SUM_M];
+    if ((st = grow_sum_scratch(sim, L_doubles + M_doubles)))
         return st;
     e.acc.p[SUM_RHO] = call->drho_dt;
     e.acc.stride[SUM_RHO] = 1;
     e.acc.p[SUM_DV] = call->dv_dt;
     e.acc.stride[SUM_DV] = (size_t)dim;
     e.acc.p[SUM_L] = L_in_dS ? call->dS_dt : sim->sum_scratch;
-    e.acc.stride[SUM_L] = L_in_dS ? (size_t)ncomp : scratch_record;
-    e.acc.p[SUM_M] = sim->sum_scratch + (L_in_dS ? 0 : dim * dim);
-    e.acc.stride[SUM_M] = scratch_record;
+    e.acc.stride[SUM_L] = L_in_dS ? (size_t)ncomp : 9;
+    e.acc.p[SUM_M] = sim->sum_scratch + L_doubles;
+    e.acc.stride[SUM_M] = (size_t)sim->nsym;
     e.acc.p[SUM_U] = xsph ? call->dx_dt : NULL;
     e.acc.stride[SUM_U] = (size_t)dim;
     if ((st = pairs_run(sim, &e)))
