@@ -4,11 +4,17 @@
  *   bench_piston [--repeats N] [--quick]
  *
  * (a) particle-steps per second (all particles, piston and plate included,
- *     times steps) over 200 steps at dx = 1 mm, with 1 and 2 threads;
+ *     times steps) over 200 steps at dx = 1 mm, with 1 and 2 threads, per
+ *     wall second and per CPU second of the process (the second is less
+ *     sensitive to other load on the machine), and pair interactions per
+ *     second (pairs closer than the support 2h, each counted once, times
+ *     the two rate evaluations of a step);
  * (b) time to solution: wall seconds to simulate 0.3 ms at dx = 2 mm and
  *     1 mm (artificial viscosity alpha = 1), 1 and 2 threads;
- * (c) bytes per particle held by the library.
- * Medians over the repeats; every figure comes from this one run.
+ * (c) bytes per particle held by the library, by part (sph_memory_parts),
+ *     for the 2D paper scene and a 3D block.
+ * Medians over the repeats, side by side; every figure comes from this one
+ * run.
  */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
@@ -18,6 +24,57 @@
 
 #include "bench_timing.h"
 #include "sphsolid.h"
+
+/* CPU seconds of the whole process (all threads). */
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Pairs closer than 2h, each once (a cell sort along x, then a sweep). */
+static int compare_x(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double interacting_pairs(sph_sim *sim)
+{
+    double *x = NULL;
+    size_t n = 0, dim = 0;
+    if (sph_field(sim, SPH_FIELD_POSITION, &x, &n, &dim))
+        return 0.0;
+    double *p = malloc(n * 3 * sizeof *p);
+    for (size_t a = 0; a < n; ++a)
+        for (size_t i = 0; i < 3; ++i)
+            p[3 * a + i] = i < dim ? x[a * dim + i] : 0.0;
+    qsort(p, n, 3 * sizeof *p, compare_x);
+    const double rc = 2.0 * sph_smoothing_length(sim), rc2 = rc * rc;
+    double pairs = 0.0;
+    for (size_t a = 0; a < n; ++a)
+        for (size_t b = a + 1; b < n && p[3 * b] - p[3 * a] < rc; ++b) {
+            double r2 = 0.0;
+            for (int i = 0; i < 3; ++i)
+                r2 += (p[3 * a + i] - p[3 * b + i]) * (p[3 * a + i] - p[3 * b + i]);
+            pairs += r2 < rc2;
+        }
+    free(p);
+    return pairs;
+}
+
+static void print_memory(sph_sim *sim, const char *what)
+{
+    const char *names[SPH_MEMORY_PARTS];
+    size_t bytes[SPH_MEMORY_PARTS];
+    const int parts = sph_memory_parts(sim, names, bytes, SPH_MEMORY_PARTS);
+    const double n = (double)sph_particle_count(sim);
+    printf("  %s: %zu particles, %.0f bytes/particle\n", what, sph_particle_count(sim),
+           (double)sph_memory_bytes(sim) / n);
+    for (int k = 0; k < parts; ++k)
+        printf("    %-24s %7.1f bytes/particle\n", names[k], (double)bytes[k] / n);
+}
 
 
 
@@ -35,18 +92,23 @@ static sph_sim *scene(double dx, int threads)
 }
 
 /* Wall seconds of `steps` steps (or until t_end if steps < 0), after one
- * warm-up step that builds the neighbour list. */
+ * warm-up step that builds the neighbour list; the process's CPU seconds
+ * and the interacting pairs at the start if asked. */
 static double timed_run(double dx, int threads, long steps, double t_end, size_t *particles,
-                        size_t *bytes)
+                        size_t *bytes, double *cpu, double *pairs)
 {
     sph_sim *sim = scene(dx, threads);
     if (sph_run(sim, 1)) {
         fprintf(stderr, "bench_piston: %s\n", sph_errmsg(sim));
         exit(1);
     }
-    const double t0 = bench_now();
+    if (pairs)
+        *pairs = interacting_pairs(sim);
+    const double c0 = cpu_now(), t0 = bench_now();
     const sph_status st = steps >= 0 ? sph_run(sim, steps) : sph_run_until(sim, t_end);
     const double wall = bench_now() - t0;
+    if (cpu)
+        *cpu = cpu_now() - c0;
     if (st) {
         fprintf(stderr, "bench_piston: %s\n", sph_errmsg(sim));
         exit(1);
@@ -74,21 +136,28 @@ int main(int argc, char **argv)
     }
     if (repeats < 1)
         repeats = 1;
-    double *w = malloc((size_t)repeats * sizeof *w);
+    double *w = malloc((size_t)repeats * sizeof *w), *c = malloc((size_t)repeats * sizeof *c);
+    double pairs = 0.0;
     size_t n = 0, bytes = 0;
     printf("libsphsolid %s, paper piston scene, Improved Euler (2 rate evaluations/step), "
            "artificial viscosity alpha = 1; medians of %d runs\n\n", sph_version(), repeats);
 
-    printf("(a) throughput, 200 steps at dx = 1 mm\n");
+    const long steps = quick ? 50 : 200;
+    printf("(a) throughput, %ld steps at dx = 1 mm (wall; per CPU second of the process)\n", steps);
     double rate[3] = {0, 0, 0};
     for (int threads = 1; threads <= 2; ++threads) {
         for (int r = 0; r < repeats; ++r)
-            w[r] = timed_run(1e-3, threads, quick ? 50 : 200, 0.0, &n, &bytes);
-        const double m = bench_median(w, repeats);
-        rate[threads] = (double)n * (quick ? 50 : 200) / m;
-        printf("  %d thread%s: %.3f s, %.3g particle-steps/s (%zu particles)\n", threads,
-               threads > 1 ? "s" : " ", m, rate[threads], n);
+            w[r] = timed_run(1e-3, threads, steps, 0.0, &n, &bytes, &c[r], &pairs);
+        const double m = bench_median(w, repeats), mc = bench_median(c, repeats);
+        rate[threads] = (double)n * (double)steps / m;
+        printf("  %d thread%s: %.3f s, %.3g particle-steps/s, %.3g pair interactions/s; "
+               "CPU %.3f s: %.3g particle-steps/CPU-s, %.3g pair interactions/CPU-s\n",
+               threads, threads > 1 ? "s" : " ", m, rate[threads],
+               2.0 * pairs * (double)steps / m, mc, (double)n * (double)steps / mc,
+               2.0 * pairs * (double)steps / mc);
     }
+    printf("  (%zu particles, %.0f interacting pairs, %.2f per particle; 2 rate evaluations/step)\n",
+           n, pairs, pairs / (double)n);
     printf("  speed-up on 2 threads: %.2fx\n\n", rate[2] / rate[1]);
 
     printf("(b) time to solution, 0.3 ms of simulated time\n");
@@ -96,14 +165,34 @@ int main(int argc, char **argv)
     for (int k = 0; k < (quick ? 1 : 2); ++k)
         for (int threads = 1; threads <= 2; ++threads) {
             for (int r = 0; r < repeats; ++r)
-                w[r] = timed_run(dxs[k], threads, -1, 0.3e-3, &n, NULL);
+                w[r] = timed_run(dxs[k], threads, -1, 0.3e-3, &n, NULL, NULL, NULL);
             printf("  dx = %g mm, %d thread%s: %.3f s (%zu particles)\n", dxs[k] * 1e3, threads,
                    threads > 1 ? "s" : " ", bench_median(w, repeats), n);
         }
 
-    timed_run(1e-3, 1, 1, 0.0, &n, &bytes);
-    printf("\n(c) memory: %zu bytes for %zu particles = %.0f bytes/particle\n", bytes, n,
-           (double)bytes / (double)n);
+    printf("\n(c) memory after one step\n");
+    sph_sim *sim = scene(1e-3, 1);
+    if (sph_run(sim, 1)) {
+        fprintf(stderr, "bench_piston: %s\n", sph_errmsg(sim));
+        return 1;
+    }
+    print_memory(sim, "2D paper scene, dx = 1 mm, artificial viscosity");
+    sph_destroy(sim);
+    /* 3D: a free block of 24^3 particles, h = 1.3 dx, same material */
+    sph_sim *s3 = NULL;
+    int mat, body;
+    const double lo[3] = {0, 0, 0}, hi[3] = {0.024, 0.024, 0.024};
+    if (sph_create(3, &s3) || sph_set_threads(s3, 1) ||
+        sph_add_material_K_mu(s3, 7.8e9, 2.9e9, 2700.0, &mat) ||
+        sph_add_block(s3, "block", mat, lo, hi, 1e-3, &body) ||
+        sph_effect(s3, "artificial_viscosity", "alpha=1 beta=0") || sph_run(s3, 1)) {
+        fprintf(stderr, "bench_piston: %s\n", sph_errmsg(s3));
+        return 1;
+    }
+    print_memory(s3, "3D block 24^3, dx = 1 mm, artificial viscosity");
+    sph_destroy(s3);
+    (void)bytes;
     free(w);
+    free(c);
     return 0;
 }

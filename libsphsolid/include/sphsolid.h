@@ -423,6 +423,14 @@ SPH_API size_t sph_memory_bytes(const sph_sim *sim);
  * `particles` more particles (at the handle's smoothing ratio) would not
  * fit in the memory available; builders call it before allocating. */
 SPH_API sph_status sph_memory_check(sph_sim *sim, double particles);
+/* The same bytes by part: fills up to `max` entries of names (static
+ * strings, valid for the life of the program) and bytes, and returns the
+ * number of parts (SPH_MEMORY_PARTS); their sum is sph_memory_bytes().
+ * Parts: particle state, integrator saved state, rates, pair data (per
+ * particle factors of the pair terms), pair sums (scratch of the pair
+ * pass), neighbour list, model (handle, materials, bodies, probes). */
+#define SPH_MEMORY_PARTS 7
+SPH_API int sph_memory_parts(const sph_sim *sim, const char **names, size_t *bytes, int max);
 
 /* ---------------------------------------------------------------- probes */
 

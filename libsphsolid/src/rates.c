@@ -165,7 +165,7 @@ static void far_append(far_list *f, int record, size_t b, const double *terms)
     if (f->failed)
         return;
     if (f->count == f->capacity) {
-        const size_t cap = f->capacity ? 2 * f->capacity : 256;
+        const size_t cap = f->capacity ? 2 * f->capacity : 32;
         int *t = realloc(f->target, cap * sizeof *t);
         if (t)
             f->target = t;
