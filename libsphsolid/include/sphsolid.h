@@ -203,7 +203,11 @@ SPH_API sph_status sph_set_domain(sph_sim *sim, const double lo[3], const double
  * sph_kernel_name() (the registry is in the library, kernel.h). */
 typedef enum sph_kernel {
     SPH_KERNEL_CUBIC_SPLINE = 0, /* "cubic_spline": Monaghan (1992), support 2h (default) */
-    SPH_KERNEL_WENDLAND_C2 = 1   /* "wendland_c2": Wendland (1995) C2, support 2h */
+    SPH_KERNEL_WENDLAND_C2 = 1,  /* "wendland_c2": Wendland (1995) C2, support 2h */
+    SPH_KERNEL_CUBIC_O4 = 2      /* "cubic_o4": fourth-order extrapolation of two cubic
+                                    splines (zero second moment, negative outer lobe),
+                                    support 2h, time step of h/1.5; for waves at
+                                    h/dx = 1.65 */
 } sph_kernel;
 
 SPH_API sph_status sph_set_kernel(sph_sim *sim, sph_kernel kernel);

@@ -32,7 +32,7 @@ static void probe_accumulate(const sph_sim *sim, size_t n, const double *x, size
         if (r2 >= support2)
             continue;
         const material *m = &sim->materials[material_of[b]];
-        const double w = mass[b] / rho[b] * kernel_w(sim->kernel, sqrt(r2) / h) * norm;
+        const double w = mass[b] / rho[b] * kernel_w(sim->kernel, dim, sqrt(r2) / h) * norm;
         const double *Sb = S + b * nc;
         sums[0] += w;
         sums[1] += w * von_mises_stress(dim, Sb);

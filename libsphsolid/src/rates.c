@@ -271,7 +271,7 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
             for (int i = 0; i < dim; ++i)
                 q2 += r[i][k] * r[i][k];
             r2[k] = q2;
-            const double F = kernel_f(kernel, sqrt(q2) * e->inv_h) * e->f_norm;
+            const double F = kernel_f(kernel, dim, sqrt(q2) * e->inv_h) * e->f_norm;
             double c = 0.0;
             for (int i = 0; i < dim; ++i) {
                 gW[i][k] = F * r[i][k];
@@ -291,7 +291,7 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
             }
         if (stress || xsph)
             for (int k = 0; k < nk; ++k)
-                W[k] = kernel_w(kernel, sqrt(r2[k]) * e->inv_h) * e->w_norm;
+                W[k] = kernel_w(kernel, dim, sqrt(r2[k]) * e->inv_h) * e->w_norm;
         if (stress == 1)
             for (int k = 0; k < nk; ++k) {
                 const double fn = artificial_stress_factor_4(W[k], e->inv_W_dx);
@@ -431,11 +431,11 @@ static ALWAYS_INLINE void chunk_rows(const engine *e, long c, const int dim, con
         chunk_rows(e, c, DIM, KERNEL, SPLIT);                                  \
     }
 /* generated from the kernel registry (kernel.h) */
-#define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT)                    \
+#define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP)                    \
     CHUNK_VARIANT(2, ID, 0) CHUNK_VARIANT(3, ID, 0)                            \
     CHUNK_VARIANT(2, ID, 1) CHUNK_VARIANT(3, ID, 1)
 SPH_KERNELS(CHUNK_VARIANTS_OF_KERNEL)
-#define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT)                                 \
+#define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT, STEP)                                 \
     [ID] = {{chunk_2_##ID##_0, chunk_3_##ID##_0}, {chunk_2_##ID##_1, chunk_3_##ID##_1}},
 /* [kernel][partial-sum buffer][dimension - 2] */
 static const chunk_fn chunk_variants[][2][2] = {SPH_KERNELS(CHUNK_ENTRY)};
@@ -666,7 +666,7 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     e->w_norm = sigma / pow(sim->h, sim->dim);
     e->f_norm = sigma / pow(sim->h, sim->dim + 2);
     e->fx = sim->fx;
-    e->inv_W_dx = 1.0 / (kernel_w(sim->kernel, sim->dx_ref / sim->h) * e->w_norm);
+    e->inv_W_dx = 1.0 / (kernel_w(sim->kernel, sim->dim, sim->dx_ref / sim->h) * e->w_norm);
     for (int i = 0; i < sim->dim; ++i) {
         e->periodic_axis[i] = call->periodic && sim->periodic[i];
         e->box[i] = sim->hi[i] - sim->lo[i];

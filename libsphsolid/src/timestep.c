@@ -33,7 +33,7 @@ double sph_stable_dt(const sph_sim *sim)
     if (!sim || sim->h <= 0.0)
         return 0.0;
     const double speed = signal_speed(sim);
-    return speed > 0.0 ? sim_integrator(sim)->stable_factor * sim->h / speed : 0.0;
+    return speed > 0.0 ? sim_integrator(sim)->stable_factor * sim->h * kernel_step_length(sim->kernel) / speed : 0.0;
 }
 
 double sph_default_dt(const sph_sim *sim)
@@ -49,7 +49,7 @@ double sph_default_dt(const sph_sim *sim)
             c0 = fmax(c0, sim->materials[m].c0);
     if (c0 <= 0.0)
         return 0.0;
-    const double dt = sim_integrator(sim)->default_factor * sim->h / c0;
+    const double dt = sim_integrator(sim)->default_factor * sim->h * kernel_step_length(sim->kernel) / c0;
     const double stable = sph_stable_dt(sim);
     return dt < stable ? dt : stable;
 }

@@ -96,7 +96,7 @@ static double lattice_moment(double dx, double h)
             const double r = sqrt(rx * rx + ry * ry);
             if (r == 0.0)
                 continue;
-            const double gx = kernel_cubic_f(r / h) * norm * rx;
+            const double gx = kernel_cubic_f(2, r / h) * norm * rx;
             m += dx * dx * (-rx) * gx;
         }
     return m;
@@ -617,7 +617,7 @@ static void xsph_velocity_of_one_moving_particle(void **state)
         if (b == mover)
             continue;
         const double r = hypot(sim->x[2 * b] - sim->x[2 * mover], sim->x[2 * b + 1] - sim->x[2 * mover + 1]);
-        const double W = norm * kernel_cubic_w(r / h);
+        const double W = norm * kernel_cubic_w(2, r / h);
         sum += volume * W;
         assert_close(u[2 * b], eps * volume * W * V, 1e-12 * V, "neighbour carried along");
         assert_close(u[2 * b + 1], 0.0, 1e-15, "neighbour, y");
