@@ -60,7 +60,7 @@ class Scene:
         Periodic axes (needs ``domain``).
     smoothing_ratio : float, optional
         h / dx, with dx the first body's spacing (default 1.2).
-    kernel : {"cubic_spline", "wendland_c2"}
+    kernel : {"cubic_spline", "wendland_c2", "cubic_o4"}
         Default "cubic_spline" (Monaghan 1992).
 
     Notes
@@ -141,6 +141,15 @@ class Scene:
         self._check(lib.sph_set_smoothing_ratio(self._handle, value),
                     "smoothing_ratio")
         self.smoothing_ratio = value
+
+    def set_kernel(self, kernel: str) -> None:
+        """Set the kernel by name (one of the library's kernel names)."""
+        if not isinstance(kernel, str):
+            raise ValueError(f"kernel must be a name (one of "
+                             f"{_lib.kernel_names()}), got {kernel!r}")
+        self._check(lib.sph_set_kernel_by_name(self._handle, kernel.encode()),
+                    "kernel")
+        self.kernel = kernel
 
     def set_domain(self, lo: Sequence[float], hi: Sequence[float],
                    periodic: Sequence[bool] | None = None) -> None:

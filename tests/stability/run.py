@@ -42,6 +42,8 @@ def main(argv=None) -> int:
     parser.add_argument("--markdown", action="store_true")
     parser.add_argument("--h-over-dx", type=float, default=None,
                         help="smoothing ratio of every case (default 1.2)")
+    parser.add_argument("--kernel", default=None,
+                        help="kernel of every case (default cubic_spline)")
     parser.add_argument("--integrator", default=None,
                         help="library integrator of every case that does "
                              "not name its own (default improved_euler)")
@@ -49,6 +51,9 @@ def main(argv=None) -> int:
     if args.integrator is not None:
         import stability_cases
         stability_cases.INTEGRATOR = args.integrator
+    if args.kernel is not None:
+        import stability_cases
+        stability_cases.KERNEL = args.kernel
     if args.h_over_dx is not None:
         import stability_cases
         stability_cases.H_OVER_DX = args.h_over_dx

@@ -42,6 +42,8 @@ THREADS = int(os.environ.get("SPHSOLID_STABILITY_THREADS", "1"))
 # h/dx of every case (run.py --h-over-dx); None: the library default 1.2
 H_OVER_DX = (float(os.environ["SPHSOLID_STABILITY_H_OVER_DX"])
              if os.environ.get("SPHSOLID_STABILITY_H_OVER_DX") else None)
+# kernel of every case (run.py --kernel); None: the library default
+KERNEL = os.environ.get("SPHSOLID_STABILITY_KERNEL") or None
 # integrator of every case that does not name its own (run.py --integrator)
 INTEGRATOR = os.environ.get("SPHSOLID_STABILITY_INTEGRATOR", "improved_euler")
 VISCOSITY = {"alpha": 1.0, "beta": 0.0}
@@ -83,6 +85,8 @@ def dynamics(scene: Scene, dt: float | None = None,
     step) is that one."""
     if H_OVER_DX is not None:
         scene.set_smoothing_ratio(H_OVER_DX)
+    if KERNEL is not None:
+        scene.set_kernel(KERNEL)
     if backend == "lammps":
         from sphsolid.lammps import Lammps
         scene.calc = Lammps(threads=THREADS)
