@@ -150,6 +150,57 @@ SPH_API sph_status sph_add_particles(sph_sim *sim, const char *name, int materia
                              const double *volumes, double spacing,
                              int *body);
 
+/* Specimen geometry (geometry.c).  The loading axis is y in every builder:
+ * a specimen stands on a plate and a piston presses on it from above.
+ *
+ * sph_add_prism: a rectangular prism (3D) of `width` along x, `height`
+ * along y and `depth` along z whose base (its face of least y) is centred
+ * on base_centre; the lattice of sph_add_block.
+ *
+ * sph_add_cylinder: a circular cylinder (3D), axis along y, base centred on
+ * base_centre, radius and length in m.  Lattice: n_y = round(length/dx)
+ * layers with centres at y0 + (j + 1/2) length/n_y; in each layer the
+ * points of the square lattice over the bounding square, n = round(2 R/dx)
+ * per side with centres at xc - R + (i + 1/2) 2R/n (likewise z), that lie
+ * strictly inside the circle (distance from the axis < R).  Each particle
+ * has the volume of its lattice cell, (2R/n)^2 length/n_y, so the body's
+ * volume is that of the lattice cells inside the circle (it differs from
+ * pi R^2 L by the staircase of the surface, less than 1 % at D/dx >= 27). */
+SPH_API sph_status sph_add_prism(sph_sim *sim, const char *name, int material,
+                                 const double base_centre[3], double width,
+                                 double depth, double height, double dx, int *body);
+SPH_API sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material,
+                                    const double base_centre[3], double radius,
+                                    double length, double dx, int *body);
+
+/* Platens against any body (2D and 3D): sph_add_plate lays a fixed plate
+ * under the body (against its face of least y), sph_add_piston a piston on
+ * top of it moving down (-y) at `speed` [m/s].
+ * Layer rule: a platen is `layers` lattice layers thick, spaced by the
+ * body's lattice step dy along y, and covers the body's extent across y
+ * (x in 2D, x and z in 3D) with round(extent / step) columns per axis, the
+ * body's own columns for blocks, prisms and cylinders (a square slab under
+ * a cylinder, a strip under a disc).  layers = 0 picks the least number
+ * that is at least one kernel support thick, ceil(2h/dy) (3 at
+ * h = 1.2 dx); fewer than both ceil(2h/dy) and ceil(2h/dx), dx the body's
+ * nominal spacing (they differ only where the lattice step is rounded to
+ * the body's extent), is an error.  Its face touches the body's extent, so
+ * its nearest layer is one dy from the body's extreme layer.  material < 0
+ * takes the body's material.  Motion is prescribed; density and deviatoric
+ * stress evolve as for the specimen (SPEC: bonded ends).  Add the body
+ * first: the smoothing length h comes from the first body. */
+SPH_API sph_status sph_add_plate(sph_sim *sim, const char *name, int material,
+                                 int body, int layers, int *plate);
+SPH_API sph_status sph_add_piston(sph_sim *sim, const char *name, int material,
+                                  int body, int layers, double speed, int *piston);
+
+/* Extent of a body's lattice cells [lo, hi] and its lattice step per axis
+ * (blocks, prisms, cylinders and platens: exact; bodies from
+ * sph_add_particles: particle extent plus half a spacing each side, step =
+ * spacing).  Entries past the dimension are 0; any output may be NULL. */
+SPH_API sph_status sph_body_extent(sph_sim *sim, int body, double lo[3],
+                                   double hi[3], double step[3]);
+
 /* Prescribe a body's motion.  `vector` (dim entries) is the velocity for
  * SPH_MOTION_VELOCITY, the applied total force [N per unit depth in 2D]
  * for SPH_MOTION_FORCE, and is ignored (may be NULL) otherwise.

@@ -198,6 +198,7 @@ sph_status sph_add_particles(sph_sim *sim, const char *name, int material_id,
     if (body_id)
         *body_id = sim->n_bodies;
     sim->n_bodies++;
+    body_extent_from_particles(sim, sim->n_bodies - 1);
     sim->nl.valid = 0;
     sim->rates_valid = 0;
     return sph_ok(sim);
@@ -261,10 +262,16 @@ sph_status sph_add_block(sph_sim *sim, const char *name, int material_id,
                     pos[k * dim + 2] = lo[2] + (iz + 0.5) * step[2];
                 vol[k] = volume;
             }
-    st = sph_add_particles(sim, name, material_id, n, pos, vol, dx, body_id);
+    int id;
+    st = sph_add_particles(sim, name, material_id, n, pos, vol, dx, &id);
     free(pos);
     free(vol);
-    return st;
+    if (st)
+        return st;
+    body_set_lattice(sim, id, lo, hi, step);
+    if (body_id)
+        *body_id = id;
+    return SPH_OK;
 }
 
 static sph_status check_body(sph_sim *sim, int id)

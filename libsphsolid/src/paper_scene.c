@@ -26,22 +26,12 @@ sph_status sph_build_paper_scene(sph_sim *sim, double dx, double piston_speed,
     const double lo[3] = {-0.5 * width, 0.0, 0.0}, hi[3] = {0.5 * width, height, 0.0};
     if ((st = sph_add_block(sim, "specimen", s.material, lo, hi, dx, &s.specimen)))
         return st;
-    /* Piston and plate: the specimen's lattice columns and row spacing, at
-     * least one kernel support thick. */
-    const double dy = height / (double)lround(height / dx);
-    const long layers = sph_support_layers(sim, dy);
-    const double plate_lo[3] = {-0.5 * width, -layers * dy, 0.0}, plate_hi[3] = {0.5 * width, 0.0, 0.0};
-    if ((st = sph_add_block(sim, "plate", s.material, plate_lo, plate_hi, dx, &s.plate)))
-        return st;
-    if ((st = sph_set_motion(sim, s.plate, SPH_MOTION_FIXED, NULL)))
+    /* Plate and piston: the specimen's lattice columns and row spacing, at
+     * least one kernel support thick (sph_support_layers). */
+    if ((st = sph_add_plate(sim, "plate", s.material, s.specimen, 0, &s.plate)))
         return st;
     if (!gravity_only) {
-        const double piston_lo[3] = {-0.5 * width, height, 0.0};
-        const double piston_hi[3] = {0.5 * width, height + layers * dy, 0.0};
-        if ((st = sph_add_block(sim, "piston", s.material, piston_lo, piston_hi, dx, &s.piston)))
-            return st;
-        const double v[3] = {0.0, -piston_speed, 0.0};
-        if ((st = sph_set_motion(sim, s.piston, SPH_MOTION_VELOCITY, v)))
+        if ((st = sph_add_piston(sim, "piston", s.material, s.specimen, 0, piston_speed, &s.piston)))
             return st;
     } else {
         if ((st = sph_effect(sim, "gravity", "gy=-9.81")))

@@ -27,6 +27,8 @@ typedef struct body {
     double extent_lo[3], extent_hi[3]; /* bounding box of the particles as
                                           added: files record it so a reader
                                           can tell bodies of another shape */
+    double lo[3], hi[3];    /* extent of the body's lattice cells */
+    double step[3];         /* lattice step per axis (spacing if unknown) */
 } body;
 
 typedef struct probe {
@@ -162,6 +164,11 @@ double sim_support(const sph_sim *sim);
 sph_status sim_prepare(sph_sim *sim);
 void sim_shrink_to_fit(sph_sim *sim);
 void rotation_velocity(int dim, const double *omega, const double *centre, const double *x, double *v);
+
+/* geometry.c */
+void body_extent_from_particles(sph_sim *sim, int id);
+void body_set_lattice(sph_sim *sim, int id, const double lo[3], const double hi[3],
+                      const double step[3]);
 
 /* effects.c */
 sph_status effects_set(sph_sim *sim, const char *name, const char *parameters);

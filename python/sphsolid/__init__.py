@@ -17,7 +17,8 @@ from ._lib import (SimulationError, StoppedError, UnsupportedError,
                    effect_names, effect_registry, kernel_names, kernel_values,
                    library_path, version)
 from .build import (Body, Fixed, Force, Free, Pressure, Rotation, Velocity,
-                    block, box, disc, piston, plate, rectangle, ring)
+                    block, box, cylinder, disc, particles, piston, plate,
+                    prism, rectangle, ring)
 from .calculators import Calculator, CLibrary
 from .dynamics import Dynamics, ImprovedEuler, Leapfrog
 from .material import Material
@@ -42,8 +43,8 @@ def _package_version() -> str:
 __version__ = _package_version()
 
 __all__ = ["Material", "Scene", "Body", "Free", "Fixed", "Velocity", "Force",
-           "Pressure", "Rotation", "block", "rectangle", "box", "plate", "piston", "disc",
-           "ring", "Calculator", "CLibrary", "Dynamics", "ImprovedEuler",
+           "Pressure", "Rotation", "block", "rectangle", "box", "prism", "cylinder",
+           "particles", "plate", "piston", "disc", "ring", "Calculator", "CLibrary", "Dynamics", "ImprovedEuler",
            "Leapfrog", "Probes", "PAPER_PROBES", "Trajectory", "scenes", "plan",
            "effect_names", "effect_registry", "kernel_names", "kernel_values",
            "version",

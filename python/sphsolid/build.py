@@ -1,11 +1,14 @@
-"""Builders of bodies on a lattice: blocks, plates, pistons, discs, rings.
+"""Builders of bodies: blocks, prisms, cylinders, point sets, plates,
+pistons, discs, rings.
 
 Each builder returns a :class:`Body`, a description that a
-:class:`~sphsolid.Scene` turns into particles in libsphsolid. Lattice
-blocks are created by the library's own ``sph_add_block`` (per axis
-``n = round(L/dx)`` particles with centres at ``lo + (i + 1/2) L/n``);
-discs and rings are the lattice points of their bounding block that fall
-inside them, passed to ``sph_add_particles``.
+:class:`~sphsolid.Scene` turns into particles with the library's own
+builders: ``sph_add_block`` (per axis ``n = round(L/dx)`` particles with
+centres at ``lo + (i + 1/2) L/n``), ``sph_add_prism``,
+``sph_add_cylinder`` (axis along y), ``sph_add_plate`` and
+``sph_add_piston`` (against any body), ``sph_add_particles`` (your own
+points, :func:`particles`). Discs and rings are the lattice points of
+their bounding block that fall inside them, passed as points.
 
 Lengths, velocities, forces and pressures are SI numbers or strings with
 a unit (``dx="1mm"``, ``lo=("0mm", "0mm")``, ``Velocity((0, "-1.5mm/s"))``,
@@ -23,6 +26,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Sequence
 
+import ctypes
+
 import numpy as np
 
 from . import _lib
@@ -31,8 +36,8 @@ from .material import Material
 from .units import length as _length, quantity as _quantity, to_si as _to_si
 
 __all__ = ["Body", "Motion", "Free", "Fixed", "Velocity", "Force",
-           "Pressure", "Rotation", "block", "rectangle", "box", "plate", "piston",
-           "disc", "ring"]
+           "Pressure", "Rotation", "block", "rectangle", "box", "prism",
+           "cylinder", "particles", "plate", "piston", "disc", "ring"]
 
 
 # ------------------------------------------------------------------ motions
@@ -135,12 +140,11 @@ class Pressure(Motion):
         if len(axes) != 1 or abs(direction[axes[0]]) != 1.0:
             raise ValueError("Pressure.direction must be a coordinate axis "
                              f"such as (0, -1), got {self.direction!r}")
-        if body.lo is None:
-            raise ValueError("Pressure needs a block body (its face area)")
+        lo, hi = body.bounds
         area = 1.0
         for i in range(dim):
             if i != axes[0]:
-                area *= body.hi[i] - body.lo[i]
+                area *= hi[i] - lo[i]
         return [p * area * d for d in direction]
 
 
@@ -197,13 +201,20 @@ def _motion(motion) -> Motion:
 
 # -------------------------------------------------------------------- bodies
 
+_SHAPES = ("block", "points", "prism", "cylinder", "plate", "piston")
+
+
 @dataclass
 class Body:
     """A body: a material, particles on a lattice and a motion.
 
     Built by the functions of this module; added to a scene with
-    ``Scene.add``. ``lo``/``hi`` are set for blocks (the library lays
-    the lattice), ``points`` for other shapes.
+    ``Scene.add``, which lays its particles with the library's builder for
+    its ``shape`` (``sph_add_block``, ``sph_add_particles``,
+    ``sph_add_prism``, ``sph_add_cylinder``, ``sph_add_plate``,
+    ``sph_add_piston``). Before that, :attr:`positions`, :attr:`count` and
+    :attr:`bounds` ask the same builders on a scratch handle (platens with
+    the default h = 1.2 dx).
 
     Attributes
     ----------
@@ -215,8 +226,18 @@ class Body:
     velocity : sequence of float or None
         Initial velocity of every particle [m/s] (free bodies).
     role : str
-        "specimen", "plate", "piston" or "" (plates and pistons are
-        checked to be at least one kernel support thick).
+        "specimen", "plate", "piston" or "".
+    shape : str
+        One of "block", "points", "prism", "cylinder", "plate", "piston".
+    lo, hi : tuple or None
+        Corners of a block or prism [m]; for a platen, its extent once
+        added to a scene.
+    points, volumes : ndarray or None
+        Particle centres [m] and volumes [m^dim] of a "points" body.
+    against : Body or None
+        The body a plate or piston sits against.
+    layers : int or None
+        Layers of a plate or piston (None: the least that is 2h thick).
     """
 
     name: str
@@ -229,51 +250,131 @@ class Body:
     velocity: Sequence[float] | None = None
     role: str = ""
     layers: int | None = None
+    shape: str = "block"
+    volumes: np.ndarray | None = None
+    base: tuple | None = None
+    radius: float | None = None
+    length: float | None = None
+    against: "Body | None" = None
 
     @property
     def dimension(self) -> int:
+        if self.shape in ("plate", "piston"):
+            return self.against.dimension
+        if self.shape in ("prism", "cylinder"):
+            return 3
         return len(self.lo) if self.lo is not None else self.points.shape[1]
 
     @property
     def lattice_shape(self) -> tuple:
         """Particles per axis of a block, ``round(L/dx)`` each."""
-        if self.lo is None:
+        if self.shape not in ("block", "prism"):
             raise ValueError(f"body {self.name!r} is not a block")
         return tuple(int(round((h - l) / self.dx))
                      for l, h in zip(self.lo, self.hi))
 
+    def add_to(self, handle, material: int, against: int | None = None) -> int:
+        """Lay this body's particles in a library handle with the library's
+        builder for its shape; returns the body index. ``material`` is the
+        material's index in the handle, ``against`` (platens) the index of
+        the body the platen sits against."""
+        index = ctypes.c_int()
+        name = self.name.encode()
+        dim = self.dimension
+        ref = ctypes.byref(index)
+        if self.shape == "block":
+            lo = _lib.as_doubles(list(self.lo) + [0.0] * (3 - dim), 3, "lo")
+            hi = _lib.as_doubles(list(self.hi) + [0.0] * (3 - dim), 3, "hi")
+            status = lib.sph_add_block(handle, name, material, lo, hi, self.dx, ref)
+        elif self.shape == "points":
+            points = np.ascontiguousarray(self.points, dtype=np.float64)
+            volumes = (None if self.volumes is None else
+                       np.ascontiguousarray(self.volumes, dtype=np.float64))
+            status = lib.sph_add_particles(
+                handle, name, material, len(points),
+                points.ctypes.data_as(ctypes.POINTER(ctypes.c_double)),
+                None if volumes is None else
+                volumes.ctypes.data_as(ctypes.POINTER(ctypes.c_double)),
+                self.dx, ref)
+        elif self.shape == "prism":
+            base = _lib.as_doubles(self.base, 3, "base")
+            width, height, depth = (h - l for l, h in zip(self.lo, self.hi))
+            status = lib.sph_add_prism(handle, name, material, base, width,
+                                       depth, height, self.dx, ref)
+        elif self.shape == "cylinder":
+            base = _lib.as_doubles(self.base, 3, "base")
+            status = lib.sph_add_cylinder(handle, name, material, base,
+                                          self.radius, self.length, self.dx,
+                                          ref)
+        elif self.shape == "plate":
+            status = lib.sph_add_plate(handle, name, material, against,
+                                       self.layers or 0, ref)
+        else:
+            status = lib.sph_add_piston(handle, name, material, against,
+                                        self.layers or 0, 0.0, ref)
+        _lib.check(status, handle, f"body {self.name!r}")
+        return index.value
+
+    def _layout(self):
+        """Positions, extent (lo, hi) and lattice step of this body as the
+        library lays it, from a scratch handle."""
+        chain = [self]
+        while chain[-1].against is not None:
+            chain.append(chain[-1].against)
+        handle = _lib.new_handle(self.dimension)
+        try:
+            materials: dict[int, int] = {}
+            index = None
+            for body in reversed(chain):
+                key = id(body.material)
+                if key not in materials:
+                    materials[key] = body.material.add_to(handle)
+                index = body.add_to(handle, materials[key], index)
+            n, dim = int(lib.sph_particle_count(handle)), self.dimension
+            positions = np.empty((n, dim))
+            _lib.check(lib.sph_field_copy(
+                handle, _lib.FIELD_POSITION,
+                positions.ctypes.data_as(ctypes.POINTER(ctypes.c_double))),
+                handle, "positions")
+            info = _lib.BodyInfo()
+            _lib.check(lib.sph_body_info_get(handle, index, ctypes.byref(info)),
+                       handle, "body")
+            extent = [(ctypes.c_double * 3)() for _ in range(3)]
+            _lib.check(lib.sph_body_extent(handle, index, *extent), handle,
+                       "extent")
+            lo, hi, step = (tuple(e[:dim]) for e in extent)
+            return positions[info.first:info.first + info.count], lo, hi, step
+        finally:
+            lib.sph_destroy(handle)
+
     @property
     def positions(self) -> np.ndarray:
-        """Particle centres [m], (count, dim): the lattice the library lays.
+        """Particle centres [m], (count, dim), as the library lays them.
 
-        For a block this repeats the library's rule (``lo + (i+1/2) L/n``)
-        for inspection before a scene exists; once in a scene, read
-        ``Scene.positions``, which are the library's own.
+        Once in a scene, read ``Scene.positions``, the library's own.
         """
-        if self.points is not None:
+        if self.shape == "points":
             return self.points
-        axes = [lo + (np.arange(n) + 0.5) * (hi - lo) / n
-                for lo, hi, n in zip(self.lo, self.hi, self.lattice_shape)]
-        grids = np.meshgrid(*axes, indexing="ij")
-        # x varies fastest, as in the library's lattice loops
-        return np.stack([g.T.ravel() if len(axes) == 2 else
-                         g.transpose(2, 1, 0).ravel() for g in grids], axis=1)
+        return self._layout()[0]
 
     @property
     def count(self) -> int:
         """Number of particles."""
-        if self.points is not None:
+        if self.shape == "points":
             return len(self.points)
-        return int(np.prod(self.lattice_shape))
+        if self.shape == "block":
+            return int(np.prod(self.lattice_shape))
+        return len(self.positions)
 
     @property
     def bounds(self) -> tuple:
-        """(lo, hi) of the body's extent [m]."""
-        if self.lo is not None:
+        """(lo, hi) of the body's extent [m]: its lattice cells (a block's
+        corners, a cylinder's bounding box; points: their extent plus half a
+        spacing), from the library's ``sph_body_extent``."""
+        if self.lo is not None and self.shape != "points":
             return tuple(self.lo), tuple(self.hi)
-        half = 0.5 * self.dx
-        return (tuple(self.points.min(axis=0) - half),
-                tuple(self.points.max(axis=0) + half))
+        _, lo, hi, _ = self._layout()
+        return lo, hi
 
 
 def _check_dx(dx) -> float:
@@ -365,72 +466,178 @@ def box(x, y, z, dx: float, material: Material, name: str = "specimen",
 
 
 def layer_spacing(body: Body) -> float:
-    """Distance between the particle rows (along y) of a block [m]."""
-    return (body.hi[1] - body.lo[1]) / body.lattice_shape[1]
+    """Distance between the particle rows (along y) of a body [m]: a block's
+    L / round(L / dx); other shapes' lattice step from the library."""
+    if body.shape in ("block", "prism"):
+        return (body.hi[1] - body.lo[1]) / body.lattice_shape[1]
+    return body._layout()[3][1]
 
 
-def _layered(body, layers, dx, material, below, name, motion, role):
-    if body.lo is None:
-        raise ValueError(f"{role} needs a block to sit against, got body "
-                         f"{body.name!r}")
-    if not isinstance(layers, int) or layers < 1:
-        raise ValueError(f"layers must be a positive integer, got {layers!r}")
-    # rows as far apart as the block's own (L / round(L / dx)), unless a
-    # spacing is given: the library's paper scene lays them the same way
-    row = (layer_spacing(body) if dx is None else _check_dx(dx))
-    dx = body.dx if dx is None else _check_dx(dx)
-    material = body.material if material is None else material
-    lo, hi = list(body.lo), list(body.hi)
-    if below:
-        hi[1] = body.lo[1]
-        lo[1] = body.lo[1] - layers * row
-    else:
-        lo[1] = body.hi[1]
-        hi[1] = body.hi[1] + layers * row
-    result = block(lo, hi, dx, material, name, motion, role=role)
-    result.layers = layers
-    return result
+def _platen(body, layers, material, name, motion, role):
+    if not isinstance(body, Body):
+        raise ValueError(f"{role} needs a Body to sit against, got "
+                         f"{type(body).__name__}")
+    if layers is not None and (isinstance(layers, bool)
+                               or not isinstance(layers, int) or layers < 1):
+        raise ValueError(f"layers must be a positive integer or None, got "
+                         f"{layers!r}")
+    _check_name(name)
+    material = body.material if material is None else _check_material(material)
+    return Body(name=name, material=material, dx=body.dx,
+                motion=_motion(motion), role=role, layers=layers, shape=role,
+                against=body)
 
 
-def plate(under: Body, layers: int = 3, dx: float | None = None,
+def plate(under: Body, layers: int | None = None,
           material: Material | None = None, name: str = "plate",
           motion="fixed") -> Body:
-    """A plate of ``layers`` particle layers below a block, same width.
+    """A plate under any body (a block, a disc, a cylinder), fixed by default.
 
-    Spans y in [y0 - layers dy, y0] under ``under`` (whose bottom is y0;
-    dy its row spacing, :func:`layer_spacing`); fixed by default. The
-    plate must be at least one kernel support thick (checked when added to
-    a scene; :meth:`Scene.support_layers` gives the rows needed): 3 layers
-    at h = 1.2 dx.
+    The library's ``sph_add_plate`` lays it against the body's face of
+    least y, over the body's extent across y (x in 2D, x and z in 3D) with
+    the body's lattice columns, ``layers`` layers of the body's lattice step
+    dy thick. ``layers=None`` takes the least number that is one kernel
+    support 2h thick, ``ceil(2h/dy)`` (3 at h = 1.2 dx); fewer is a
+    ValueError when it is added to a scene.
 
     Parameters
     ----------
     under : Body
-        The block the plate supports.
-    layers : int
-    dx : float, optional
-        Spacing [m] (default: that of ``under``).
+        The body the plate supports (added to the scene before the plate).
+    layers : int, optional
     material : Material, optional
-        (default: that of ``under``).
+        Default: that of ``under``.
     """
-    return _layered(under, layers, dx, material, True, name, motion, "plate")
+    return _platen(under, layers, material, name, motion, "plate")
 
 
-def piston(over: Body, layers: int = 3, velocity=(0.0, -1.5e-3),
-           dx: float | None = None, material: Material | None = None,
-           name: str = "piston", motion: Motion | None = None) -> Body:
-    """A piston of ``layers`` particle layers on top of a block, same width.
+def piston(over: Body, layers: int | None = None, velocity=None,
+           material: Material | None = None, name: str = "piston",
+           motion: Motion | None = None) -> Body:
+    """A piston on top of any body, laid like :func:`plate` above it.
 
-    Spans y in [y1, y1 + layers dy] over ``over`` (whose top is y1) and
-    moves at the constant ``velocity`` [m/s] (default the paper's
-    1.5 mm/s downward). Give ``motion=Pressure(p)`` or ``Force(F)`` for a
-    load-controlled piston instead.
+    Moves at the constant ``velocity`` [m/s] (default the paper's 1.5 mm/s
+    downward, (0, -1.5e-3) in 2D, (0, -1.5e-3, 0) in 3D). Give
+    ``motion=Pressure(p)`` or ``Force(F)`` for a load-controlled piston
+    instead.
     """
     if motion is None:
+        if velocity is None:
+            velocity = (0.0, -1.5e-3, 0.0)[:over.dimension]
         motion = Velocity(tuple(_vector("piston velocity", velocity,
                                         over.dimension, "velocity")))
-    return _layered(over, layers, dx, material, False, name, motion,
-                    "piston")
+    return _platen(over, layers, material, name, motion, "piston")
+
+
+def _base(base):
+    if base is None:
+        return (0.0, 0.0, 0.0)
+    return tuple(_lib.numbers(_to_si(base, "length", "base"), "base", (3,)))
+
+
+def cylinder(radius: float, length: float, dx: float, material: Material,
+             base: Sequence[float] | None = None, name: str = "specimen",
+             motion=None, velocity=None) -> Body:
+    """A circular cylinder (3D) with its axis along y, the loading axis.
+
+    The library's ``sph_add_cylinder``: ``round(length/dx)`` layers, each
+    the points of a square lattice of ``round(2 radius/dx)`` per side that
+    lie strictly inside the circle; every particle has the volume of its
+    lattice cell.
+
+    Parameters
+    ----------
+    radius, length : float
+        [m]; a laboratory specimen has length 2 to 2.5 diameters.
+    dx : float
+        Lattice spacing [m].
+    material : Material
+    base : sequence of 3 floats, optional
+        Centre of the base (the face of least y) [m]; default the origin.
+    """
+    dx = _check_dx(dx)
+    _check_material(material)
+    _check_name(name)
+    values = {}
+    for what, value in (("radius", radius), ("length", length)):
+        values[what] = _length(value, what)          # 0.027 or "27mm"
+        if not (math.isfinite(values[what]) and values[what] > 0):
+            raise ValueError(f"{what} must be > 0 m, got {value!r}")
+    radius, length = values["radius"], values["length"]
+    if velocity is not None:
+        velocity = _vector("velocity", velocity, 3, "velocity")
+    return Body(name=name, material=material, dx=dx, motion=_motion(motion),
+                velocity=velocity, role="specimen", shape="cylinder",
+                base=_base(base), radius=float(radius), length=float(length))
+
+
+def prism(width: float, depth: float, height: float, dx: float,
+          material: Material, base: Sequence[float] | None = None,
+          name: str = "specimen", motion=None, velocity=None) -> Body:
+    """A rectangular prism (3D): ``width`` along x, ``height`` along y (the
+    loading axis), ``depth`` along z [m], its base centred on ``base``.
+
+    The library's ``sph_add_prism`` (the lattice of a block).
+    """
+    centre = _base(base)
+    width, depth, height = (_length(v, n) for v, n in ((width, "width"), (depth, "depth"),
+                                                       (height, "height")))
+    body = block((centre[0] - width / 2, centre[1], centre[2] - depth / 2),
+                 (centre[0] + width / 2, centre[1] + height,
+                  centre[2] + depth / 2), dx, material, name, motion,
+                 velocity, role="specimen")
+    body.shape = "prism"
+    body.base = centre
+    return body
+
+
+def particles(points, dx: float, material: Material,
+              volumes=None, name: str = "body", motion=None,
+              velocity=None) -> Body:
+    """A body from your own particle centres (any shape, 2D or 3D).
+
+    Parameters
+    ----------
+    points : array_like, (n, 2) or (n, 3)
+        Particle centres [m]; they must keep half a spacing from the
+        particles of other bodies (checked when added to a scene).
+    dx : float
+        Nominal particle spacing [m]: it sets h (first body), the artificial
+        stress reference and the platens' columns of a plate or piston laid
+        against this body.
+    material : Material
+    volumes : array_like, (n,), optional
+        Particle volumes [m^dim] (mass = rho0 x volume); default dx^dim.
+    name : str
+    motion : Motion or "free" or "fixed"
+    velocity : sequence of float, optional
+        Initial velocity [m/s].
+
+    Examples
+    --------
+    A ball of radius 5 mm from a cubic lattice::
+
+        g = (np.arange(10) - 4.5) * 1e-3
+        p = np.stack(np.meshgrid(g, g, g), -1).reshape(-1, 3)
+        ball = particles(p[(p ** 2).sum(1) < 0.005 ** 2], 1e-3, rock)
+    """
+    dx = _check_dx(dx)
+    _check_material(material)
+    _check_name(name)
+    pts = np.array(points, dtype=np.float64)
+    if pts.ndim != 2 or pts.shape[1] not in (2, 3) or len(pts) == 0:
+        raise ValueError(f"points must be an (n, 2) or (n, 3) array with n "
+                         f"> 0, got shape {pts.shape}")
+    if volumes is not None:
+        volumes = np.array(volumes, dtype=np.float64)
+        if volumes.shape != (len(pts),):
+            raise ValueError(f"volumes must have shape ({len(pts)},), got "
+                             f"{volumes.shape}")
+    if velocity is not None:
+        velocity = _vector("velocity", velocity, pts.shape[1], "velocity")
+    return Body(name=name, material=material, dx=dx, motion=_motion(motion),
+                points=pts, volumes=volumes, velocity=velocity,
+                shape="points")
 
 
 def _annulus_points(center, r_inner, r_outer, dx):
@@ -485,4 +692,4 @@ def ring(center: Sequence[float], r_inner: float, r_outer: float, dx: float,
     if velocity is not None:
         velocity = _vector("velocity", velocity, len(center), "velocity")
     return Body(name=name, material=material, dx=dx, motion=_motion(motion),
-                points=points, velocity=velocity)
+                points=points, velocity=velocity, shape="points")

@@ -2,6 +2,7 @@
 
     sphsolid piston  [--dx 1mm] [--until 0.3ms] [--backend c|lammps]
                      [--integrator improved_euler|leapfrog] [--out DIR]
+                     [--dim 3]   (3D: the 54 x 135 mm cylinder, default dx 2mm)
     sphsolid gravity [--dx 2mm] [--until 60ms] [--damping 2000] [--out DIR]
     sphsolid run SCENE.toml [--out DIR] [--until 1ms]   (a scene file)
     sphsolid info FILE.h5
@@ -125,6 +126,10 @@ def _parser() -> argparse.ArgumentParser:
     piston.add_argument("--speed", type=_finite(0.0, "must be finite and "
                         ">= 0 m/s (the piston moves down)"), default=1.5e-3,
                         help="piston speed [m/s] (default 1.5e-3)")
+    piston.add_argument("--dim", type=int, choices=(2, 3), default=2,
+                        help="2: the paper's plane-strain specimen (default);"
+                             " 3: the laboratory cylinder D = 54 mm, "
+                             "L = 135 mm (--dx default 2mm)")
     gravity = sub.add_parser("gravity", help="the specimen settling under "
                              "gravity on the plate")
     _common(gravity, 2e-3, 20e-3, 3)
@@ -353,7 +358,8 @@ def _run_scene(args, scene, name: str) -> int:
     elif args.threads is not None and getattr(scene, "_calc", None) is None:
         from .calculators import CLibrary
         scene.calc = CLibrary(threads=args.threads)
-    probes = Probes(scene, scenes.PAPER_PROBES)
+    probes = Probes(scene, scenes.PAPER_PROBES if scene.dimension == 2
+                    else scenes.CYLINDER_PROBES)
     dyn = dynamics_for(args.integrator)(scene, dt=args.dt,
                                         progress=args.progress)
     late = [t for t in (args.times or []) if t > args.until]
@@ -425,6 +431,15 @@ def _run_scene(args, scene, name: str) -> int:
             bands=None if estimate is None else
             {n: estimate.bands[n]["von_mises"] for n in probes.names})
     specimen = [b.name for b in scene.bodies].index("specimen")
+    mask = lambda f: f.body_ids == specimen  # noqa: E731
+    if scene.dimension == 3:
+        import numpy as np
+        # the mid-plane: the lattice layer of least z >= 0 (z = 0 for an odd
+        # number of columns)
+        z = scene.positions[scene.body_slice("specimen"), 2]
+        z0 = z[z >= -1e-12].min()
+        mask = lambda f: (f.body_ids == specimen) & (  # noqa: E731
+            np.abs(f.positions[:, 2] - z0) < 0.25 * args.dx)
     if traj is not None:
         with Trajectory(h5) as reader:
             frames = [frame for frame in reader if frame.time > 0]
@@ -432,8 +447,10 @@ def _run_scene(args, scene, name: str) -> int:
         outputs.append(args.out / f"{name}_von_mises.png")
         von_mises_map(
             frames, outputs[-1],
-            mask=lambda f: f.body_ids == specimen,
-            title=f"{name}: von Mises stress, dx = {args.dx * 1e3:g} mm "
+            mask=mask,
+            title=f"{name}: von Mises stress"
+                  + (" (mid-plane z = 0)" if scene.dimension == 3 else "")
+                  + f", dx = {args.dx * 1e3:g} mm "
                   f"({args.backend})")
     for path in outputs:
         print(f"wrote {path}")
@@ -518,6 +535,7 @@ def main(argv=None) -> int:
     from ._lib import SimulationError, UnsupportedError
     argv = _negative_values(list(sys.argv[1:] if argv is None else argv))
     args = _parser().parse_args(argv)
+    args._dx_default = "--dx" not in " ".join(argv)
     try:
         if hasattr(args, "handler"):
             return args.handler(args)
@@ -537,6 +555,12 @@ def main(argv=None) -> int:
         if getattr(args, "plan", None) is not None:
             args._frames = 4 if args.command == "piston" else 3
             scene = _planned_scene(args, args.command, argv)
+        elif args.command == "piston" and args.dim == 3:
+            args._frames = 4
+            if args._dx_default:
+                args.dx = 2e-3
+            scene = scenes.uniaxial_cylinder(args.dx, velocity=args.speed,
+                                             viscosity=viscosity)
         elif args.command == "piston":
             args._frames = 4
             scene = scenes.uniaxial_piston(args.dx, velocity=args.speed,

@@ -14,7 +14,7 @@ import numpy as np
 
 from . import _lib
 from ._lib import lib
-from .build import Body, Free, layer_spacing
+from .build import Body, Free
 from .units import check_scale
 
 __all__ = ["Scene", "DEFAULT_SMOOTHING_RATIO"]
@@ -212,7 +212,7 @@ class Scene:
         Raises ValueError if it overlaps a body already there (closer than
         dx/2), lies outside the domain, has the wrong dimension or a name
         already used, or if a plate or piston is thinner than the kernel
-        support 2h.
+        support 2h or sits against a body not in the scene.
         """
         if self._frozen:
             raise RuntimeError("the scene is frozen (a calculator or dynamics"
@@ -226,34 +226,41 @@ class Scene:
         if any(b.name == body.name for b in self.bodies):
             raise ValueError(f"body name {body.name!r} is already used in "
                              "this scene")
-        if body.role in ("plate", "piston") and body.layers is not None:
-            spacing = layer_spacing(body)
-            needed = self.support_layers(spacing)
-            if body.layers < needed:
+        against = None
+        if body.shape in ("plate", "piston"):
+            # the body itself, or (a scene rebuilt from copies of bodies)
+            # the body of the same name
+            found = ([i for i, b in enumerate(self.bodies) if b is body.against]
+                     or [i for i, b in enumerate(self.bodies)
+                         if b.name == body.against.name])
+            if not found:
                 raise ValueError(
-                    f"{body.role} {body.name!r}: layers={body.layers} give "
-                    f"{body.layers * spacing:g} m, thinner than the kernel "
-                    f"support {lib.sph_support_radius(self._handle):g} m "
-                    f"({needed} layers)")
-        lo, hi = body.bounds
-        check_scale(body.name, [b - a for a, b in zip(lo, hi)], body.dx,
-                    body.count)
+                    f"{body.role} {body.name!r} sits against body "
+                    f"{body.against.name!r}, which is not in this scene "
+                    "(add it first)")
+            against = found[0]
         material = self._material_index(body.material)
-        index = ctypes.c_int()
-        name = body.name.encode()
         what = f"body {body.name!r}"
-        if body.lo is not None:
-            dim = self.dimension
-            lo = _lib.as_doubles(list(body.lo) + [0.0] * (3 - dim), 3, "lo")
-            hi = _lib.as_doubles(list(body.hi) + [0.0] * (3 - dim), 3, "hi")
-            self._check(lib.sph_add_block(self._handle, name, material, lo, hi,
-                                          body.dx, ctypes.byref(index)), what)
-        else:
-            points = np.ascontiguousarray(body.points, dtype=np.float64)
-            self._check(lib.sph_add_particles(
-                self._handle, name, material, len(points),
-                points.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), None,
-                body.dx, ctypes.byref(index)), what)
+        try:
+            index = ctypes.c_int(body.add_to(self._handle, material, against))
+        except ValueError as error:
+            message = str(error)
+            raise ValueError(message if message.startswith(what)
+                             else f"{what}: {message}") from None
+        # the body's extent as the library laid it (platens: and layers)
+        extent = [(ctypes.c_double * 3)() for _ in range(3)]
+        self._check(lib.sph_body_extent(self._handle, index.value, *extent),
+                    what)
+        dim = self.dimension
+        lo, hi = tuple(extent[0][:dim]), tuple(extent[1][:dim])
+        info = _lib.BodyInfo()
+        self._check(lib.sph_body_info_get(self._handle, index.value,
+                                          ctypes.byref(info)), what)
+        check_scale(body.name, [b - a for a, b in zip(lo, hi)], body.dx,
+                    info.count)
+        if body.shape in ("plate", "piston"):
+            body.lo, body.hi = lo, hi
+            body.layers = int(round((hi[1] - lo[1]) / extent[2][1]))
         motion = body.motion
         kinds = {"free": _lib.MOTION_FREE, "fixed": _lib.MOTION_FIXED,
                  "velocity": _lib.MOTION_VELOCITY, "force": _lib.MOTION_FORCE}
@@ -264,7 +271,8 @@ class Scene:
                 _lib.as_doubles(vector, self.dimension, "Rotation.centre"),
                 _lib.as_doubles(motion.angular_velocity(self.dimension), 3,
                                 "Rotation.omega")), what)
-        elif not isinstance(motion, Free):
+        elif not isinstance(motion, Free) or body.shape in ("plate",
+                                                            "piston"):
             self._check(lib.sph_set_motion(
                 self._handle, index.value, kinds[motion.kind],
                 None if vector is None else

@@ -53,8 +53,8 @@ Bodies: ``name``, ``shape`` and the builder's own arguments (``lo``/``hi``
 for ``block``; ``x``/``y`` for ``rectangle``; ``x``/``y``/``z`` for
 ``box``; ``center``/``radius`` for ``disc``; ``center``/``r_inner``/
 ``r_outer`` for ``ring``; ``under`` or ``over`` (a body named before),
-``layers`` for ``plate`` and ``piston``), ``dx`` (a plate or piston
-defaults to its block's), ``material`` (a name from ``[materials]``, or an
+``layers`` for ``plate`` and ``piston``), ``dx`` (not for a plate or
+piston: it takes its body's lattice), ``material`` (a name from ``[materials]``, or an
 inline table of ``rho0`` and K/mu, E/nu or K/nu), ``velocity`` (initial,
 free bodies) and ``motion``: ``"free"``, ``"fixed"``, ``{velocity = [..]}``,
 ``{force = [..]}``, ``{pressure = "1MPa", direction = [0, -1]}`` or
@@ -85,8 +85,8 @@ _SHAPES = {
     "box": {"x", "y", "z", "dx"},
     "disc": {"center", "radius", "dx"},
     "ring": {"center", "r_inner", "r_outer", "dx"},
-    "plate": {"under", "layers", "dx"},
-    "piston": {"over", "layers", "dx"},
+    "plate": {"under", "layers"},
+    "piston": {"over", "layers"},
 }
 _COMMON = {"name", "shape", "material", "motion", "velocity"}
 
@@ -222,6 +222,9 @@ class SceneFile:
             kwargs["motion"] = self._motion(spec["motion"], where)
         if "velocity" in spec:
             kwargs["velocity"] = spec["velocity"]
+        if "dx" in spec and shape in ("plate", "piston"):
+            raise SceneFileError(f"{where}: a {shape} takes the lattice of the "
+                                 "body it sits against; remove dx")
         if "dx" in spec:
             kwargs["dx"] = length(spec["dx"], f"{where} dx")
         try:

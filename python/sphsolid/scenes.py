@@ -7,17 +7,30 @@ with damping so the static, height-graded stress is reached fast.
 """
 from __future__ import annotations
 
-from .build import layer_spacing, piston, plate, rectangle
+from .build import cylinder, layer_spacing, piston, plate, rectangle
 from .material import Material
 from .probes import PAPER_PROBES
 from .scene import Scene
 
-__all__ = ["paper_material", "uniaxial_piston", "gravity", "PAPER_PROBES",
-           "SPECIMEN_X", "SPECIMEN_Y", "PISTON_SPEED", "WAVE_VISCOSITY"]
+__all__ = ["paper_material", "uniaxial_piston", "uniaxial_cylinder",
+           "gravity", "PAPER_PROBES", "CYLINDER_PROBES", "SPECIMEN_X",
+           "SPECIMEN_Y", "CYLINDER_DIAMETER", "CYLINDER_LENGTH",
+           "PISTON_SPEED", "WAVE_VISCOSITY"]
 
 #: Specimen extent [m]: 86 mm wide, 140 mm high.
 SPECIMEN_X = (-0.043, 0.043)
 SPECIMEN_Y = (0.0, 0.140)
+#: The 3D laboratory specimen: a cylinder of diameter 54 mm and length
+#: 135 mm (2.5 diameters, ISRM / ASTM D7012), axis along y, base at y = 0.
+CYLINDER_DIAMETER = 0.054
+CYLINDER_LENGTH = 0.135
+#: Probes of the cylinder [m]: A at the centre and D three quarters up, on
+#: the axis; B and C a quarter diameter off it (the paper's A, B, C placed
+#: alike: B at 3/4 of the length, C at mid-length).
+CYLINDER_PROBES = {"A": (0.0, CYLINDER_LENGTH / 2, 0.0),
+                   "B": (CYLINDER_DIAMETER / 4, 0.75 * CYLINDER_LENGTH, 0.0),
+                   "C": (CYLINDER_DIAMETER / 4, CYLINDER_LENGTH / 2, 0.0),
+                   "D": (0.0, 0.75 * CYLINDER_LENGTH, 0.0)}
 #: Piston speed [m/s] (downward).
 PISTON_SPEED = 1.5e-3
 #: Monaghan artificial viscosity for wave problems (on by default): with no
@@ -77,6 +90,47 @@ def uniaxial_piston(dx: float = 1e-3, velocity: float = PISTON_SPEED,
     if viscosity is not None:
         effects["artificial_viscosity"] = dict(viscosity)
     return _walled(specimen, effects, layers, piston_speed=velocity)
+
+
+def uniaxial_cylinder(dx: float = 2e-3, velocity: float = PISTON_SPEED,
+                      layers: int | None = None,
+                      viscosity: dict | None = WAVE_VISCOSITY,
+                      material: Material | None = None,
+                      diameter: float = CYLINDER_DIAMETER,
+                      length: float = CYLINDER_LENGTH) -> Scene:
+    """The 3D uniaxial compression test of a laboratory cylinder.
+
+    A cylinder of the paper's material, diameter 54 mm and length 135 mm,
+    axis along y, between a fixed plate below and a piston moving down at
+    1.5 mm/s, both bonded (particle platens, as in the paper's 2D test).
+    Probes: :data:`CYLINDER_PROBES`.
+
+    Parameters
+    ----------
+    dx : float
+        Particle spacing [m]: 2 mm -> 577 particles per layer (of a 27 x 27
+        lattice), 68 layers, 39,236 specimen particles; 1 mm -> 309,420.
+    velocity : float
+        Piston speed downward [m/s].
+    layers : int, optional
+        Layers of plate and piston (default: the least that is 2h thick).
+    viscosity : dict or None
+        Artificial viscosity parameters (alpha, beta); None switches it off.
+    material : Material, optional
+        Default :func:`paper_material`.
+    diameter, length : float
+        [m].
+    """
+    material = material or paper_material()
+    specimen = cylinder(diameter / 2, length, dx, material, name="specimen")
+    effects = {}
+    if viscosity is not None:
+        effects["artificial_viscosity"] = dict(viscosity)
+    return Scene(3, [specimen,
+                     plate(under=specimen, layers=layers),
+                     piston(over=specimen, layers=layers,
+                            velocity=(0.0, -velocity, 0.0))],
+                 effects=effects)
 
 
 def gravity(dx: float = 1e-3, g: float = 9.81,

@@ -146,7 +146,8 @@ def test_pressure_piston_is_pushed_by_its_force(rock):
     specimen = build.rectangle((-0.043, 0.043), (0.0, 0.140), dx, rock)
     ram = build.piston(over=specimen, motion=build.Pressure(1e6))
     # Pressure resolves to the total force on the block's top face
-    width = ram.hi[0] - ram.lo[0]
+    lo, hi = ram.bounds
+    width = hi[0] - lo[0]
     assert ram.motion.vector(ram, 2) == [0.0, -1e6 * width]
     scene = sphsolid.Scene(2, [specimen, build.plate(under=specimen), ram])
     dyn = sphsolid.ImprovedEuler(scene)

@@ -1,0 +1,218 @@
+/* Specimen geometry: cylinder, prism and platens against any body. */
+#include "helpers.h"
+
+/* Lattice points of one cylinder cross-section, counted in integers: with
+ * n = round(2R/dx) and s = 2R/n, the point (i, k) sits at
+ * ((2i + 1 - n) s/2, (2k + 1 - n) s/2) from the axis and R = n s/2, so it is
+ * inside iff (2i+1-n)^2 + (2k+1-n)^2 < n^2. */
+static size_t disc_count(long n)
+{
+    size_t count = 0;
+    for (long i = 0; i < n; ++i)
+        for (long k = 0; k < n; ++k) {
+            const long a = 2 * i + 1 - n, b = 2 * k + 1 - n;
+            count += a * a + b * b < n * n;
+        }
+    return count;
+}
+
+static sph_sim *cylinder_sim(double radius, double length, double dx, int *mat, int *body)
+{
+    sph_sim *sim = new_sim(3);
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, mat));
+    const double base[3] = {0.001, 0.0, -0.002};
+    check(sim, sph_add_cylinder(sim, "specimen", *mat, base, radius, length, dx, body));
+    return sim;
+}
+
+static void cylinder_holds_the_lattice_points_inside_its_radius(void **state)
+{
+    (void)state;
+    const double R = 0.027, L = 0.135, dx = 0.003;
+    int mat, body;
+    sph_sim *sim = cylinder_sim(R, L, dx, &mat, &body);
+    const long n = lround(2 * R / dx), ny = lround(L / dx);
+    const size_t expected = disc_count(n) * (size_t)ny;
+    assert_int_equal(sph_particle_count(sim), expected);
+    const double *x = field_ptr(sim, SPH_FIELD_POSITION), *m = field_ptr(sim, SPH_FIELD_MASS);
+    const double s = 2 * R / n, sy = L / ny, cell = s * s * sy;
+    double centroid[3] = {0, 0, 0}, mass = 0;
+    for (size_t a = 0; a < expected; ++a) {
+        const double px = x[3 * a] - 0.001, pz = x[3 * a + 2] + 0.002;
+        assert_true(px * px + pz * pz < R * R);
+        assert_true(x[3 * a + 1] > 0 && x[3 * a + 1] < L);
+        for (int i = 0; i < 3; ++i)
+            centroid[i] += x[3 * a + i];
+        mass += m[a];
+        assert_close(m[a], PAPER_RHO0 * cell, 1e-12 * PAPER_RHO0 * cell, "particle mass");
+    }
+    /* the lattice is symmetric about the axis and the mid-plane */
+    assert_close(centroid[0] / expected, 0.001, 1e-12, "centroid x");
+    assert_close(centroid[1] / expected, 0.5 * L, 1e-12, "centroid y");
+    assert_close(centroid[2] / expected, -0.002, 1e-12, "centroid z");
+    /* the cells cut by the surface lie within sqrt(2) s of it */
+    const double volume = M_PI * R * R * L;
+    assert_true(fabs(mass / PAPER_RHO0 - volume) <= 2 * M_PI * R * sqrt(2.0) * s * L);
+    double lo[3], hi[3], step[3];
+    check(sim, sph_body_extent(sim, body, lo, hi, step));
+    assert_close(lo[0], 0.001 - R, 1e-15, "extent lo x");
+    assert_close(hi[1], L, 1e-15, "extent hi y");
+    assert_close(step[1], sy, 1e-15, "step y");
+    sph_destroy(sim);
+}
+
+/* The plate lies under the cylinder's base with the cylinder's columns,
+ * ceil(2h/dy) layers, its top layer one dy below the bottom one; the piston
+ * mirrors it above and moves down. */
+static void platens_sit_against_a_cylinder_at_least_one_support_thick(void **state)
+{
+    (void)state;
+    const double R = 0.01, L = 0.03, dx = 0.002, speed = 1.5e-3;
+    int mat, body, plate, piston;
+    sph_sim *sim = cylinder_sim(R, L, dx, &mat, &body);
+    check(sim, sph_add_plate(sim, "plate", -1, body, 0, &plate));
+    check(sim, sph_add_piston(sim, "piston", -1, body, 0, speed, &piston));
+    const double h = sph_smoothing_length(sim), dy = L / lround(L / dx);
+    const long layers = (long)ceil(2 * h / dy - 1e-9);
+    const long n = lround(2 * R / dx);
+    sph_body_info sp, pl, pi;
+    check(sim, sph_body_info_get(sim, body, &sp));
+    check(sim, sph_body_info_get(sim, plate, &pl));
+    check(sim, sph_body_info_get(sim, piston, &pi));
+    assert_int_equal(pl.count, (size_t)(n * n * layers));
+    assert_int_equal(pi.count, pl.count);
+    assert_int_equal(pl.motion, SPH_MOTION_FIXED);
+    assert_int_equal(pi.motion, SPH_MOTION_VELOCITY);
+    assert_true(layers * dy >= 2 * h);
+    const double *x = field_ptr(sim, SPH_FIELD_POSITION), *v = field_ptr(sim, SPH_FIELD_VELOCITY);
+    double plate_top = -INFINITY, piston_bottom = INFINITY, plate_bottom = INFINITY;
+    for (size_t a = pl.first; a < pl.first + pl.count; ++a) {
+        plate_top = fmax(plate_top, x[3 * a + 1]);
+        plate_bottom = fmin(plate_bottom, x[3 * a + 1]);
+    }
+    for (size_t a = pi.first; a < pi.first + pi.count; ++a) {
+        piston_bottom = fmin(piston_bottom, x[3 * a + 1]);
+        assert_close(v[3 * a + 1], -speed, 0, "piston velocity");
+    }
+    assert_close(plate_top, -0.5 * dy, 1e-15, "plate's top layer");
+    assert_close(plate_bottom, -(layers - 0.5) * dy, 1e-15, "plate's bottom layer");
+    assert_close(piston_bottom, L + 0.5 * dy, 1e-15, "piston's bottom layer");
+    /* every column of the cylinder's bottom layer has a plate particle
+     * straight under it */
+    for (size_t a = sp.first; a < sp.first + sp.count; ++a) {
+        if (x[3 * a + 1] > dy)
+            continue;
+        int found = 0;
+        for (size_t b = pl.first; b < pl.first + pl.count && !found; ++b)
+            found = fabs(x[3 * b] - x[3 * a]) < 1e-12 && fabs(x[3 * b + 2] - x[3 * a + 2]) < 1e-12 &&
+                    fabs(x[3 * b + 1] - plate_top) < 1e-12;
+        assert_true(found);
+    }
+    sph_destroy(sim);
+}
+
+static void a_platen_thinner_than_the_support_is_refused(void **state)
+{
+    (void)state;
+    int mat, body, plate;
+    sph_sim *sim = cylinder_sim(0.01, 0.03, 0.002, &mat, &body);
+    assert_int_equal(sph_add_plate(sim, "plate", -1, body, 2, &plate), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "layers=2"));
+    assert_int_equal(sph_add_piston(sim, "piston", -1, 7, 0, 1.0, &plate), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "body=7"));
+    assert_int_equal(sph_body_count(sim), 1);
+    sph_destroy(sim);
+}
+
+/* A 2D disc given as points: the plate spans its width and touches it. */
+static void plate_sits_under_a_disc_in_2d(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int mat, disc, plate;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double R = 0.01, dx = 0.001;
+    const long n = lround(2 * R / dx);
+    double *pts = malloc((size_t)(n * n) * 2 * sizeof *pts);
+    size_t count = 0;
+    for (long k = 0; k < n; ++k)
+        for (long i = 0; i < n; ++i) {
+            const double px = -R + (i + 0.5) * dx, py = -R + (k + 0.5) * dx;
+            if (px * px + py * py < R * R) {
+                pts[2 * count] = px;
+                pts[2 * count + 1] = py;
+                ++count;
+            }
+        }
+    check(sim, sph_add_particles(sim, "disc", mat, count, pts, NULL, dx, &disc));
+    free(pts);
+    check(sim, sph_add_plate(sim, "plate", -1, disc, 0, &plate));
+    sph_body_info pl;
+    check(sim, sph_body_info_get(sim, plate, &pl));
+    const double *x = field_ptr(sim, SPH_FIELD_POSITION);
+    double top = -INFINITY, xmin = INFINITY, xmax = -INFINITY;
+    for (size_t a = pl.first; a < pl.first + pl.count; ++a) {
+        top = fmax(top, x[2 * a + 1]);
+        xmin = fmin(xmin, x[2 * a]);
+        xmax = fmax(xmax, x[2 * a]);
+    }
+    /* the disc's lowest particle is at -R + dx/2: one dx above the plate */
+    assert_close(top, -R - 0.5 * dx, 1e-15, "plate's top layer");
+    assert_close(xmin, -R + 0.5 * dx, 1e-15, "plate's first column");
+    assert_close(xmax, R - 0.5 * dx, 1e-15, "plate's last column");
+    assert_int_equal(pl.count, (size_t)(n * 3));
+    sph_destroy(sim);
+}
+
+static void prism_is_a_block_standing_on_its_base(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(3);
+    int mat, body;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double base[3] = {0.0, 0.01, 0.0};
+    check(sim, sph_add_prism(sim, "prism", mat, base, 0.01, 0.006, 0.02, 0.001, &body));
+    assert_int_equal(sph_particle_count(sim), 10 * 6 * 20);
+    double lo[3], hi[3];
+    check(sim, sph_body_extent(sim, body, lo, hi, NULL));
+    assert_close(lo[0], -0.005, 1e-15, "prism lo x");
+    assert_close(lo[1], 0.01, 1e-15, "prism lo y");
+    assert_close(hi[1], 0.03, 1e-15, "prism hi y");
+    assert_close(hi[2], 0.003, 1e-15, "prism hi z");
+    sph_destroy(sim);
+}
+
+static void bad_geometry_is_refused_naming_the_value(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int mat, body;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double base[3] = {0, 0, 0};
+    assert_int_equal(sph_add_cylinder(sim, "c", mat, base, 0.01, 0.02, 0.001, &body), SPH_ERR_STATE);
+    assert_non_null(strstr(sph_errmsg(sim), "3D"));
+    sph_destroy(sim);
+    sim = new_sim(3);
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    assert_int_equal(sph_add_cylinder(sim, "c", mat, base, -0.01, 0.02, 0.001, &body), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "radius=-0.01"));
+    assert_int_equal(sph_add_cylinder(sim, "c", mat, base, 0.01, 0.02, 0.05, &body), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "dx=0.05"));
+    assert_int_equal(sph_add_prism(sim, "p", mat, base, 0.01, 0.0, 0.02, 0.001, &body), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "depth=0"));
+    assert_int_equal(sph_body_count(sim), 0);
+    sph_destroy(sim);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(cylinder_holds_the_lattice_points_inside_its_radius),
+        cmocka_unit_test(platens_sit_against_a_cylinder_at_least_one_support_thick),
+        cmocka_unit_test(a_platen_thinner_than_the_support_is_refused),
+        cmocka_unit_test(plate_sits_under_a_disc_in_2d),
+        cmocka_unit_test(prism_is_a_block_standing_on_its_base),
+        cmocka_unit_test(bad_geometry_is_refused_naming_the_value),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
