@@ -38,7 +38,7 @@ import cylinder_3d_runs as runs  # noqa: E402
 #: [s]; the short runs for the axis arrival (every step sampled) and the
 #: periodic column; the FE meshes (elements across the quarter disc).
 FULL = {"dxs": (6e-3, 4e-3, 3e-3), "until": 5e-3, "window": (2e-3, 5e-3),
-        "corrected_dxs": (6e-3, 4e-3),
+        "corrected_dxs": (6e-3, 4e-3, 3e-3),
         "arrival_dxs": (2e-3, 1.5e-3, 1e-3), "arrival_until": 3.2e-5,
         "column_dxs": (2e-3, 1.5e-3, 1e-3), "fe_levels": (2, 4, 8)}
 QUICK = {"dxs": (9e-3, 6e-3, 4.5e-3), "until": 2e-3, "window": (1e-3, 2e-3),
