@@ -339,15 +339,19 @@ static int series_append(io *c, hid_t loc, const char *path, long step, double t
     return c->failed ? -1 : 0;
 }
 
-/* File access: HDF5 1.8 format (checksummed metadata; readable by HDF5 1.8
- * and later and by h5py), and closing the file closes everything in it. */
+/* File access: output files in the HDF5 1.8 format (checksummed metadata;
+ * readable by HDF5 1.8 and later and by h5py); checkpoints built in memory
+ * (no disk access by HDF5: the image is written by write_image) in the
+ * oldest format that holds them, whose in-memory image HDF5 1.10 hands out
+ * intact.  Closing a file closes everything in it. */
 static hid_t file_access(io *c, int in_memory)
 {
     hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
     if (ok(c, fapl, "file access properties") &&
-        ok(c, H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18), "file format") &&
+        ok(c, H5Pset_libver_bounds(fapl, in_memory ? H5F_LIBVER_EARLIEST : H5F_LIBVER_V18, H5F_LIBVER_V18),
+           "file format") &&
         ok(c, H5Pset_fclose_degree(fapl, H5F_CLOSE_STRONG), "file access properties") &&
-        (!in_memory || ok(c, H5Pset_fapl_core(fapl, (size_t)1 << 16, 1), "in-memory file")))
+        (!in_memory || ok(c, H5Pset_fapl_core(fapl, (size_t)1 << 16, 0), "in-memory file")))
         return fapl;
     close_id(fapl);
     return -1;
@@ -655,11 +659,6 @@ static int output_release(io *c, sph_sim *sim)
     if (o->file >= 0 && H5Fclose(o->file) < 0) {
         fail_at(c, "the file (close)", 0);
         err = -1;
-        /* the identifier may survive a failed close: release it now, not
-         * inside HDF5's atexit handler */
-        if (H5Iis_valid(o->file) > 0)
-            while (H5Idec_ref(o->file) > 0)
-                ;
     }
     free(o->path);
     free(o);
@@ -1300,6 +1299,29 @@ static char *temporary_beside(const char *path)
     return tmp;
 }
 
+/* Writes the whole image to the (empty) temporary file; -1 with errno. */
+static int write_image(const char *tmp, const void *data, size_t size)
+{
+    const int fd = open(tmp, O_WRONLY | O_TRUNC);
+    if (fd < 0)
+        return -1;
+    const char *p = data;
+    while (size > 0) {
+        const ssize_t w = write(fd, p, size);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0) {
+            const int saved = w < 0 ? errno : EIO;
+            close(fd);
+            errno = saved;
+            return -1;
+        }
+        p += w;
+        size -= (size_t)w;
+    }
+    return close(fd);
+}
+
 /* Syncs the finished temporary file and renames it over `path`, then syncs
  * the directory (best effort) so the rename survives a power cut. */
 static int sync_and_rename(const char *tmp, const char *path, const char **step)
@@ -1357,8 +1379,10 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
                         path, strerror(errno));
     quiet q;
     quiet_begin(&q);
-    /* The file is built in memory (HDF5's core driver) and written to the
-     * temporary name in one piece when it is closed; every step is checked. */
+    /* The file is built in memory (HDF5's core driver, no disk access), its
+     * image written to the temporary name with checked plain writes, synced
+     * and renamed: a failing disk never reaches HDF5, which would otherwise
+     * be left with a file it cannot close. */
     io c = {0};
     hid_t fapl = file_access(&c, 1);
     hid_t f = -1;
@@ -1378,6 +1402,12 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
     attr_double(&c, g, "dt", &sim->dt, 1);
     attr_long(&c, g, "dt_set", sim->dt_set);
     attr_string(&c, g, "integrator", sim_integrator(sim)->name);
+    {
+        /* the clock again, checksummed (attributes of this format are not) */
+        const double clock[4] = {(double)sim->step, sim->t, sim->dt, (double)sim->dt_set};
+        const hsize_t four = 4;
+        write_dataset(&c, g, "clock", H5T_NATIVE_DOUBLE, 1, &four, clock);
+    }
     const hsize_t n = sim->n;
     hsize_t vec[2] = {n, (hsize_t)sim->dim}, ten[2] = {n, (hsize_t)sim->ncomp};
     write_dataset(&c, g, "position", H5T_NATIVE_DOUBLE, 2, vec, sim->x);
@@ -1409,23 +1439,33 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
         write_dataset(&c, g, "rate_deviatoric_stress", H5T_NATIVE_DOUBLE, 2, ten, sim->dS_dt);
     }
     group_close(&c, g, "checkpoint");
-    if (f >= 0 && H5Fclose(f) < 0) {
-        fail_at(&c, "the file (close)", 0);
-        if (H5Iis_valid(f) > 0)
-            while (H5Idec_ref(f) > 0)
-                ;
+    void *image = NULL;
+    ssize_t size = -1;
+    if (!c.failed && ok(&c, H5Fflush(f, H5F_SCOPE_GLOBAL), "the in-memory image") &&
+        ok(&c, size = H5Fget_file_image(f, NULL, 0), "the in-memory image")) {
+        image = malloc((size_t)size);
+        if (!image) {
+            c.failed = 1;
+            snprintf(c.what, sizeof c.what, "the in-memory image");
+            snprintf(c.cause, sizeof c.cause, "out of memory (%zd bytes)", size);
+        } else {
+            ok(&c, H5Fget_file_image(f, image, (size_t)size), "the in-memory image");
+        }
     }
+    if (f >= 0 && H5Fclose(f) < 0)
+        fail_at(&c, "the in-memory image (close)", 0);
     quiet_end(&q);
-    const char *step = "";
+    const char *step = "write";
     sph_status st = SPH_OK;
     if (c.failed)
-        st = sph_fail(sim, SPH_ERR_IO, "cannot write checkpoint '%s': %s (writing %s to '%s'); the previous file is unchanged",
-                      path, c.cause, c.what, tmp);
-    else if (sync_and_rename(tmp, path, &step))
+        st = sph_fail(sim, SPH_ERR_IO, "cannot write checkpoint '%s': %s (building %s); the previous file is unchanged",
+                      path, c.cause, c.what);
+    else if (write_image(tmp, image, (size_t)size) || sync_and_rename(tmp, path, &step))
         st = sph_fail(sim, SPH_ERR_IO, "cannot write checkpoint '%s': %s (%s '%s'); the previous file is unchanged",
                       path, strerror(errno), step, tmp);
     if (st)
         unlink(tmp);
+    free(image);
     free(tmp);
     return st ? st : sph_ok(sim);
 }
@@ -1481,6 +1521,21 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
     if (!scene_matches(sim, f, path)) {
         st = strstr(sph_errmsg(sim), "does not match") ? SPH_ERR_ARGUMENT : SPH_ERR_IO;
         goto done;
+    }
+    {
+        /* the checksummed copy of the clock decides */
+        io cc = {0};
+        double clock[4];
+        if (read_doubles(&cc, g, "clock", -1, 4, clock)) {
+            st = sph_fail(sim, SPH_ERR_IO, "cannot read checkpoint '%s': %s (reading %s)", path, cc.cause, cc.what);
+            goto done;
+        }
+        if (clock[0] != (double)step || clock[1] != t || clock[2] != dt || clock[3] != (double)dt_set) {
+            st = sph_fail(sim, SPH_ERR_IO,
+                          "checkpoint '%s' is damaged: its clock attributes (step %ld, t %g s, dt %g s) differ from the checksummed clock (step %.0f, t %g s, dt %g s)",
+                          path, step, t, dt, clock[0], clock[1], clock[2]);
+            goto done;
+        }
     }
     if (!isfinite(t) || !(dt > 0.0) || !isfinite(dt) || step < 0) {
         st = sph_fail(sim, SPH_ERR_IO, "checkpoint '%s' is damaged: time %g, dt %g, step %ld", path, t, dt, step);
