@@ -418,13 +418,34 @@ class ErrorModel:
     finest: float
     max_refinement: float = 4.0
 
+    @property
+    def data_range(self) -> float:
+        """Sum of the differences between consecutive levels: a bound of
+        the largest difference between any two levels (Eça & Hoekstra's
+        data range Delta_M)."""
+        return float(sum(self.differences))
+
+    @property
+    def range_bound(self) -> bool:
+        """True when the observed order is below 0.5: the power law is no
+        guide and, at the calibrated spacings and below, the error is
+        bounded by 3 Delta_M instead (Eça & Hoekstra 2014)."""
+        return self.order < 0.5
+
     def predict(self, dx: float) -> float:
         """Central prediction of the error at ``dx``."""
-        return self.coefficient * dx ** self.order + self.floor
+        power = self.coefficient * dx ** self.order
+        if self.range_bound and dx <= self.finest * (1 + 1e-9):
+            power = min(power, self.data_range)
+        return power + self.floor
 
     def upper(self, dx: float) -> float:
-        """Conservative prediction: safety x power law + floor."""
-        return self.safety * self.coefficient * dx ** self.order + self.floor
+        """Conservative prediction: safety x power law + floor, or
+        3 Delta_M + floor where that bound applies and is smaller."""
+        power = self.safety * self.coefficient * dx ** self.order
+        if self.range_bound and dx <= self.finest * (1 + 1e-9):
+            power = min(power, SAFETY_POOR * self.data_range)
+        return power + self.floor
 
     def spacing_for(self, error: float) -> float | None:
         """Largest dx whose :meth:`upper` is within ``error`` (None if the
@@ -432,7 +453,10 @@ class ErrorModel:
         room = error - self.floor
         if room <= 0:
             return None
-        return (room / (self.safety * self.coefficient)) ** (1.0 / self.order)
+        dx = (room / (self.safety * self.coefficient)) ** (1.0 / self.order)
+        if self.range_bound and SAFETY_POOR * self.data_range <= room:
+            dx = max(dx, self.finest)
+        return dx
 
     @property
     def smallest_dx(self) -> float:
@@ -441,6 +465,8 @@ class ErrorModel:
     def to_dict(self) -> dict:
         return {"order": self.order, "coefficient": self.coefficient,
                 "safety": self.safety, "floor": self.floor,
+                "data_range": self.data_range,
+                "range_bound": self.range_bound,
                 "log_residual": self.residual,
                 "levels": [list(level) for level in self.levels],
                 "differences": list(self.differences)}

@@ -72,6 +72,18 @@ def test_error_model_recovers_a_known_order_from_a_synthetic_series(order):
                             else planner.SAFETY_POOR)
 
 
+def test_error_model_without_convergence_is_bounded_by_the_data_range():
+    # differences that do not shrink (a noise floor, or not yet
+    # asymptotic): no power law to extrapolate; at the calibrated spacings
+    # the error is bounded by 3 x the data range (Eca & Hoekstra 2014)
+    spacings = [8e-3, 6e-3, 4e-3, 3e-3]
+    model = planner.fit_error_model(spacings, [0.004, 0.005, 0.004])
+    assert model.order < 0.5 and model.safety == planner.SAFETY_POOR
+    assert model.upper(3e-3) == pytest.approx(3 * 0.013)
+    assert model.spacing_for(0.05) == pytest.approx(3e-3)
+    assert model.spacing_for(0.03) < 3e-3      # needs the power law
+
+
 def test_error_model_rejects_too_few_or_non_decreasing_levels():
     with pytest.raises(ValueError, match="3 or more"):
         planner.fit_order([2e-3, 1e-3], [0.1])
