@@ -374,7 +374,8 @@ def summary_text(results, titles) -> str:
             f"{len(planned)} | {len(refused)} ({justified}) | {wall} of "
             f"{len(planned)} | {cost} of {len(planned)} | "
             + (f"{inside} of {len(cases)} ({100 * inside / len(cases):.0f} %)"
-               if cases else "not run") + " |")
+               if cases else "not run (section means are not point "
+               "probes)" if name == "gravity" else "not run") + " |")
     return "\n".join(lines) + "\n"
 
 
