@@ -1429,6 +1429,13 @@ def _refusal(modelled, error, max_seconds, scene_factory, until):
 
 
 # ------------------------------------------------ the project's scenes
+def _layers(smoothing_ratio: float) -> int:
+    """Plate and piston layers: at least the kernel support 2h thick,
+    with 1 % to spare for a lattice spacing round(L/dx) makes a little
+    wider than dx (h follows the lattice)."""
+    return int(math.ceil(2 * smoothing_ratio * 1.01))
+
+
 def piston_factory(dx: float, smoothing_ratio: float = 1.2,
                    kernel: str = "cubic_spline",
                    speed: float | None = None):
@@ -1440,7 +1447,7 @@ def piston_factory(dx: float, smoothing_ratio: float = 1.2,
     rock = scenes.paper_material()
     specimen = build.rectangle(scenes.SPECIMEN_X, scenes.SPECIMEN_Y, dx, rock,
                                "specimen")
-    layers = int(math.ceil(2 * smoothing_ratio - 1e-9))
+    layers = _layers(smoothing_ratio)
     v = scenes.PISTON_SPEED if speed is None else speed
     return Scene(2, [specimen, build.plate(under=specimen, layers=layers),
                      build.piston(over=specimen, layers=layers,
@@ -1457,7 +1464,7 @@ def gravity_factory(dx: float, smoothing_ratio: float = 1.2,
     rock = scenes.paper_material()
     specimen = build.rectangle(scenes.SPECIMEN_X, scenes.SPECIMEN_Y, dx, rock,
                                "specimen")
-    layers = int(math.ceil(2 * smoothing_ratio - 1e-9))
+    layers = _layers(smoothing_ratio)
     return Scene(2, [specimen, build.plate(under=specimen, layers=layers)],
                  effects={"gravity": {"gx": 0.0, "gy": -float(g)}},
                  smoothing_ratio=smoothing_ratio, kernel=kernel)
@@ -1478,7 +1485,7 @@ def strip_factory(dx: float, smoothing_ratio: float = 1.2,
     width = STRIP_WIDTH_DX * dx
     strip = build.rectangle((-width / 2, width / 2), (0.0, STRIP_HEIGHT), dx,
                             rock, name="strip")
-    layers = int(math.ceil(2 * smoothing_ratio - 1e-9))
+    layers = _layers(smoothing_ratio)
     v = scenes.PISTON_SPEED if speed is None else speed
     return Scene(2, [strip, build.plate(under=strip, layers=layers),
                      build.piston(over=strip, layers=layers,
