@@ -18,7 +18,7 @@ Each experiment switches one error source off or changes it alone:
   delay per passage separates a speed error (grows with the distance
   travelled) from an end error (grows with the number of reflections);
 - the paper's specimen against the finite-element reference of
-  ``docs/accuracy/fe_piston_<size>mm.npz`` (validation/accuracy.py).
+  ``docs/accuracy/fe_piston_1mm.npz`` (validation/accuracy.py keeps it).
 
 Metric: both series smoothed with a 1 us Gaussian (sphsolid.metrics),
 largest deviation over the reference's peak and RMS deviation over the
@@ -169,7 +169,7 @@ def main(argv=None):
     parser.add_argument("--out", type=Path, default=Path("docs/validation"))
     parser.add_argument("--dx", type=float, nargs="+", default=[2e-3, 1e-3])
     parser.add_argument("--fe", type=Path,
-                        default=Path("docs/accuracy/fe_piston_2mm.npz"))
+                        default=Path("docs/accuracy/fe_piston_1mm.npz"))
     parser.add_argument("--specimen", action="store_true",
                         help="also the full specimen against the FE reference")
     args = parser.parse_args(argv)
