@@ -14,7 +14,7 @@ for tool in clang-format ruff; do
     [ -x "$bin/$tool" ] || { echo "format: $bin/$tool missing (run scripts/setup.sh)" >&2; exit 1; }
 done
 
-mapfile -t c_files < <(git ls-files '*.c' '*.h' '*.cpp' '*.h.in')
+mapfile -t c_files < <(git ls-files '*.c' '*.h' '*.cpp')
 mapfile -t py_files < <(git ls-files '*.py')
 
 if [ "${1:-}" = "--fix" ]; then
