@@ -19,14 +19,12 @@
 #include "bench_timing.h"
 #include "sphsolid.h"
 
-
-
 typedef struct bench_case {
     const char *label;
-    const char *effect;     /* NULL: none */
+    const char *effect; /* NULL: none */
     const char *parameters;
-    int probes;             /* sample A, B, C after every step */
-    int output;             /* HDF5 snapshot every 10 steps */
+    int probes; /* sample A, B, C after every step */
+    int output; /* HDF5 snapshot every 10 steps */
 } bench_case;
 
 static const bench_case CASES[] = {
@@ -48,8 +46,8 @@ static void fail(sph_sim *sim, const char *what)
 }
 
 /* Seconds per step of one case, or a negative value if unsupported. */
-static double per_step(const bench_case *c, double dx, long steps, int threads,
-                       const char *h5, size_t *particles)
+static double per_step(const bench_case *c, double dx, long steps, int threads, const char *h5,
+                       size_t *particles)
 {
     sph_sim *sim = NULL;
     sph_paper_scene paper;
@@ -60,7 +58,7 @@ static double per_step(const bench_case *c, double dx, long steps, int threads,
         fail(sim, c->label);
     if (c->output && sph_output_open(sim, h5, 10, 0)) {
         sph_destroy(sim);
-        return -1.0;   /* library built without HDF5 */
+        return -1.0; /* library built without HDF5 */
     }
     if (sph_run(sim, 1))
         fail(sim, "warm-up");
@@ -114,8 +112,8 @@ int main(int argc, char **argv)
     size_t n = 0;
     double base = 0.0;
     printf("libsphsolid %s, paper piston scene, dx = %g mm, %d thread%s, %ld steps, "
-           "median of %d\n\n", sph_version(), dx * 1e3, threads, threads > 1 ? "s" : "",
-           steps, repeats);
+           "median of %d\n\n",
+           sph_version(), dx * 1e3, threads, threads > 1 ? "s" : "", steps, repeats);
     printf("| effect alone | ms per step | relative to none |\n|---|---|---|\n");
     for (size_t k = 0; k < sizeof CASES / sizeof CASES[0]; ++k) {
         for (int r = 0; r < repeats; ++r)

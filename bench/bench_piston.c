@@ -76,9 +76,6 @@ static void print_memory(sph_sim *sim, const char *what)
         printf("    %-24s %7.1f bytes/particle\n", names[k], (double)bytes[k] / n);
 }
 
-
-
-
 static sph_sim *scene(double dx, int threads)
 {
     sph_sim *sim = NULL;
@@ -140,7 +137,8 @@ int main(int argc, char **argv)
     double pairs = 0.0;
     size_t n = 0, bytes = 0;
     printf("libsphsolid %s, paper piston scene, Improved Euler (2 rate evaluations/step), "
-           "artificial viscosity alpha = 1; medians of %d runs\n\n", sph_version(), repeats);
+           "artificial viscosity alpha = 1; medians of %d runs\n\n",
+           sph_version(), repeats);
 
     const long steps = quick ? 50 : 200;
     printf("(a) throughput, %ld steps at dx = 1 mm (wall; per CPU second of the process)\n", steps);
@@ -152,12 +150,12 @@ int main(int argc, char **argv)
         rate[threads] = (double)n * (double)steps / m;
         printf("  %d thread%s: %.3f s, %.3g particle-steps/s, %.3g pair interactions/s; "
                "CPU %.3f s: %.3g particle-steps/CPU-s, %.3g pair interactions/CPU-s\n",
-               threads, threads > 1 ? "s" : " ", m, rate[threads],
-               2.0 * pairs * (double)steps / m, mc, (double)n * (double)steps / mc,
-               2.0 * pairs * (double)steps / mc);
+               threads, threads > 1 ? "s" : " ", m, rate[threads], 2.0 * pairs * (double)steps / m,
+               mc, (double)n * (double)steps / mc, 2.0 * pairs * (double)steps / mc);
     }
-    printf("  (%zu particles, %.0f interacting pairs, %.2f per particle; 2 rate evaluations/step)\n",
-           n, pairs, pairs / (double)n);
+    printf(
+        "  (%zu particles, %.0f interacting pairs, %.2f per particle; 2 rate evaluations/step)\n",
+        n, pairs, pairs / (double)n);
     printf("  speed-up on 2 threads: %.2fx\n\n", rate[2] / rate[1]);
 
     printf("(b) time to solution, 0.3 ms of simulated time\n");

@@ -21,18 +21,22 @@
 #include "bench_timing.h"
 #include "sphsolid.h"
 
-
 int main(int argc, char **argv)
 {
     double dx = 2e-3, until = 100e-3, alphas[32];
     int n_alpha = 0, threads = 0;
     for (int i = 1; i + 1 < argc; i += 2) {
-        if (!strcmp(argv[i], "--dx")) dx = atof(argv[i + 1]) * 1e-3;
-        else if (!strcmp(argv[i], "--until")) until = atof(argv[i + 1]) * 1e-3;
-        else if (!strcmp(argv[i], "--alpha") && n_alpha < 32) alphas[n_alpha++] = atof(argv[i + 1]);
-        else if (!strcmp(argv[i], "--threads")) threads = atoi(argv[i + 1]);
+        if (!strcmp(argv[i], "--dx"))
+            dx = atof(argv[i + 1]) * 1e-3;
+        else if (!strcmp(argv[i], "--until"))
+            until = atof(argv[i + 1]) * 1e-3;
+        else if (!strcmp(argv[i], "--alpha") && n_alpha < 32)
+            alphas[n_alpha++] = atof(argv[i + 1]);
+        else if (!strcmp(argv[i], "--threads"))
+            threads = atoi(argv[i + 1]);
         else {
-            fprintf(stderr, "usage: study_dissipation --dx MM --until MS --alpha A [...] [--threads N]\n");
+            fprintf(stderr,
+                    "usage: study_dissipation --dx MM --until MS --alpha A [...] [--threads N]\n");
             return 2;
         }
     }

@@ -127,5 +127,5 @@ void ComputeSPHSolidAtom::compute_peratom()
 double ComputeSPHSolidAtom::memory_usage()
 {
   return (double) nmax * (quantity == STRESS ? ncomp : 1) * sizeof(double) +
-      (double) material.capacity() * sizeof(int) + (double) mass.capacity() * sizeof(double);
+         (double) material.capacity() * sizeof(int) + (double) mass.capacity() * sizeof(double);
 }

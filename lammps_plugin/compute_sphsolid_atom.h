@@ -46,8 +46,8 @@ class ComputeSPHSolidAtom : public Compute {
   Quantity quantity;
   int dim, ncomp, nmax;
   PairSPHSolid *pair;
-  double *values;      // per-atom vector
-  double **columns;    // per-atom array (stress)
+  double *values;               // per-atom vector
+  double **columns;             // per-atom array (stress)
   std::vector<int> material;    // library material of each owned atom
   std::vector<double> mass;     // mass of each owned atom (energy)
 };

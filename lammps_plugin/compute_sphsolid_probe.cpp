@@ -34,8 +34,9 @@ ComputeSPHSolidProbe::ComputeSPHSolidProbe(LAMMPS *lmp, int narg, char **arg) :
     narg -= 2;
   }
   if (narg != 3 + dim)
-    error->all(FLERR, "compute sphsolid/probe needs the point's {} coordinates in m, e.g. "
-                      "'compute A all sphsolid/probe 0.0 0.07{}' [outside error|nan]; got {} values",
+    error->all(FLERR,
+               "compute sphsolid/probe needs the point's {} coordinates in m, e.g. "
+               "'compute A all sphsolid/probe 0.0 0.07{}' [outside error|nan]; got {} values",
                dim, dim == 3 ? " 0.0" : "", narg - 3);
   point[0] = point[1] = point[2] = 0.0;
   for (int d = 0; d < dim; d++) point[d] = utils::numeric(FLERR, arg[3 + d], false, lmp);

@@ -13,8 +13,9 @@ FixSPHSolidForce::FixSPHSolidForce(LAMMPS *lmp, int narg, char **arg) : Fix(lmp,
 {
   const int dim = domain->dimension;
   if (narg != 3 + dim)
-    error->all(FLERR, "fix sphsolid/force needs the applied total force's {} components, e.g. "
-                      "'fix load piston sphsolid/force 0.0 -86000.0{}'; got {} values",
+    error->all(FLERR,
+               "fix sphsolid/force needs the applied total force's {} components, e.g. "
+               "'fix load piston sphsolid/force 0.0 -86000.0{}'; got {} values",
                dim, dim == 3 ? " 0.0" : "", narg - 3);
   force_applied[0] = force_applied[1] = force_applied[2] = 0.0;
   // utils::numeric refuses nan and out-of-range numbers, naming them

@@ -118,12 +118,14 @@ void FixSPHSolidHeun::init_rigid_bodies()
     const bigint mine[2] = {outside, shared};
     MPI_Allreduce(mine, all, 2, MPI_LMP_BIGINT, MPI_SUM, world);
     if (all[0] > 0)
-      error->all(FLERR, "fix {} (sphsolid/force): {} atoms of its group are not in group {} of "
-                        "fix {}, which integrates the body's motion",
+      error->all(FLERR,
+                 "fix {} (sphsolid/force): {} atoms of its group are not in group {} of "
+                 "fix {}, which integrates the body's motion",
                  rigid[k]->id, all[0], group->names[igroup], style);
     if (all[1] > 0)
-      error->all(FLERR, "fix {} (sphsolid/force): {} atoms of its group belong to another "
-                        "fix sphsolid/force too",
+      error->all(FLERR,
+                 "fix {} (sphsolid/force): {} atoms of its group belong to another "
+                 "fix sphsolid/force too",
                  rigid[k]->id, all[1]);
   }
 }
@@ -184,7 +186,7 @@ double FixSPHSolidHeun::default_factor()
   sph_sim *s = nullptr;
   sph_integrator_info info;
   const bool ok = sph_create(domain->dimension, &s) == SPH_OK &&
-      sph_integrator_info_get(s, integrator, &info) == SPH_OK;
+                  sph_integrator_info_get(s, integrator, &info) == SPH_OK;
   sph_destroy(s);
   return ok ? info.default_factor : 0.0;
 }
@@ -245,8 +247,9 @@ void FixSPHSolidHeun::pre_exchange()
 {
   if (stage_atoms < 0 || stage_in_rows) return;
   if (atom->nlocal != stage_atoms)
-    error->one(FLERR, "fix sphsolid/heun: {} atoms before re-neighbouring, {} after the predictor "
-                      "(atoms deleted or created inside a step are not supported)",
+    error->one(FLERR,
+               "fix sphsolid/heun: {} atoms before re-neighbouring, {} after the predictor "
+               "(atoms deleted or created inside a step are not supported)",
                atom->nlocal, stage_atoms);
   copy_stage(true);
   stage_in_rows = true;
@@ -311,8 +314,11 @@ void FixSPHSolidHeun::final_integrate()
       &rates, integrate_motion.data(), pair->atom_materials(), stage.data(), &bad);
   if (status == SPH_ERR_NONFINITE) check_finite();    // names the atom by its ID
   if (status == SPH_ERR_UNSTABLE)
-    error->one(FLERR, "fix sphsolid/heun: atom {} at step {}: {} (libsphsolid watchdog: speed above c_p or density outside [0.5, 2] rho0; {})",
-               atom->tag[bad], update->ntimestep, sph_errmsg(pair->handle()), pair->step_advice(integrator));
+    error->one(FLERR,
+               "fix sphsolid/heun: atom {} at step {}: {} (libsphsolid watchdog: speed above c_p "
+               "or density outside [0.5, 2] rho0; {})",
+               atom->tag[bad], update->ntimestep, sph_errmsg(pair->handle()),
+               pair->step_advice(integrator));
   if (status != SPH_OK)
     error->one(FLERR, "fix sphsolid/heun: corrector at step {}: {} ({})", update->ntimestep,
                sph_errmsg(pair->handle()), sph_status_name(status));
@@ -369,5 +375,5 @@ void FixSPHSolidHeun::check_finite()
 double FixSPHSolidHeun::memory_usage()
 {
   return sizeof(double) * (double) (dvbuf.capacity() + other_force.capacity() + stage.capacity()) +
-      (double) integrate_motion.capacity();
+         (double) integrate_motion.capacity();
 }

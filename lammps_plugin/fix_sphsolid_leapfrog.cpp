@@ -50,9 +50,9 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
   stage.resize((size_t) std::max(nlocal, 1) * saved_values());
   FixSPHSolidState *state = pair->state();
   double *x = atom->x[0], *v = atom->v[0];
-  sph_status status = sph_leapfrog_begin_strided(pair->handle(), nlocal, update->dt, x, v, 3,
-                                                 state->rho, state->S_data(), &start,
-                                                 integrate_motion.data(), stage.data());
+  sph_status status =
+      sph_leapfrog_begin_strided(pair->handle(), nlocal, update->dt, x, v, 3, state->rho,
+                                 state->S_data(), &start, integrate_motion.data(), stage.data());
   if (status != SPH_OK) fail(status, -1, "kick");
 
   // the rates at the half step: ghosts' x, v, rho and S in one exchange
@@ -60,8 +60,8 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
   const sph_rates half = stage_rates();
   long bad = -1;
   status = sph_leapfrog_drift_strided(pair->handle(), nlocal, update->dt, x, v, 3, state->rho,
-                                      state->S_data(), &half, integrate_motion.data(),
-                                      stage.data(), pair->atom_materials(), &bad);
+                                      state->S_data(), &half, integrate_motion.data(), stage.data(),
+                                      pair->atom_materials(), &bad);
   if (status != SPH_OK) fail(status, bad, "drift");
 }
 

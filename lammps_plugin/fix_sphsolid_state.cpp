@@ -34,8 +34,7 @@ FixSPHSolidState::FixSPHSolidState(LAMMPS *lmp, int narg, char **arg) :
       size_t end = names.find(' ', start);
       if (end == std::string::npos) end = names.size();
       sph_integrator_info info;
-      if (sph_integrator_info_get(probe, names.substr(start, end - start).c_str(), &info) ==
-          SPH_OK)
+      if (sph_integrator_info_get(probe, names.substr(start, end - start).c_str(), &info) == SPH_OK)
         nsaved = std::max(nsaved, (int) info.saved_values);
       start = end + 1;
     }

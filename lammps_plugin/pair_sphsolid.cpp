@@ -40,9 +40,9 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 /* ---------------------------------------------------------------------- */
 
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
-    Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false),
-    sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0),
-    nrates(-1), partial_size(0)
+    Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false), sim(nullptr),
+    state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0), nrates(-1),
+    partial_size(0)
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -84,9 +84,8 @@ void PairSPHSolid::allocate()
 void PairSPHSolid::settings(int narg, char **arg)
 {
   if (narg < 1)
-    error->all(FLERR,
-               "pair_style sphsolid: missing the particle spacing dx, e.g. "
-               "'pair_style sphsolid 0.001 artificial_viscosity alpha 1.0'");
+    error->all(FLERR, "pair_style sphsolid: missing the particle spacing dx, e.g. "
+                      "'pair_style sphsolid 0.001 artificial_viscosity alpha 1.0'");
   if (domain->dimension != 2 && domain->dimension != 3)
     error->all(FLERR, "pair_style sphsolid: dimension {} is not 2 or 3", domain->dimension);
   dim = domain->dimension;
@@ -117,8 +116,7 @@ void PairSPHSolid::settings(int narg, char **arg)
       if (iarg + 1 >= narg) error->all(FLERR, "pair_style sphsolid: h_over_dx needs a value");
       h_over_dx = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       if (!(h_over_dx > 0.0))
-        error->all(FLERR, "pair_style sphsolid: h_over_dx must be positive, got {}",
-                   arg[iarg + 1]);
+        error->all(FLERR, "pair_style sphsolid: h_over_dx must be positive, got {}", arg[iarg + 1]);
       iarg += 2;
     } else if (word == "kernel") {
       if (iarg + 1 >= narg) error->all(FLERR, "pair_style sphsolid: kernel needs a name");
@@ -126,9 +124,8 @@ void PairSPHSolid::settings(int narg, char **arg)
       iarg += 2;
     } else if (effect_names.count(word)) {
       if (word == "gravity")
-        error->all(FLERR,
-                   "pair_style sphsolid: gravity is not a pair keyword; use LAMMPS's "
-                   "'fix ID group gravity magnitude vector x y z'");
+        error->all(FLERR, "pair_style sphsolid: gravity is not a pair keyword; use LAMMPS's "
+                          "'fix ID group gravity magnitude vector x y z'");
       std::string parameters;
       iarg++;
       while (iarg < narg && !is_keyword(arg[iarg])) {
@@ -185,7 +182,8 @@ void PairSPHSolid::coeff(int narg, char **arg)
   for (int iarg = 2; iarg < narg; iarg += 2) {
     const std::string key = arg[iarg];
     if (key != "K" && key != "mu" && key != "E" && key != "nu" && key != "rho0")
-      error->all(FLERR, "pair_coeff for sphsolid: unknown keyword '{}' (expected K, mu, E, nu, rho0)",
+      error->all(FLERR,
+                 "pair_coeff for sphsolid: unknown keyword '{}' (expected K, mu, E, nu, rho0)",
                  key);
     if (iarg + 1 >= narg) error->all(FLERR, "pair_coeff for sphsolid: {} needs a value", key);
     if (given.count(key)) error->all(FLERR, "pair_coeff for sphsolid: {} given twice", key);
@@ -317,14 +315,16 @@ double PairSPHSolid::default_timestep(const char *integrator)
 void PairSPHSolid::init_style()
 {
   if (strcmp(update->unit_style, "si") != 0)
-    error->all(FLERR, "pair sphsolid requires 'units si' (libsphsolid works in SI units), got "
-                      "'units {}'",
+    error->all(FLERR,
+               "pair sphsolid requires 'units si' (libsphsolid works in SI units), got "
+               "'units {}'",
                update->unit_style);
   if (domain->dimension != dim)
     error->all(FLERR, "pair sphsolid: dimension changed to {} after pair_style (was {})",
                domain->dimension, dim);
   if (!comm->ghost_velocity)
-    error->all(FLERR, "pair sphsolid needs the velocities of ghost atoms: add 'comm_modify vel yes'");
+    error->all(FLERR,
+               "pair sphsolid needs the velocities of ghost atoms: add 'comm_modify vel yes'");
   if (!atom->tag_enable) error->all(FLERR, "pair sphsolid needs atom IDs (atom_modify id yes)");
 
   // a half list: with newton_pair on each pair is listed on one rank only
@@ -381,9 +381,10 @@ void PairSPHSolid::check_deck()
       others.push_back(f);
   }
   if (update->whichflag == 1 && update->nsteps > 0 && sph_integrators.empty())
-    error->all(FLERR,
-               "pair sphsolid: no sphsolid integrator fix (e.g. 'fix 1 all sphsolid/heun'): without one "
-               "the density and stress never evolve and the run has no elastic forces");
+    error->all(
+        FLERR,
+        "pair sphsolid: no sphsolid integrator fix (e.g. 'fix 1 all sphsolid/heun'): without one "
+        "the density and stress never evolve and the run has no elastic forces");
   // another integrator (fix nve, fix move, ...) on the same atoms would
   // move them twice and leave the SPH state behind
   for (Fix *mine : sph_integrators)
@@ -393,12 +394,13 @@ void PairSPHSolid::check_deck()
         if ((atom->mask[i] & mine->groupbit) && (atom->mask[i] & other->groupbit)) local++;
       MPI_Allreduce(&local, &both, 1, MPI_LMP_BIGINT, MPI_SUM, world);
       if (both > 0)
-        error->all(FLERR,
-                   "pair sphsolid: fix {} ({}) integrates {} atoms that fix {} ({}) also integrates "
-                   "(group {}): each atom needs exactly one integrator; leave prescribed or "
-                   "separately integrated atoms out of group {}",
-                   other->id, other->style, both, mine->id, mine->style,
-                   group->names[other->igroup], group->names[mine->igroup]);
+        error->all(
+            FLERR,
+            "pair sphsolid: fix {} ({}) integrates {} atoms that fix {} ({}) also integrates "
+            "(group {}): each atom needs exactly one integrator; leave prescribed or "
+            "separately integrated atoms out of group {}",
+            other->id, other->style, both, mine->id, mine->style, group->names[other->igroup],
+            group->names[mine->igroup]);
     }
 
   // masses: m = rho0 dx^d for particles on the pair's lattice
@@ -684,11 +686,10 @@ void PairSPHSolid::compute(int eflag, int vflag)
 double PairSPHSolid::memory_usage()
 {
   double bytes = Pair::memory_usage();
-  bytes += sizeof(double) * (massbuf.capacity() +
-                             rate_dv.capacity() + rate_drho.capacity() + rate_dS.capacity() +
-                             rate_dx.capacity() + partial.capacity());
-  bytes += sizeof(int) * (materialbuf.capacity() + neighbour_counts.capacity() +
-                          neighbour_indices.capacity());
+  bytes += sizeof(double) * (massbuf.capacity() + rate_dv.capacity() + rate_drho.capacity() +
+                             rate_dS.capacity() + rate_dx.capacity() + partial.capacity());
+  bytes += sizeof(int) *
+           (materialbuf.capacity() + neighbour_counts.capacity() + neighbour_indices.capacity());
   bytes += sizeof(size_t) * neighbour_offsets.capacity();
   return bytes;
 }

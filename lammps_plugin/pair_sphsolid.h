@@ -110,8 +110,8 @@ class PairSPHSolid : public Pair {
   std::string kernel;    // kernel name; empty: the library's default
   bool xsph;             // XSPH effect on: the rates carry dx/dt
   std::vector<std::pair<std::string, std::string>> effects;    // name, "key=value ..."
-  std::vector<SPHSolidMaterial> type_params;    // per atom type (index 0 unused)
-  std::vector<int> type_material;               // library material per atom type
+  std::vector<SPHSolidMaterial> type_params;                   // per atom type (index 0 unused)
+  std::vector<int> type_material;                              // library material per atom type
 
   sph_sim *sim;    // configured in init_style()
   FixSPHSolidState *state_fix;
@@ -130,8 +130,8 @@ class PairSPHSolid : public Pair {
   std::vector<size_t> neighbour_offsets;    // CSR rows of the owned atoms
   std::vector<int> neighbour_indices, neighbour_counts;
   std::vector<double> rate_dv, rate_drho, rate_dS, rate_dx;
-  int partial_size;                 // doubles per atom of the pair sums
-  std::vector<double> partial;      // pair sums of owned and ghost atoms
+  int partial_size;               // doubles per atom of the pair sums
+  std::vector<double> partial;    // pair sums of owned and ghost atoms
 
   void allocate();
   void grow_scratch();

@@ -64,8 +64,9 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
       (lammpsplugin_factory2 *) &create_fix<FixSPHSolidHeun>);
   add(reg, lmp, handle, "fix", "sphsolid/leapfrog", "leapfrog (velocity Verlet) for pair sphsolid",
       nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidLeapfrog>);
-  add(reg, lmp, handle, "fix", "sphsolid/force", "rigid body under a constant force (pair sphsolid)",
-      nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidForce>);
+  add(reg, lmp, handle, "fix", "sphsolid/force",
+      "rigid body under a constant force (pair sphsolid)", nullptr,
+      (lammpsplugin_factory2 *) &create_fix<FixSPHSolidForce>);
   add(reg, lmp, handle, "fix", "SPHSOLID/STATE", "per-atom state of pair sphsolid (internal)",
       nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidState>);
   const char *atom_styles[][2] = {

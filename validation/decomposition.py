@@ -174,8 +174,10 @@ def main(argv=None):
                         help="also the full specimen against the FE reference")
     args = parser.parse_args(argv)
     rows = []
-    strip_ref = (lambda grid: {n: strip_exact(grid, p[1])
-                               for n, p in STRIP_PROBES.items()})
+
+    def strip_ref(grid):
+        return {n: strip_exact(grid, p[1]) for n, p in STRIP_PROBES.items()}
+
     for label, options in VARIANTS.items():
         for dx in args.dx:
             row = {"variant": label, "dx": dx}

@@ -54,23 +54,35 @@ int main(int argc, char **argv)
     const char *out = "uniaxial_cylinder.h5", *csv = NULL;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *next = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "--quiet")) { quiet = 1; continue; }
+        if (!strcmp(a, "--quiet")) {
+            quiet = 1;
+            continue;
+        }
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             printf("usage: %s [--dx MM] [--until MS] [--out FILE.h5] [--csv FILE.csv] "
-                   "[--threads N] [--alpha A] [--snapshots N] [--quiet]\n", argv[0]);
+                   "[--threads N] [--alpha A] [--snapshots N] [--quiet]\n",
+                   argv[0]);
             return 0;
         }
         if (!next) {
-            fprintf(stderr, "uniaxial_cylinder: unknown or incomplete option '%s' (try --help)\n", a);
+            fprintf(stderr, "uniaxial_cylinder: unknown or incomplete option '%s' (try --help)\n",
+                    a);
             return 2;
         }
-        if (!strcmp(a, "--dx")) dx_mm = number(a, next);
-        else if (!strcmp(a, "--until")) until_ms = number(a, next);
-        else if (!strcmp(a, "--out")) out = next;
-        else if (!strcmp(a, "--csv")) csv = next;
-        else if (!strcmp(a, "--threads")) threads = (int)number(a, next);
-        else if (!strcmp(a, "--alpha")) alpha = number(a, next);
-        else if (!strcmp(a, "--snapshots")) snapshots = (long)number(a, next);
+        if (!strcmp(a, "--dx"))
+            dx_mm = number(a, next);
+        else if (!strcmp(a, "--until"))
+            until_ms = number(a, next);
+        else if (!strcmp(a, "--out"))
+            out = next;
+        else if (!strcmp(a, "--csv"))
+            csv = next;
+        else if (!strcmp(a, "--threads"))
+            threads = (int)number(a, next);
+        else if (!strcmp(a, "--alpha"))
+            alpha = number(a, next);
+        else if (!strcmp(a, "--snapshots"))
+            snapshots = (long)number(a, next);
         else {
             fprintf(stderr, "uniaxial_cylinder: unknown option '%s' (try --help)\n", a);
             return 2;
@@ -115,8 +127,10 @@ int main(int argc, char **argv)
             return fail(sim, st, "--alpha");
     }
     const char *names[4] = {"A", "B", "C", "D"};
-    const double points[4][3] = {{0.0, 0.5 * L, 0.0}, {0.25 * D, 0.75 * L, 0.0},
-                                 {0.25 * D, 0.5 * L, 0.0}, {0.0, 0.75 * L, 0.0}};
+    const double points[4][3] = {{0.0, 0.5 * L, 0.0},
+                                 {0.25 * D, 0.75 * L, 0.0},
+                                 {0.25 * D, 0.5 * L, 0.0},
+                                 {0.0, 0.75 * L, 0.0}};
     for (int k = 0; k < 4; ++k)
         if ((st = sph_add_probe(sim, names[k], points[k], NULL)))
             return fail(sim, st, "probe");
@@ -153,7 +167,7 @@ int main(int argc, char **argv)
         fprintf(f, "%.9e", sph_time(sim));
         for (int k = 0; k < 4; ++k) {
             sph_probe_sample(sim, k, v);
-            fprintf(f, ",%.9e,%.9e", v[0], v[3]);   /* von Mises, sigma_yy */
+            fprintf(f, ",%.9e,%.9e", v[0], v[3]); /* von Mises, sigma_yy */
         }
         fprintf(f, "\n");
         if (done >= steps)
@@ -176,7 +190,8 @@ int main(int argc, char **argv)
         sph_output_close(sim);
     }
     sph_probe_sample(sim, 0, v);
-    printf("t = %g ms: centre (A) von Mises %.4g Pa, sigma_yy %.4g Pa\n", sph_time(sim) * 1e3, v[0], v[3]);
+    printf("t = %g ms: centre (A) von Mises %.4g Pa, sigma_yy %.4g Pa\n", sph_time(sim) * 1e3, v[0],
+           v[3]);
     printf("wall time %.2f s, %.3g particle-steps/s\n", wall,
            (double)sph_particle_count(sim) * (double)steps / wall);
     printf("wrote %s%s%s\n", have_output ? out : "", have_output ? " and " : "", csv);

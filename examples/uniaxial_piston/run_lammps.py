@@ -82,7 +82,7 @@ def plot(args, probes: Path, natoms: int, steps: int, nranks: int, wall: float) 
     fig.savefig(png, dpi=120)
     print(f"{natoms} particles, {steps} steps on {nranks} rank(s) in {wall:.2f} s "
           f"({natoms * steps / wall / 1e6:.2f} million particle-steps/s)")
-    print(f"final von Mises A, B, C: "
+    print("final von Mises A, B, C: "
           + ", ".join(f"{data[-1, 2 + 6 * k]:.6g} Pa" for k in range(3)))
     print(f"wrote {probes} and {png}")
 

@@ -73,8 +73,8 @@ static long count(const char *flag, const char *text, long lo, long hi)
 {
     const double v = number(flag, text);
     if (v != floor(v) || v < (double)lo || v > (double)hi) {
-        fprintf(stderr, "uniaxial_piston: %s expects a whole number in [%ld, %ld], got '%s'\n", flag, lo,
-                hi, text);
+        fprintf(stderr, "uniaxial_piston: %s expects a whole number in [%ld, %ld], got '%s'\n",
+                flag, lo, hi, text);
         exit(2);
     }
     return (long)v;
@@ -89,7 +89,10 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         const char *next = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "--quiet")) { quiet = 1; continue; }
+        if (!strcmp(a, "--quiet")) {
+            quiet = 1;
+            continue;
+        }
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             printf("usage: %s [--dx MM] [--until MS] [--out FILE.h5] [--csv FILE.csv] "
                    "[--threads N] [--alpha A] [--snapshots N] [--integrator %s] [--quiet]\n",
@@ -100,14 +103,22 @@ int main(int argc, char **argv)
             fprintf(stderr, "uniaxial_piston: unknown or incomplete option '%s' (try --help)\n", a);
             return 2;
         }
-        if (!strcmp(a, "--dx")) dx_mm = number(a, next);
-        else if (!strcmp(a, "--until")) until_ms = number(a, next);
-        else if (!strcmp(a, "--out")) out = next;
-        else if (!strcmp(a, "--csv")) csv = next;
-        else if (!strcmp(a, "--threads")) threads = (int)count(a, next, 0, 4096);
-        else if (!strcmp(a, "--alpha")) alpha = number(a, next);
-        else if (!strcmp(a, "--snapshots")) snapshots = count(a, next, 0, 1000000);
-        else if (!strcmp(a, "--integrator")) integrator = next;
+        if (!strcmp(a, "--dx"))
+            dx_mm = number(a, next);
+        else if (!strcmp(a, "--until"))
+            until_ms = number(a, next);
+        else if (!strcmp(a, "--out"))
+            out = next;
+        else if (!strcmp(a, "--csv"))
+            csv = next;
+        else if (!strcmp(a, "--threads"))
+            threads = (int)count(a, next, 0, 4096);
+        else if (!strcmp(a, "--alpha"))
+            alpha = number(a, next);
+        else if (!strcmp(a, "--snapshots"))
+            snapshots = count(a, next, 0, 1000000);
+        else if (!strcmp(a, "--integrator"))
+            integrator = next;
         else {
             fprintf(stderr, "uniaxial_piston: unknown option '%s' (try --help)\n", a);
             return 2;
@@ -115,11 +126,13 @@ int main(int argc, char **argv)
         ++i;
     }
     if (alpha < 0.0) {
-        fprintf(stderr, "uniaxial_piston: --alpha %g must be >= 0 (0 switches the viscosity off)\n", alpha);
+        fprintf(stderr, "uniaxial_piston: --alpha %g must be >= 0 (0 switches the viscosity off)\n",
+                alpha);
         return 2;
     }
     if (!(dx_mm > 0.0) || !(until_ms > 0.0)) {
-        fprintf(stderr, "uniaxial_piston: --dx %g mm and --until %g ms must be > 0\n", dx_mm, until_ms);
+        fprintf(stderr, "uniaxial_piston: --dx %g mm and --until %g ms must be > 0\n", dx_mm,
+                until_ms);
         return 2;
     }
     char *csv_path = NULL; /* any length: derived from --out */
@@ -163,8 +176,8 @@ int main(int argc, char **argv)
     }
     const long steps = (long)(t_end / dt + 0.999999);
     printf("uniaxial piston test: dx = %g mm, h = %g mm\n", dx_mm, sph_smoothing_length(sim) * 1e3);
-    printf("specimen particles: %zu (all particles incl. piston and plate: %zu)\n",
-           specimen.count, sph_particle_count(sim));
+    printf("specimen particles: %zu (all particles incl. piston and plate: %zu)\n", specimen.count,
+           sph_particle_count(sim));
     printf("time step: %.3f us, %ld steps to %g ms\n", dt * 1e6, steps, until_ms);
     printf("integrator: %s\n", sph_integrator_name(sim));
     printf("effects: %s\n", alpha > 0.0 ? "artificial_viscosity" : "none");
@@ -196,8 +209,8 @@ int main(int argc, char **argv)
                 fclose(f);
                 return fail(sim, st, "probe");
             }
-        fprintf(f, "%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e\n", sph_time(sim),
-                vals[0][0], vals[1][0], vals[2][0], vals[0][3], vals[1][3], vals[2][3]);
+        fprintf(f, "%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e\n", sph_time(sim), vals[0][0], vals[1][0],
+                vals[2][0], vals[0][3], vals[1][3], vals[2][3]);
         (void)nv;
         const long chunk = steps - done < probe_every ? steps - done : probe_every;
         const double t_next = done + chunk >= steps ? t_end : (double)(done + chunk) * dt;
@@ -226,7 +239,8 @@ int main(int argc, char **argv)
     sph_probe_sample(sim, scene.probe_A, a);
     sph_probe_sample(sim, scene.probe_B, b);
     sph_probe_sample(sim, scene.probe_C, c);
-    printf("t = %g ms: von Mises A = %.4g Pa, B = %.4g Pa, C = %.4g Pa\n", sph_time(sim) * 1e3, a[0], b[0], c[0]);
+    printf("t = %g ms: von Mises A = %.4g Pa, B = %.4g Pa, C = %.4g Pa\n", sph_time(sim) * 1e3,
+           a[0], b[0], c[0]);
     printf("wall time %.2f s, %.3g particle-steps/s\n", wall,
            (double)sph_particle_count(sim) * (double)steps / wall);
     if (have_output)

@@ -59,15 +59,15 @@ extern "C" {
 
 typedef enum sph_status {
     SPH_OK = 0,
-    SPH_ERR_ARGUMENT = 1,   /* a bad value was passed; the message names it */
-    SPH_ERR_MEMORY = 2,     /* allocation failed */
-    SPH_ERR_STATE = 3,      /* call not valid in the current state */
-    SPH_ERR_IO = 4,         /* file could not be read or written */
-    SPH_ERR_NONFINITE = 5,  /* the run produced a non-finite value */
-    SPH_ERR_UNSUPPORTED = 6,/* feature not compiled in (e.g. HDF5) */
-    SPH_ERR_STOPPED = 7,    /* a progress callback asked the run to stop */
-    SPH_ERR_DOMAIN = 8,     /* a particle left the domain */
-    SPH_ERR_UNSTABLE = 9    /* the watchdog saw a runaway speed or density */
+    SPH_ERR_ARGUMENT = 1,    /* a bad value was passed; the message names it */
+    SPH_ERR_MEMORY = 2,      /* allocation failed */
+    SPH_ERR_STATE = 3,       /* call not valid in the current state */
+    SPH_ERR_IO = 4,          /* file could not be read or written */
+    SPH_ERR_NONFINITE = 5,   /* the run produced a non-finite value */
+    SPH_ERR_UNSUPPORTED = 6, /* feature not compiled in (e.g. HDF5) */
+    SPH_ERR_STOPPED = 7,     /* a progress callback asked the run to stop */
+    SPH_ERR_DOMAIN = 8,      /* a particle left the domain */
+    SPH_ERR_UNSTABLE = 9     /* the watchdog saw a runaway speed or density */
 } sph_status;
 
 typedef struct sph_sim sph_sim;
@@ -99,28 +99,24 @@ SPH_API sph_status sph_set_threads(sph_sim *sim, int threads);
 /* Linear elastic material; any consistent pair defines it.  rho0 is the
  * reference density [kg/m^3], moduli in Pa.  K > 0, mu >= 0,
  * -1 < nu < 0.5.  *material receives the material index. */
-SPH_API sph_status sph_add_material_K_mu(sph_sim *sim, double bulk_modulus,
-                                 double shear_modulus, double rho0,
-                                 int *material);
-SPH_API sph_status sph_add_material_E_nu(sph_sim *sim, double youngs_modulus,
-                                 double poisson_ratio, double rho0,
-                                 int *material);
-SPH_API sph_status sph_add_material_K_nu(sph_sim *sim, double bulk_modulus,
-                                 double poisson_ratio, double rho0,
-                                 int *material);
+SPH_API sph_status sph_add_material_K_mu(sph_sim *sim, double bulk_modulus, double shear_modulus,
+                                         double rho0, int *material);
+SPH_API sph_status sph_add_material_E_nu(sph_sim *sim, double youngs_modulus, double poisson_ratio,
+                                         double rho0, int *material);
+SPH_API sph_status sph_add_material_K_nu(sph_sim *sim, double bulk_modulus, double poisson_ratio,
+                                         double rho0, int *material);
 
 typedef struct sph_material_info {
-    double bulk_modulus;    /* K [Pa] */
-    double shear_modulus;   /* mu [Pa] */
-    double rho0;            /* reference density [kg/m^3] */
-    double poisson_ratio;   /* (3K - 2mu) / (2 (3K + mu)) */
-    double youngs_modulus;  /* 9 K mu / (3 K + mu) */
-    double c0;              /* bulk sound speed sqrt(K/rho0) [m/s] */
-    double c_p;             /* plane/3D P-wave speed sqrt((K + 4mu/3)/rho0) */
+    double bulk_modulus;   /* K [Pa] */
+    double shear_modulus;  /* mu [Pa] */
+    double rho0;           /* reference density [kg/m^3] */
+    double poisson_ratio;  /* (3K - 2mu) / (2 (3K + mu)) */
+    double youngs_modulus; /* 9 K mu / (3 K + mu) */
+    double c0;             /* bulk sound speed sqrt(K/rho0) [m/s] */
+    double c_p;            /* plane/3D P-wave speed sqrt((K + 4mu/3)/rho0) */
 } sph_material_info;
 
-SPH_API sph_status sph_material_info_get(sph_sim *sim, int material,
-                                 sph_material_info *info);
+SPH_API sph_status sph_material_info_get(sph_sim *sim, int material, sph_material_info *info);
 
 /* ---------------------------------------------------------------- bodies */
 
@@ -138,17 +134,15 @@ typedef enum sph_motion {
  * entries are read).  Per axis n = round((hi - lo)/dx) particles with
  * centres at lo + (i + 1/2) (hi - lo)/n.  The body's nominal spacing is dx.
  * Fails if a particle would overlap (closer than dx/2 to) another body. */
-SPH_API sph_status sph_add_block(sph_sim *sim, const char *name, int material,
-                         const double lo[3], const double hi[3], double dx,
-                         int *body);
+SPH_API sph_status sph_add_block(sph_sim *sim, const char *name, int material, const double lo[3],
+                                 const double hi[3], double dx, int *body);
 
 /* A body from given particle centres (n * dim doubles) and volumes (n
  * doubles, or NULL for spacing^dim each).  `spacing` is the body's nominal
  * particle spacing. */
-SPH_API sph_status sph_add_particles(sph_sim *sim, const char *name, int material,
-                             size_t n, const double *positions,
-                             const double *volumes, double spacing,
-                             int *body);
+SPH_API sph_status sph_add_particles(sph_sim *sim, const char *name, int material, size_t n,
+                                     const double *positions, const double *volumes, double spacing,
+                                     int *body);
 
 /* Specimen geometry (geometry.c).  The loading axis is y in every builder:
  * a specimen stands on a plate and a piston presses on it from above.
@@ -167,11 +161,11 @@ SPH_API sph_status sph_add_particles(sph_sim *sim, const char *name, int materia
  * volume is that of the lattice cells inside the circle (it differs from
  * pi R^2 L by the staircase of the surface, less than 1 % at D/dx >= 27). */
 SPH_API sph_status sph_add_prism(sph_sim *sim, const char *name, int material,
-                                 const double base_centre[3], double width,
-                                 double depth, double height, double dx, int *body);
+                                 const double base_centre[3], double width, double depth,
+                                 double height, double dx, int *body);
 SPH_API sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material,
-                                    const double base_centre[3], double radius,
-                                    double length, double dx, int *body);
+                                    const double base_centre[3], double radius, double length,
+                                    double dx, int *body);
 
 /* Platens against any body (2D and 3D): sph_add_plate lays a fixed plate
  * under the body (against its face of least y), sph_add_piston a piston on
@@ -189,24 +183,23 @@ SPH_API sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material
  * takes the body's material.  Motion is prescribed; density and deviatoric
  * stress evolve as for the specimen (SPEC: bonded ends).  Add the body
  * first: the smoothing length h comes from the first body. */
-SPH_API sph_status sph_add_plate(sph_sim *sim, const char *name, int material,
-                                 int body, int layers, int *plate);
-SPH_API sph_status sph_add_piston(sph_sim *sim, const char *name, int material,
-                                  int body, int layers, double speed, int *piston);
+SPH_API sph_status sph_add_plate(sph_sim *sim, const char *name, int material, int body, int layers,
+                                 int *plate);
+SPH_API sph_status sph_add_piston(sph_sim *sim, const char *name, int material, int body,
+                                  int layers, double speed, int *piston);
 
 /* Extent of a body's lattice cells [lo, hi] and its lattice step per axis
  * (blocks, prisms, cylinders and platens: exact; bodies from
  * sph_add_particles: particle extent plus half a spacing each side, step =
  * spacing).  Entries past the dimension are 0; any output may be NULL. */
-SPH_API sph_status sph_body_extent(sph_sim *sim, int body, double lo[3],
-                                   double hi[3], double step[3]);
+SPH_API sph_status sph_body_extent(sph_sim *sim, int body, double lo[3], double hi[3],
+                                   double step[3]);
 
 /* Prescribe a body's motion.  `vector` (dim entries) is the velocity for
  * SPH_MOTION_VELOCITY, the applied total force [N per unit depth in 2D]
  * for SPH_MOTION_FORCE, and is ignored (may be NULL) otherwise.
  * SPH_MOTION_ROTATION is set with sph_set_rotation(). */
-SPH_API sph_status sph_set_motion(sph_sim *sim, int body, sph_motion motion,
-                          const double *vector);
+SPH_API sph_status sph_set_motion(sph_sim *sim, int body, sph_motion motion, const double *vector);
 
 /* Prescribe a rigid rotation of a body about the fixed point `centre` (dim
  * entries) at the constant angular velocity `omega` [rad/s]: 3 entries, the
@@ -231,13 +224,12 @@ typedef struct sph_body_info {
     const char *name;
     int material;
     sph_motion motion;
-    size_t first;     /* particles [first, first + count) belong to it */
+    size_t first; /* particles [first, first + count) belong to it */
     size_t count;
     double spacing;
 } sph_body_info;
 
-SPH_API sph_status sph_body_info_get(sph_sim *sim, int body,
-                             sph_body_info *info);
+SPH_API sph_status sph_body_info_get(sph_sim *sim, int body, sph_body_info *info);
 /* Body index by name, or a SPH_ERR_ARGUMENT naming the unknown name. */
 SPH_API sph_status sph_body_find(sph_sim *sim, const char *name, int *body);
 
@@ -248,7 +240,7 @@ SPH_API sph_status sph_body_find(sph_sim *sim, const char *name, int *body);
  * domain the space is unbounded.  Must be set before bodies are added if
  * bodies are checked against it, or any time before the first step. */
 SPH_API sph_status sph_set_domain(sph_sim *sim, const double lo[3], const double hi[3],
-                          const int periodic[3]);
+                                  const int periodic[3]);
 
 /* Kernels are numbered from 0 without gaps; their names come from
  * sph_kernel_name() (the registry is in the library, kernel.h). */
@@ -273,8 +265,8 @@ SPH_API const char *sph_kernel_names(void);
 /* The handle's kernel in the dimensionless form used by the rate engine:
  * at n values of q = r/h, w = h^dim W(r) and dw_dq = h^(dim+1) dW/dr
  * (either output may be NULL).  q must be finite and >= 0. */
-SPH_API sph_status sph_kernel_values(sph_sim *sim, size_t n, const double *q,
-                                     double *w, double *dw_dq);
+SPH_API sph_status sph_kernel_values(sph_sim *sim, size_t n, const double *q, double *w,
+                                     double *dw_dq);
 /* Smoothing length as a multiple of the first body's spacing (default 1.2). */
 SPH_API sph_status sph_set_smoothing_ratio(sph_sim *sim, double h_over_dx);
 SPH_API double sph_smoothing_length(const sph_sim *sim);
@@ -312,24 +304,23 @@ SPH_API const char *sph_effect_names(void);
  * for an index out of range or a NULL output. */
 typedef struct sph_effect_info {
     const char *name;
-    const char *description;   /* one line, with its reference */
+    const char *description; /* one line, with its reference */
     int parameter_count;
 } sph_effect_info;
 
 typedef struct sph_effect_parameter {
     const char *key;
-    const char *unit;          /* SI, "" when dimensionless */
+    const char *unit; /* SI, "" when dimensionless */
     const char *description;
-    double default_value;      /* NAN when the value must be given */
-    int required;              /* 1 when there is no default */
-    double min, max;           /* allowed range, +-HUGE_VAL when unbounded */
+    double default_value; /* NAN when the value must be given */
+    int required;         /* 1 when there is no default */
+    double min, max;      /* allowed range, +-HUGE_VAL when unbounded */
     int min_inclusive, max_inclusive;
 } sph_effect_parameter;
 
 SPH_API int sph_effect_count(void);
 SPH_API sph_status sph_effect_info_get(int effect, sph_effect_info *info);
-SPH_API sph_status sph_effect_parameter_get(int effect, int parameter,
-                                            sph_effect_parameter *info);
+SPH_API sph_status sph_effect_parameter_get(int effect, int parameter, sph_effect_parameter *info);
 
 /* ------------------------------------------------------------ time steps */
 
@@ -350,16 +341,16 @@ SPH_API const char *sph_integrator_name(const sph_sim *sim);
 SPH_API const char *sph_integrator_names(void);
 
 typedef struct sph_integrator_info {
-    const char *name;          /* static storage */
-    const char *description;   /* one line, static storage */
-    int evaluations;           /* rate evaluations per step */
-    double stable_factor;      /* stable step = stable_factor h / max(c_p + |v|) */
-    double default_factor;     /* default step = default_factor h / max(c0),
+    const char *name;        /* static storage */
+    const char *description; /* one line, static storage */
+    int evaluations;         /* rate evaluations per step */
+    double stable_factor;    /* stable step = stable_factor h / max(c_p + |v|) */
+    double default_factor;   /* default step = default_factor h / max(c0),
                                   capped at the stable step */
-    size_t saved_values;       /* doubles per particle of the `saved` buffer of
+    size_t saved_values;     /* doubles per particle of the `saved` buffer of
                                   its low-level stages, for this handle's
                                   dimension and effects */
-    int carries_rates;         /* 1: the rates at the end of a step start the
+    int carries_rates;       /* 1: the rates at the end of a step start the
                                   next (kept across runs and in checkpoints) */
 } sph_integrator_info;
 
@@ -389,8 +380,7 @@ SPH_API long sph_step_count(const sph_sim *sim);
  * a non-zero return stops the run with SPH_ERR_STOPPED after a
  * completed step. */
 typedef int (*sph_progress_fn)(const sph_sim *sim, void *user);
-SPH_API sph_status sph_set_progress(sph_sim *sim, long interval, sph_progress_fn fn,
-                            void *user);
+SPH_API sph_status sph_set_progress(sph_sim *sim, long interval, sph_progress_fn fn, void *user);
 
 /* Advance by n steps of the handle's integrator. */
 SPH_API sph_status sph_run(sph_sim *sim, long steps);
@@ -399,8 +389,7 @@ SPH_API sph_status sph_run_until(sph_sim *sim, double t);
 /* How sph_run_until(sim, t) gets there from the current time with the
  * current step dt: *whole steps of dt, then, if *last > 0, one shortened
  * step of *last seconds that lands exactly on t. */
-SPH_API sph_status sph_steps_until(sph_sim *sim, double t, long *whole,
-                                   double *last);
+SPH_API sph_status sph_steps_until(sph_sim *sim, double t, long *whole, double *last);
 
 /* The watchdog stops a run (SPH_ERR_UNSTABLE) when a particle of a free
  * body moves faster than `max_speed_over_cp` times its material's P-wave
@@ -408,17 +397,14 @@ SPH_API sph_status sph_steps_until(sph_sim *sim, double t, long *whole,
  * rho0.  Defaults 1, 0.5, 2: a solid beyond them is no longer described by
  * the linear model.  A zero switches that check off. */
 SPH_API sph_status sph_set_watchdog(sph_sim *sim, double max_speed_over_cp,
-                                    double min_density_ratio,
-                                    double max_density_ratio);
+                                    double min_density_ratio, double max_density_ratio);
 
 /* The watchdog's test on external arrays (n particles, material indices of
  * sim; integrate_motion as for sph_heun_correct, NULL for all): returns
  * SPH_ERR_UNSTABLE, with *particle the lowest offending index and a message
  * naming speed or density ratio, or SPH_OK (*particle = -1). */
-SPH_API sph_status sph_watchdog_check(sph_sim *sim, size_t n,
-                                      const double *v, const double *rho,
-                                      const int *material,
-                                      const unsigned char *integrate_motion,
+SPH_API sph_status sph_watchdog_check(sph_sim *sim, size_t n, const double *v, const double *rho,
+                                      const int *material, const unsigned char *integrate_motion,
                                       long *particle);
 
 /* A step that goes non-finite or trips the watchdog is undone: the state is
@@ -430,8 +416,8 @@ SPH_API sph_status sph_watchdog_check(sph_sim *sim, size_t n,
  * "density", "deviatoric stress", "speed", "density ratio").  Returns
  * SPH_ERR_STATE if the last run did not fail that way; either way the
  * handle's message (the failed run's) is left as it is. */
-SPH_API sph_status sph_failure(const sph_sim *sim, long *step, long *particle,
-                       int *body, const char **quantity);
+SPH_API sph_status sph_failure(const sph_sim *sim, long *step, long *particle, int *body,
+                               const char **quantity);
 
 /* ---------------------------------------------------------------- fields */
 
@@ -450,8 +436,8 @@ typedef enum sph_field_id {
 } sph_field_id;
 
 /* Pointer to stored state (fields 0..4), with its shape. */
-SPH_API sph_status sph_field(sph_sim *sim, sph_field_id field, double **data,
-                     size_t *rows, size_t *cols);
+SPH_API sph_status sph_field(sph_sim *sim, sph_field_id field, double **data, size_t *rows,
+                             size_t *cols);
 /* Copy any field (stored or derived) into `out` (rows*cols doubles). */
 SPH_API sph_status sph_field_copy(sph_sim *sim, sph_field_id field, double *out);
 /* Body index of each particle (n ints). */
@@ -462,9 +448,9 @@ SPH_API sph_status sph_body_ids(sph_sim *sim, int *out);
 SPH_API double sph_von_mises(int dimension, const double *S);
 
 typedef struct sph_energy_info {
-    double kinetic;         /* sum m v^2 / 2 */
-    double elastic;         /* sum m (u_vol(rho) + S:S/(4 mu rho)) */
-    double momentum[3];     /* sum m v */
+    double kinetic;     /* sum m v^2 / 2 */
+    double elastic;     /* sum m (u_vol(rho) + S:S/(4 mu rho)) */
+    double momentum[3]; /* sum m v */
 } sph_energy_info;
 
 /* Energy and momentum of the free bodies (or of all bodies if
@@ -493,8 +479,7 @@ SPH_API int sph_memory_parts(const sph_sim *sim, const char **names, size_t *byt
  * Cauchy stress components in the order of the deviatoric stress. */
 #define SPH_PROBE_VALUES(dim) (2 + SPH_STRESS_COMPONENTS(dim))
 
-SPH_API sph_status sph_add_probe(sph_sim *sim, const char *name, const double *point,
-                         int *probe);
+SPH_API sph_status sph_add_probe(sph_sim *sim, const char *name, const double *point, int *probe);
 SPH_API int sph_probe_count(const sph_sim *sim);
 SPH_API const char *sph_probe_name(const sph_sim *sim, int probe);
 /* Shepard-normalised kernel interpolation at the probe point:
@@ -508,7 +493,7 @@ SPH_API const char *sph_probe_name(const sph_sim *sim, int probe);
 SPH_API sph_status sph_probe_sample(sph_sim *sim, int probe, double *values);
 
 typedef enum sph_probe_outside {
-    SPH_PROBE_OUTSIDE_ERROR = 0,    /* default */
+    SPH_PROBE_OUTSIDE_ERROR = 0, /* default */
     SPH_PROBE_OUTSIDE_NAN = 1
 } sph_probe_outside;
 SPH_API sph_status sph_set_probe_outside(sph_sim *sim, sph_probe_outside mode);
@@ -519,8 +504,8 @@ SPH_API sph_status sph_set_probe_outside(sph_sim *sim, sph_probe_outside mode);
  * snapshots are written every `snapshot_interval` steps (0: none but the
  * first) and probe samples every `probe_interval` steps (0: none).  The
  * current state is written as frame 0 at once. */
-SPH_API sph_status sph_output_open(sph_sim *sim, const char *path,
-                           long snapshot_interval, long probe_interval);
+SPH_API sph_status sph_output_open(sph_sim *sim, const char *path, long snapshot_interval,
+                                   long probe_interval);
 /* Write a snapshot of the current state now. */
 SPH_API sph_status sph_output_snapshot(sph_sim *sim);
 /* Close the output file.  The state at closing is written first as a last
@@ -564,14 +549,13 @@ SPH_API sph_status sph_checkpoint_read(sph_sim *sim, const char *path);
  * switched on: the caller chooses (docs: artificial_viscosity alpha=1 is
  * the default for wave problems). */
 typedef struct sph_paper_scene {
-    int specimen, piston, plate;   /* body indices (piston -1 if none) */
+    int specimen, piston, plate; /* body indices (piston -1 if none) */
     int material;
     int probe_A, probe_B, probe_C;
 } sph_paper_scene;
 
-SPH_API sph_status sph_build_paper_scene(sph_sim *sim, double dx,
-                                         double piston_speed, int gravity_only,
-                                         sph_paper_scene *scene);
+SPH_API sph_status sph_build_paper_scene(sph_sim *sim, double dx, double piston_speed,
+                                         int gravity_only, sph_paper_scene *scene);
 
 /* ------------------------------------------------- low-level rate engine */
 /*
@@ -604,13 +588,13 @@ SPH_API sph_status sph_build_paper_scene(sph_sim *sim, double dx,
 typedef struct sph_particles {
     size_t n_local;
     size_t n_total;
-    const double *x;        /* n_total * stride */
-    const double *v;        /* n_total * stride */
-    const double *rho;      /* n_total */
-    const double *S;        /* n_total * ncomp */
-    const double *mass;     /* n_total */
-    const int *material;    /* n_total */
-    size_t stride;          /* doubles from one particle's x (and v) to the
+    const double *x;     /* n_total * stride */
+    const double *v;     /* n_total * stride */
+    const double *rho;   /* n_total */
+    const double *S;     /* n_total * ncomp */
+    const double *mass;  /* n_total */
+    const int *material; /* n_total */
+    size_t stride;       /* doubles from one particle's x (and v) to the
                                next's: 0 means dim; e.g. 3 for LAMMPS's
                                arrays in 2D */
 } sph_particles;
@@ -623,15 +607,14 @@ typedef struct sph_neighbours {
 } sph_neighbours;
 
 typedef struct sph_rates {
-    double *dv_dt;          /* n_local * dim (gravity and damping included) */
-    double *drho_dt;        /* n_local */
-    double *dS_dt;          /* n_local * ncomp */
-    double *dx_dt;          /* n_local * dim, XSPH-corrected velocity, or NULL */
+    double *dv_dt;   /* n_local * dim (gravity and damping included) */
+    double *drho_dt; /* n_local */
+    double *dS_dt;   /* n_local * ncomp */
+    double *dx_dt;   /* n_local * dim, XSPH-corrected velocity, or NULL */
 } sph_rates;
 
 SPH_API sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *particles,
-                              const sph_neighbours *neighbours,
-                              sph_rates *rates);
+                                      const sph_neighbours *neighbours, sph_rates *rates);
 
 /* Doubles per particle of the partial sums of sph_rates_pairs (depends on
  * the dimension and on kernel_correction and xsph being on). */
@@ -654,16 +637,12 @@ SPH_API sph_status sph_rates_finish(sph_sim *sim, const sph_particles *particles
  * particles whose velocity is prescribed: their velocity is left alone
  * while their position still advances by dt v and their density and stress
  * evolve (pass NULL to integrate all). */
-SPH_API sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt,
-                            double *x, double *v, double *rho, double *S,
-                            const sph_rates *rates,
-                            const unsigned char *integrate_motion,
-                            double *saved);
-SPH_API sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt,
-                            double *x, double *v, double *rho, double *S,
-                            const sph_rates *rates,
-                            const unsigned char *integrate_motion,
-                            const double *saved);
+SPH_API sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                    double *rho, double *S, const sph_rates *rates,
+                                    const unsigned char *integrate_motion, double *saved);
+SPH_API sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                    double *rho, double *S, const sph_rates *rates,
+                                    const unsigned char *integrate_motion, const double *saved);
 
 /* Rigid translation under an applied force (SPH_MOTION_FORCE), split for
  * distributed particles.  sph_rigid_force_sum() adds the contributions of
@@ -673,12 +652,12 @@ SPH_API sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt,
  * common acceleration (applied + sum m dv/dt) / total mass, with `applied`
  * the external force on the whole body (dim entries).  `member` (n
  * entries, non-zero for members) may be NULL: all n are members. */
-SPH_API sph_status sph_rigid_force_sum(sph_sim *sim, size_t n,
-                                       const double *mass, const double *dv_dt,
-                                       const unsigned char *member, double *sums);
-SPH_API sph_status sph_rigid_force_apply(sph_sim *sim, size_t n,
-                                         const double *applied, const double *sums,
-                                         const unsigned char *member, double *dv_dt);
+SPH_API sph_status sph_rigid_force_sum(sph_sim *sim, size_t n, const double *mass,
+                                       const double *dv_dt, const unsigned char *member,
+                                       double *sums);
+SPH_API sph_status sph_rigid_force_apply(sph_sim *sim, size_t n, const double *applied,
+                                         const double *sums, const unsigned char *member,
+                                         double *dv_dt);
 
 /* The same stages for a code that moves some particles itself (the LAMMPS
  * plugin: fix move), on its own position and velocity arrays, `stride`
@@ -688,15 +667,12 @@ SPH_API sph_status sph_rigid_force_apply(sph_sim *sim, size_t n,
  * (sph_set_watchdog) to the integrated particles, `material` giving each
  * particle's material: on SPH_ERR_UNSTABLE or SPH_ERR_NONFINITE,
  * *particle is the first particle concerned (else -1). */
-SPH_API sph_status sph_heun_predict_strided(sph_sim *sim, size_t n, double dt,
-                                            double *x, double *v, size_t stride,
-                                            double *rho, double *S,
+SPH_API sph_status sph_heun_predict_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                            size_t stride, double *rho, double *S,
                                             const sph_rates *rates,
-                                            const unsigned char *integrate_motion,
-                                            double *saved);
-SPH_API sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt,
-                                            double *x, double *v, size_t stride,
-                                            double *rho, double *S,
+                                            const unsigned char *integrate_motion, double *saved);
+SPH_API sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                            size_t stride, double *rho, double *S,
                                             const sph_rates *rates,
                                             const unsigned char *integrate_motion,
                                             const int *material, const double *saved,
@@ -720,50 +696,42 @@ SPH_API sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt,
  *      v += dt/2 dv/dt for the integrated particles, and the watchdog.
  * On SPH_ERR_NONFINITE or SPH_ERR_UNSTABLE *particle is the first particle
  * concerned (else -1). */
-SPH_API sph_status sph_leapfrog_begin_strided(sph_sim *sim, size_t n, double dt,
-                                              double *x, double *v, size_t stride,
-                                              double *rho, double *S,
+SPH_API sph_status sph_leapfrog_begin_strided(sph_sim *sim, size_t n, double dt, double *x,
+                                              double *v, size_t stride, double *rho, double *S,
                                               const sph_rates *rates,
-                                              const unsigned char *integrate_motion,
-                                              double *saved);
-SPH_API sph_status sph_leapfrog_drift_strided(sph_sim *sim, size_t n, double dt,
-                                              double *x, const double *v, size_t stride,
-                                              double *rho, double *S,
-                                              const sph_rates *rates,
+                                              const unsigned char *integrate_motion, double *saved);
+SPH_API sph_status sph_leapfrog_drift_strided(sph_sim *sim, size_t n, double dt, double *x,
+                                              const double *v, size_t stride, double *rho,
+                                              double *S, const sph_rates *rates,
                                               const unsigned char *integrate_motion,
                                               const double *saved, const int *material,
                                               long *particle);
-SPH_API sph_status sph_leapfrog_end_strided(sph_sim *sim, size_t n, double dt,
-                                            double *v, size_t stride, const double *rho,
-                                            const double *dv_dt,
+SPH_API sph_status sph_leapfrog_end_strided(sph_sim *sim, size_t n, double dt, double *v,
+                                            size_t stride, const double *rho, const double *dv_dt,
                                             const unsigned char *integrate_motion,
                                             const int *material, long *particle);
 
 /* Derived fields of external particles (n of them, material indices of
  * sim): pressure P (n), full Cauchy stress sigma = -P I + S (n * ncomp) and
  * von Mises stress (n).  Any output may be NULL. */
-SPH_API sph_status sph_derived_fields(sph_sim *sim, size_t n,
-                                      const double *rho, const double *S,
-                                      const int *material, double *pressure,
-                                      double *stress, double *von_mises);
+SPH_API sph_status sph_derived_fields(sph_sim *sim, size_t n, const double *rho, const double *S,
+                                      const int *material, double *pressure, double *stress,
+                                      double *von_mises);
 
 /* Elastic energy of each of n external particles [J; J per metre of depth
  * in 2D]: m (u_vol(rho) + S:S / (4 mu rho)), the per-particle terms that
  * sph_energy() sums (`energy`: n doubles). */
-SPH_API sph_status sph_energy_fields(sph_sim *sim, size_t n, const double *mass,
-                                     const double *rho, const double *S,
-                                     const int *material, double *energy);
+SPH_API sph_status sph_energy_fields(sph_sim *sim, size_t n, const double *mass, const double *rho,
+                                     const double *S, const int *material, double *energy);
 
 /* Probe interpolation split for distributed particles: add the
  * contributions of particles [0, n_local) to `sums`
  * (SPH_PROBE_VALUES(dim) + 1 doubles, zeroed by the caller; add the sums of
  * all ranks together), then turn the total into values with
  * sph_probe_finish().  Gives the same values as sph_probe_sample(). */
-SPH_API sph_status sph_probe_accumulate(sph_sim *sim,
-                                        const sph_particles *particles,
+SPH_API sph_status sph_probe_accumulate(sph_sim *sim, const sph_particles *particles,
                                         const double *point, double *sums);
-SPH_API sph_status sph_probe_finish(sph_sim *sim, const double *sums,
-                                    double *values);
+SPH_API sph_status sph_probe_finish(sph_sim *sim, const double *sums, double *values);
 
 #ifdef __cplusplus
 }

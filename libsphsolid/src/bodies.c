@@ -19,12 +19,12 @@ static sph_status grow_particles(sph_sim *sim, size_t n)
     while (cap < n)
         cap *= 2;
     const int dim = sim->dim, nc = sim->ncomp;
-#define GROW(ptr, count)                                                       \
-    do {                                                                       \
-        void *p_ = realloc(ptr, (count) * sizeof *(ptr));                      \
-        if (!p_)                                                               \
+#define GROW(ptr, count)                                                                \
+    do {                                                                                \
+        void *p_ = realloc(ptr, (count) * sizeof *(ptr));                               \
+        if (!p_)                                                                        \
             return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu particles", cap); \
-        ptr = p_;                                                              \
+        ptr = p_;                                                                       \
     } while (0)
     GROW(sim->x, cap * dim);
     GROW(sim->v, cap * dim);
@@ -46,13 +46,20 @@ void sim_shrink_to_fit(sph_sim *sim)
     const size_t n = sim->n;
     const int dim = sim->dim, nc = sim->ncomp;
     void *p;
-    if ((p = realloc(sim->x, n * dim * sizeof(double)))) sim->x = p;
-    if ((p = realloc(sim->v, n * dim * sizeof(double)))) sim->v = p;
-    if ((p = realloc(sim->rho, n * sizeof(double)))) sim->rho = p;
-    if ((p = realloc(sim->S, n * nc * sizeof(double)))) sim->S = p;
-    if ((p = realloc(sim->mass, n * sizeof(double)))) sim->mass = p;
-    if ((p = realloc(sim->material_of, n * sizeof(int)))) sim->material_of = p;
-    if ((p = realloc(sim->body_of, n * sizeof(int)))) sim->body_of = p;
+    if ((p = realloc(sim->x, n * dim * sizeof(double))))
+        sim->x = p;
+    if ((p = realloc(sim->v, n * dim * sizeof(double))))
+        sim->v = p;
+    if ((p = realloc(sim->rho, n * sizeof(double))))
+        sim->rho = p;
+    if ((p = realloc(sim->S, n * nc * sizeof(double))))
+        sim->S = p;
+    if ((p = realloc(sim->mass, n * sizeof(double))))
+        sim->mass = p;
+    if ((p = realloc(sim->material_of, n * sizeof(int))))
+        sim->material_of = p;
+    if ((p = realloc(sim->body_of, n * sizeof(int))))
+        sim->body_of = p;
     sim->capacity = n;
 }
 
@@ -61,7 +68,8 @@ static sph_status check_name(sph_sim *sim, const char *name)
     if (!name || !*name)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "body name is empty");
     if (strlen(name) >= SPH_NAME_SIZE)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "body name '%s' is longer than %d characters", name, SPH_NAME_SIZE - 1);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "body name '%s' is longer than %d characters", name,
+                        SPH_NAME_SIZE - 1);
     for (int i = 0; i < sim->n_bodies; ++i)
         if (strcmp(sim->bodies[i].name, name) == 0)
             return sph_fail(sim, SPH_ERR_ARGUMENT, "body name '%s' is already used", name);
@@ -70,8 +78,8 @@ static sph_status check_name(sph_sim *sim, const char *name)
 
 /* The new particles must keep at least half a spacing from every particle
  * of the other bodies. */
-static sph_status check_overlap(sph_sim *sim, const char *name, size_t n,
-                                const double *pos, double spacing)
+static sph_status check_overlap(sph_sim *sim, const char *name, size_t n, const double *pos,
+                                double spacing)
 {
     const int dim = sim->dim;
     double lo[3], hi[3];
@@ -81,8 +89,10 @@ static sph_status check_overlap(sph_sim *sim, const char *name, size_t n,
     }
     for (size_t k = 0; k < n; ++k)
         for (int i = 0; i < dim; ++i) {
-            if (pos[k * dim + i] < lo[i]) lo[i] = pos[k * dim + i];
-            if (pos[k * dim + i] > hi[i]) hi[i] = pos[k * dim + i];
+            if (pos[k * dim + i] < lo[i])
+                lo[i] = pos[k * dim + i];
+            if (pos[k * dim + i] > hi[i])
+                hi[i] = pos[k * dim + i];
         }
     for (size_t a = 0; a < sim->n; ++a) {
         const double *xa = sim->x + a * dim;
@@ -100,18 +110,18 @@ static sph_status check_overlap(sph_sim *sim, const char *name, size_t n,
             }
             if (r2 < tol * tol * (1.0 - 1e-9))
                 return sph_fail(sim, SPH_ERR_ARGUMENT,
-                                "body '%s' overlaps body '%s': its particle %zu at (%g, %g%s%.0g) is %g m from particle %zu (closer than half a spacing, %g m)",
-                                name, sim->bodies[sim->body_of[a]].name, k, pos[k * dim], pos[k * dim + 1],
-                                dim == 3 ? ", " : "", dim == 3 ? pos[k * dim + 2] : 0.0,
-                                sqrt(r2), a, tol);
+                                "body '%s' overlaps body '%s': its particle %zu at (%g, %g%s%.0g) "
+                                "is %g m from particle %zu (closer than half a spacing, %g m)",
+                                name, sim->bodies[sim->body_of[a]].name, k, pos[k * dim],
+                                pos[k * dim + 1], dim == 3 ? ", " : "",
+                                dim == 3 ? pos[k * dim + 2] : 0.0, sqrt(r2), a, tol);
         }
     }
     return SPH_OK;
 }
 
-sph_status sph_add_particles(sph_sim *sim, const char *name, int material_id,
-                             size_t n, const double *pos, const double *volumes,
-                             double spacing, int *body_id)
+sph_status sph_add_particles(sph_sim *sim, const char *name, int material_id, size_t n,
+                             const double *pos, const double *volumes, double spacing, int *body_id)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
@@ -120,31 +130,39 @@ sph_status sph_add_particles(sph_sim *sim, const char *name, int material_id,
         return st;
     if (sim->out)
         return sph_fail(sim, SPH_ERR_STATE,
-                        "body '%s': add bodies before opening the output file (its frames would hold only the earlier particles)",
+                        "body '%s': add bodies before opening the output file (its frames would "
+                        "hold only the earlier particles)",
                         name);
     if (material_id < 0 || material_id >= sim->n_materials)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': material=%d, but %d materials are defined",
-                        name, material_id, sim->n_materials);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "body '%s': material=%d, but %d materials are defined", name, material_id,
+                        sim->n_materials);
     if (n == 0)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s' is empty (0 particles)", name);
     if (!pos)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': positions are NULL", name);
     if (!(spacing > 0.0) || !isfinite(spacing))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': spacing dx=%g must be finite and > 0", name, spacing);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': spacing dx=%g must be finite and > 0",
+                        name, spacing);
     const int dim = sim->dim;
     for (size_t k = 0; k < n; ++k) {
         for (int i = 0; i < dim; ++i) {
             const double xi = pos[k * dim + i];
             if (!isfinite(xi))
-                return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': particle %zu has a non-finite coordinate %d", name, k, i);
-            if (sim->has_domain && (xi < sim->lo[i] || xi > sim->hi[i]))
                 return sph_fail(sim, SPH_ERR_ARGUMENT,
-                                "body '%s': particle %zu at coordinate %c=%g lies outside the domain [%g, %g]",
-                                name, k, "xyz"[i], xi, sim->lo[i], sim->hi[i]);
+                                "body '%s': particle %zu has a non-finite coordinate %d", name, k,
+                                i);
+            if (sim->has_domain && (xi < sim->lo[i] || xi > sim->hi[i]))
+                return sph_fail(
+                    sim, SPH_ERR_ARGUMENT,
+                    "body '%s': particle %zu at coordinate %c=%g lies outside the domain [%g, %g]",
+                    name, k, "xyz"[i], xi, sim->lo[i], sim->hi[i]);
         }
         if (volumes && (!(volumes[k] > 0.0) || !isfinite(volumes[k]) ||
                         !isfinite(volumes[k] * sim->materials[material_id].rho0)))
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': particle %zu has volume %g (must be finite and > 0)", name, k, volumes[k]);
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "body '%s': particle %zu has volume %g (must be finite and > 0)", name,
+                            k, volumes[k]);
     }
     st = check_overlap(sim, name, n, pos, spacing);
     if (st)
@@ -204,16 +222,17 @@ sph_status sph_add_particles(sph_sim *sim, const char *name, int material_id,
     return sph_ok(sim);
 }
 
-sph_status sph_add_block(sph_sim *sim, const char *name, int material_id,
-                         const double lo[3], const double hi[3], double dx,
-                         int *body_id)
+sph_status sph_add_block(sph_sim *sim, const char *name, int material_id, const double lo[3],
+                         const double hi[3], double dx, int *body_id)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!lo || !hi)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': lo and hi must not be NULL", name ? name : "");
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': lo and hi must not be NULL",
+                        name ? name : "");
     if (!(dx > 0.0) || !isfinite(dx))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': dx=%g must be finite and > 0", name ? name : "", dx);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': dx=%g must be finite and > 0",
+                        name ? name : "", dx);
     const int dim = sim->dim;
     long count[3] = {1, 1, 1};
     double step[3] = {0, 0, 0};
@@ -223,15 +242,18 @@ sph_status sph_add_block(sph_sim *sim, const char *name, int material_id,
     for (int i = 0; i < dim; ++i) {
         const double L = hi[i] - lo[i];
         if (!(L > 0.0) || !isfinite(L))
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': extent along %c is hi-lo=%g (must be > 0)",
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "block '%s': extent along %c is hi-lo=%g (must be > 0)",
                             name ? name : "", "xyz"[i], L);
         if (L / dx > 1e12)
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': extent %g m along %c is %g spacings dx=%g m: too many",
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "block '%s': extent %g m along %c is %g spacings dx=%g m: too many",
                             name ? name : "", L, "xyz"[i], L / dx, dx);
         cells *= round(L / dx);
         count[i] = lround(L / dx);
         if (count[i] < 1)
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': extent %g along %c is less than half of dx=%g",
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "block '%s': extent %g along %c is less than half of dx=%g",
                             name ? name : "", L, "xyz"[i], dx);
         step[i] = L / (double)count[i];
         n *= (size_t)count[i];
@@ -244,11 +266,14 @@ sph_status sph_add_block(sph_sim *sim, const char *name, int material_id,
             return st;
     }
     if (n > (size_t)1 << 31)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': %zu particles is too many (at most 2^31)", name ? name : "", n);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "block '%s': %zu particles is too many (at most 2^31)", name ? name : "",
+                        n);
     double *pos = malloc(n * (size_t)dim * sizeof *pos);
     double *vol = malloc(n * sizeof *vol);
     if (!pos || !vol) {
-        free(pos); free(vol);
+        free(pos);
+        free(vol);
         return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu block particles", n);
     }
     const double volume = step[0] * step[1] * (dim == 3 ? step[2] : 1.0);
@@ -289,9 +314,11 @@ sph_status sph_set_motion(sph_sim *sim, int id, sph_motion motion, const double 
         return SPH_ERR_ARGUMENT;
     body *b = &sim->bodies[id];
     if (motion == SPH_MOTION_ROTATION)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': a rotation needs its centre; use sph_set_rotation", b->name);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "body '%s': a rotation needs its centre; use sph_set_rotation", b->name);
     if (motion < SPH_MOTION_FREE || motion > SPH_MOTION_FORCE)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': motion=%d is not a sph_motion", b->name, (int)motion);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': motion=%d is not a sph_motion", b->name,
+                        (int)motion);
     double vec[3] = {0, 0, 0};
     if (motion == SPH_MOTION_VELOCITY || motion == SPH_MOTION_FORCE) {
         if (!vector)
@@ -299,8 +326,9 @@ sph_status sph_set_motion(sph_sim *sim, int id, sph_motion motion, const double 
                             motion == SPH_MOTION_VELOCITY ? "velocity" : "force");
         for (int i = 0; i < sim->dim; ++i) {
             if (!isfinite(vector[i]))
-                return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': motion vector component %c=%g is not finite",
-                                b->name, "xyz"[i], vector[i]);
+                return sph_fail(sim, SPH_ERR_ARGUMENT,
+                                "body '%s': motion vector component %c=%g is not finite", b->name,
+                                "xyz"[i], vector[i]);
             vec[i] = vector[i];
         }
     }
@@ -320,7 +348,8 @@ sph_status sph_set_motion(sph_sim *sim, int id, sph_motion motion, const double 
 }
 
 /* v = omega x (x - c) for one particle */
-void rotation_velocity(int dim, const double *omega, const double *centre, const double *x, double *v)
+void rotation_velocity(int dim, const double *omega, const double *centre, const double *x,
+                       double *v)
 {
     const double r[3] = {x[0] - centre[0], x[1] - centre[1], dim == 3 ? x[2] - centre[2] : 0.0};
     v[0] = omega[1] * r[2] - omega[2] * r[1];
@@ -337,20 +366,25 @@ sph_status sph_set_rotation(sph_sim *sim, int id, const double *centre, const do
         return SPH_ERR_ARGUMENT;
     body *b = &sim->bodies[id];
     if (!centre || !omega)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': rotation needs a centre and an angular velocity", b->name);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "body '%s': rotation needs a centre and an angular velocity", b->name);
     const int dim = sim->dim;
     double c[3] = {0, 0, 0};
     for (int i = 0; i < dim; ++i) {
         if (!isfinite(centre[i]))
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': rotation centre %c=%g is not finite", b->name, "xyz"[i], centre[i]);
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': rotation centre %c=%g is not finite",
+                            b->name, "xyz"[i], centre[i]);
         c[i] = centre[i];
     }
     for (int i = 0; i < 3; ++i) {
         if (!isfinite(omega[i]))
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': angular velocity omega_%c=%g is not finite", b->name, "xyz"[i], omega[i]);
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "body '%s': angular velocity omega_%c=%g is not finite", b->name,
+                            "xyz"[i], omega[i]);
         if (dim == 2 && i < 2 && omega[i] != 0.0)
             return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "body '%s': omega_%c=%g; in 2D the rotation is about z (only omega_z may be non-zero)",
+                            "body '%s': omega_%c=%g; in 2D the rotation is about z (only omega_z "
+                            "may be non-zero)",
                             b->name, "xyz"[i], omega[i]);
     }
     b->motion = SPH_MOTION_ROTATION;
@@ -371,11 +405,15 @@ sph_status sph_set_body_velocity(sph_sim *sim, int id, const double *v)
     body *b = &sim->bodies[id];
     if (!v)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': velocity is NULL", b->name);
-    if (b->motion == SPH_MOTION_FIXED || b->motion == SPH_MOTION_VELOCITY || b->motion == SPH_MOTION_ROTATION)
-        return sph_fail(sim, SPH_ERR_STATE, "body '%s' has a prescribed motion; use sph_set_motion", b->name);
+    if (b->motion == SPH_MOTION_FIXED || b->motion == SPH_MOTION_VELOCITY ||
+        b->motion == SPH_MOTION_ROTATION)
+        return sph_fail(sim, SPH_ERR_STATE, "body '%s' has a prescribed motion; use sph_set_motion",
+                        b->name);
     for (int i = 0; i < sim->dim; ++i)
         if (!isfinite(v[i]))
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "body '%s': velocity component %c=%g is not finite", b->name, "xyz"[i], v[i]);
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "body '%s': velocity component %c=%g is not finite", b->name, "xyz"[i],
+                            v[i]);
     for (size_t a = b->first; a < b->first + b->count; ++a)
         memcpy(sim->v + a * sim->dim, v, (size_t)sim->dim * sizeof(double));
     sim->rates_valid = 0;
@@ -416,4 +454,3 @@ sph_status sph_body_find(sph_sim *sim, const char *name, int *id)
         }
     return sph_fail(sim, SPH_ERR_ARGUMENT, "no body named '%s'", name ? name : "(null)");
 }
-

@@ -9,8 +9,8 @@
 
 /* ------------------------------------------------------ per-particle terms */
 
-static void principal_2d(double sxx, double syy, double sxy, double *c,
-                         double *s, double *s1, double *s2)
+static void principal_2d(double sxx, double syy, double sxy, double *c, double *s, double *s1,
+                         double *s2)
 {
     const double theta = 0.5 * atan2(2.0 * sxy, sxx - syy);
     *c = cos(theta);
@@ -37,8 +37,8 @@ static void jacobi_3x3(double A[3][3], double Q[3][3])
                 if (A[p][q] == 0.0)
                     continue;
                 const double theta = (A[q][q] - A[p][p]) / (2.0 * A[p][q]);
-                const double t = (theta >= 0 ? 1.0 : -1.0) /
-                                 (fabs(theta) + sqrt(theta * theta + 1.0));
+                const double t =
+                    (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
                 const double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
                 for (int k = 0; k < 3; ++k) {
                     const double akp = A[k][p], akq = A[k][q];
@@ -59,8 +59,8 @@ static void jacobi_3x3(double A[3][3], double Q[3][3])
     }
 }
 
-void artificial_stress_tensor(int dim, const double *S, double P, double rho,
-                              double epsilon, double *R)
+void artificial_stress_tensor(int dim, const double *S, double P, double rho, double epsilon,
+                              double *R)
 {
     const double scale = -epsilon / (rho * rho);
     if (dim == 2) {
@@ -73,9 +73,7 @@ void artificial_stress_tensor(int dim, const double *S, double P, double rho,
         R[2] = c * s * (r1 - r2);
         return;
     }
-    double A[3][3] = {{S[0] - P, S[3], S[4]},
-                      {S[3], S[1] - P, S[5]},
-                      {S[4], S[5], S[2] - P}};
+    double A[3][3] = {{S[0] - P, S[3], S[4]}, {S[3], S[1] - P, S[5]}, {S[4], S[5], S[2] - P}};
     double Q[3][3];
     jacobi_3x3(A, Q);
     double r[3];
@@ -98,7 +96,8 @@ int correct_velocity_gradient(int dim, const double *M, double L[3][3])
         const double det = a * d - b * b;
         if (!(fabs(det) > 1e-12 * (a * a + d * d)))
             return 0;
-        inv[0][0] = d / det; inv[1][1] = a / det;
+        inv[0][0] = d / det;
+        inv[1][1] = a / det;
         inv[0][1] = inv[1][0] = -b / det;
     } else {
         const double a = M[0], e = M[1], i9 = M[2], b = M[3], c = M[4], f = M[5];
@@ -107,11 +106,15 @@ int correct_velocity_gradient(int dim, const double *M, double L[3][3])
         const double det = a * A0 + b * B0 + c * C0;
         if (!(fabs(det) > 1e-12 * fabs(a * e * i9)))
             return 0;
-        inv[0][0] = A0 / det; inv[0][1] = B0 / det; inv[0][2] = C0 / det;
+        inv[0][0] = A0 / det;
+        inv[0][1] = B0 / det;
+        inv[0][2] = C0 / det;
         inv[1][1] = (a * i9 - c * c) / det;
         inv[1][2] = (b * c - a * f) / det;
         inv[2][2] = (a * e - b * b) / det;
-        inv[1][0] = inv[0][1]; inv[2][0] = inv[0][2]; inv[2][1] = inv[1][2];
+        inv[1][0] = inv[0][1];
+        inv[2][0] = inv[0][2];
+        inv[2][1] = inv[1][2];
     }
     double out[3][3] = {{0}};
     for (int i = 0; i < dim; ++i)
@@ -133,19 +136,19 @@ int correct_velocity_gradient(int dim, const double *M, double L[3][3])
  * must be given), its allowed range and where its value lives. */
 typedef struct parameter_def {
     const char *key;
-    const char *unit;        /* "" when dimensionless */
+    const char *unit; /* "" when dimensionless */
     const char *description;
-    double fallback;         /* the default; NAN when it must be given */
-    double min, max;         /* allowed range (+-HUGE_VAL: unbounded) */
+    double fallback; /* the default; NAN when it must be given */
+    double min, max; /* allowed range (+-HUGE_VAL: unbounded) */
     int min_inclusive, max_inclusive;
-    size_t offset;           /* of the double in struct effects */
+    size_t offset; /* of the double in struct effects */
 } parameter_def;
 
-#define FX(field) offsetof(effects, field)
-#define ANY -HUGE_VAL, HUGE_VAL, 0, 0        /* any finite value */
-#define NON_NEGATIVE 0.0, HUGE_VAL, 1, 0     /* [0, inf) */
-#define POSITIVE 0.0, HUGE_VAL, 0, 0         /* (0, inf) */
-#define FRACTION 0.0, 1.0, 0, 1              /* (0, 1] */
+#define FX(field)    offsetof(effects, field)
+#define ANY          -HUGE_VAL, HUGE_VAL, 0, 0 /* any finite value */
+#define NON_NEGATIVE 0.0, HUGE_VAL, 1, 0       /* [0, inf) */
+#define POSITIVE     0.0, HUGE_VAL, 0, 0       /* (0, inf) */
+#define FRACTION     0.0, 1.0, 0, 1            /* (0, 1] */
 
 static const parameter_def viscosity_parameters[] = {
     {"alpha", "", "linear (bulk) coefficient", 1.0, NON_NEGATIVE, FX(alpha)},
@@ -164,7 +167,8 @@ static const parameter_def damping_parameters[] = {
     {"rate", "1/s", "damping rate", NAN, POSITIVE, FX(damping_rate)},
 };
 static const parameter_def xsph_parameters[] = {
-    {"epsilon", "", "fraction of the neighbours' mean velocity difference", 0.5, FRACTION, FX(xsph_epsilon)},
+    {"epsilon", "", "fraction of the neighbours' mean velocity difference", 0.5, FRACTION,
+     FX(xsph_epsilon)},
 };
 
 /* Rules beyond the ranges (values in the order of the parameters). */
@@ -176,7 +180,7 @@ static sph_status gravity_rule(sph_sim *sim, const double *g)
 }
 
 #define PARAMETERS(array) array, (int)(sizeof array / sizeof array[0])
-#define NO_PARAMETERS NULL, 0
+#define NO_PARAMETERS     NULL, 0
 
 /* The effects: one row each, the only place an effect is named.
  *   X(name, switch in struct effects, parameters, extra rule or NULL,
@@ -184,28 +188,27 @@ static sph_status gravity_rule(sph_sim *sim, const double *g)
  * The names list, describe text (HDF5 attribute), parsing, range checks
  * and the public sph_effect_info_get()/sph_effect_parameter_get() all come
  * from it. */
-#define SPH_EFFECTS(X)                                                                   \
-    X(artificial_viscosity, viscosity, PARAMETERS(viscosity_parameters), NULL,           \
-      "Monaghan (1992) artificial viscosity: a pressure Pi_ab between approaching "     \
-      "pairs; damps the high-frequency modes Improved Euler amplifies")                  \
-    X(artificial_stress, artificial_stress, PARAMETERS(artificial_stress_parameters),    \
-      NULL,                                                                              \
-      "Gray, Monaghan & Swift (2001) artificial stress: a repulsion between particles " \
-      "in tension, against the tensile instability")                                     \
-    X(gravity, gravity, PARAMETERS(gravity_parameters), gravity_rule,                    \
-      "uniform body force: dv/dt += g")                                                  \
-    X(damping, damping, PARAMETERS(damping_parameters), NULL,                            \
-      "velocity damping dv/dt -= rate v, for reaching a static state fast")             \
-    X(xsph, xsph, PARAMETERS(xsph_parameters), NULL,                                     \
-      "Monaghan (1989) XSPH: particles move with a velocity smoothed over their "       \
-      "neighbours")                                                                      \
-    X(kernel_correction, kernel_correction, NO_PARAMETERS, NULL,                         \
-      "Bonet & Lok (1999) kernel-gradient correction of the velocity gradient: exact "  \
+#define SPH_EFFECTS(X)                                                                      \
+    X(artificial_viscosity, viscosity, PARAMETERS(viscosity_parameters), NULL,              \
+      "Monaghan (1992) artificial viscosity: a pressure Pi_ab between approaching "         \
+      "pairs; damps the high-frequency modes Improved Euler amplifies")                     \
+    X(artificial_stress, artificial_stress, PARAMETERS(artificial_stress_parameters), NULL, \
+      "Gray, Monaghan & Swift (2001) artificial stress: a repulsion between particles "     \
+      "in tension, against the tensile instability")                                        \
+    X(gravity, gravity, PARAMETERS(gravity_parameters), gravity_rule,                       \
+      "uniform body force: dv/dt += g")                                                     \
+    X(damping, damping, PARAMETERS(damping_parameters), NULL,                               \
+      "velocity damping dv/dt -= rate v, for reaching a static state fast")                 \
+    X(xsph, xsph, PARAMETERS(xsph_parameters), NULL,                                        \
+      "Monaghan (1989) XSPH: particles move with a velocity smoothed over their "           \
+      "neighbours")                                                                         \
+    X(kernel_correction, kernel_correction, NO_PARAMETERS, NULL,                            \
+      "Bonet & Lok (1999) kernel-gradient correction of the velocity gradient: exact "      \
       "for linear fields, also at free surfaces")
 
 typedef struct effect_def {
     const char *name;
-    size_t switch_offset;    /* of the int switch in struct effects */
+    size_t switch_offset; /* of the int switch in struct effects */
     const parameter_def *parameters;
     int n_parameters;
     sph_status (*rule)(sph_sim *sim, const double *values);
@@ -215,14 +218,11 @@ typedef struct effect_def {
 #define EFFECT_ROW(name, on, parameters, rule, text) {#name, FX(on), parameters, rule, text},
 static const effect_def registry[] = {SPH_EFFECTS(EFFECT_ROW)};
 #undef EFFECT_ROW
-#define N_EFFECTS ((int)(sizeof registry / sizeof registry[0]))
+#define N_EFFECTS      ((int)(sizeof registry / sizeof registry[0]))
 #define MAX_PARAMETERS 8
 
 #define EFFECT_WORD(name, on, parameters, rule, text) " " #name
-const char *sph_effect_names(void)
-{
-    return SPH_EFFECTS(EFFECT_WORD) + 1;
-}
+const char *sph_effect_names(void) { return SPH_EFFECTS(EFFECT_WORD) + 1; }
 #undef EFFECT_WORD
 
 int sph_effect_count(void) { return N_EFFECTS; }
@@ -273,8 +273,8 @@ static sph_status parse_parameters(sph_sim *sim, const effect_def *e, const char
         const char *end = p + strcspn(p, " \t,");
         if (!eq || eq > end)
             return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "effect '%s': parameter '%.*s' is not of the form key=value",
-                            e->name, (int)(end - p), p);
+                            "effect '%s': parameter '%.*s' is not of the form key=value", e->name,
+                            (int)(end - p), p);
         const size_t klen = (size_t)(eq - p);
         int found = -1;
         for (int i = 0; i < e->n_parameters; ++i)
@@ -288,22 +288,22 @@ static sph_status parse_parameters(sph_sim *sim, const effect_def *e, const char
                     strncat(known, ", ", sizeof known - strlen(known) - 1);
             }
             return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "effect '%s': unknown parameter '%.*s' (known: %s)",
-                            e->name, (int)klen, p, e->n_parameters ? known : "none");
+                            "effect '%s': unknown parameter '%.*s' (known: %s)", e->name, (int)klen,
+                            p, e->n_parameters ? known : "none");
         }
         const char *key = e->parameters[found].key;
         char number[64], *stop;
         const size_t vlen = (size_t)(end - eq - 1);
         if (vlen == 0 || vlen >= sizeof number)
-            return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "effect '%s': parameter '%s' has no valid value", e->name, key);
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "effect '%s': parameter '%s' has no valid value",
+                            e->name, key);
         memcpy(number, eq + 1, vlen);
         number[vlen] = '\0';
         const double value = strtod(number, &stop);
         if (*stop != '\0' || !isfinite(value))
             return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "effect '%s': parameter %s='%s' is not a finite number",
-                            e->name, key, number);
+                            "effect '%s': parameter %s='%s' is not a finite number", e->name, key,
+                            number);
         if (given[found])
             return sph_fail(sim, SPH_ERR_ARGUMENT,
                             "effect '%s': parameter '%s' is given twice (%s=%g, then %s=%s)",

@@ -36,8 +36,7 @@ typedef struct effects {
  *   Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab,  v_ab.r_ab < 0
  *   mu_ab = h v_ab.r_ab / (r_ab^2 + 0.01 h^2)
  * It acts as an extra pressure: T_ab -= Pi_ab I in the momentum sum. */
-static inline double viscosity_pair(double alpha, double beta, double h,
-                                    double v_dot_r, double r2,
+static inline double viscosity_pair(double alpha, double beta, double h, double v_dot_r, double r2,
                                     double c_mean, double rho_mean)
 {
     /* one division: with d = r^2 + 0.01 h^2, mu = h v.r / d and
@@ -50,8 +49,7 @@ static inline double viscosity_pair(double alpha, double beta, double h,
 }
 
 /* Gray et al. (2001) eq. (22): the pair factor f_ab^n, f_ab = W_ab/W(dx). */
-static inline double artificial_stress_factor(double W_ab, double inv_W_dx,
-                                              double exponent)
+static inline double artificial_stress_factor(double W_ab, double inv_W_dx, double exponent)
 {
     return pow(W_ab * inv_W_dx, exponent);
 }
@@ -67,14 +65,13 @@ static inline double artificial_stress_factor_4(double W_ab, double inv_W_dx)
  * In the principal frame of the in-plane stress, R'_ii = -epsilon
  * sigma'_ii / rho^2 where sigma'_ii > 0 (tension), else 0; rotated back.
  * R is in-plane compact storage. */
-void artificial_stress_tensor(int dim, const double *S, double P, double rho,
-                              double epsilon, double *R);
+void artificial_stress_tensor(int dim, const double *S, double P, double rho, double epsilon,
+                              double *R);
 
 /* Monaghan (1989): XSPH velocity correction contribution of b,
  * epsilon (m_b / rho_ab) (v_b - v_a) W_ab. */
-static inline void xsph_pair(int dim, double epsilon, double m_b,
-                             double rho_mean, const double *v_ab, double W_ab,
-                             double *dx_dt)
+static inline void xsph_pair(int dim, double epsilon, double m_b, double rho_mean,
+                             const double *v_ab, double W_ab, double *dx_dt)
 {
     const double s = epsilon * m_b / rho_mean * W_ab;
     for (int i = 0; i < dim; ++i)
@@ -86,8 +83,7 @@ static inline void xsph_pair(int dim, double epsilon, double m_b,
  * grad_a W_ab is parallel to r_ab; written to term[] in the compact order
  * of pair_tensor_index (xx yy xy, or xx yy zz xy xz yz).  Straight-line
  * code, so that the pair loop around it vectorises. */
-static inline void correction_matrix_pair(int dim, double volume_b,
-                                          const double *r_ab,
+static inline void correction_matrix_pair(int dim, double volume_b, const double *r_ab,
                                           const double *grad_W, double *term)
 {
     const double s = -volume_b;

@@ -34,4 +34,3 @@ int sph_effect_is_on(const sph_sim *sim, const char *name)
 {
     return sim ? effects_is_on(&sim->fx, name) : -1;
 }
-

@@ -54,8 +54,9 @@ sph_status sph_energy(sph_sim *sim, int all_bodies, sph_energy_info *info)
             info->momentum[i] += sim->mass[a] * sim->v[a * dim + i];
         }
         info->kinetic += 0.5 * sim->mass[a] * v2;
-        info->elastic += sim->mass[a] * elastic_energy_per_mass(dim, m->c0_squared, m->rho0, m->mu,
-                                                                sim->rho[a], sim->S + a * sim->ncomp);
+        info->elastic +=
+            sim->mass[a] * elastic_energy_per_mass(dim, m->c0_squared, m->rho0, m->mu, sim->rho[a],
+                                                   sim->S + a * sim->ncomp);
     }
     return sph_ok(sim);
 }

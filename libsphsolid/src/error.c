@@ -48,10 +48,10 @@ const char *sph_version(void)
 {
     return SPHSOLID_VERSION_STRING
 #ifdef _OPENMP
-           " openmp"
+        " openmp"
 #endif
 #ifdef SPHSOLID_HAVE_HDF5
-           " hdf5"
+        " hdf5"
 #endif
         ;
 }

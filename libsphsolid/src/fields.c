@@ -18,17 +18,29 @@ sph_status sph_field(sph_sim *sim, sph_field_id field, double **data, size_t *ro
     size_t c = 1;
     double *p = NULL;
     switch (field) {
-    case SPH_FIELD_POSITION: p = sim->x; c = sim->dim; break;
-    case SPH_FIELD_VELOCITY: p = sim->v; c = sim->dim; break;
+    case SPH_FIELD_POSITION:
+        p = sim->x;
+        c = sim->dim;
+        break;
+    case SPH_FIELD_VELOCITY:
+        p = sim->v;
+        c = sim->dim;
+        break;
     case SPH_FIELD_DENSITY: p = sim->rho; break;
-    case SPH_FIELD_DEVIATORIC_STRESS: p = sim->S; c = sim->ncomp; break;
+    case SPH_FIELD_DEVIATORIC_STRESS:
+        p = sim->S;
+        c = sim->ncomp;
+        break;
     case SPH_FIELD_MASS: p = sim->mass; break;
     default:
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "field=%d is derived or unknown; use sph_field_copy", (int)field);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "field=%d is derived or unknown; use sph_field_copy",
+                        (int)field);
     }
     *data = p;
-    if (rows) *rows = sim->n;
-    if (cols) *cols = c;
+    if (rows)
+        *rows = sim->n;
+    if (cols)
+        *cols = c;
     sim->rates_valid = 0; /* the caller may write through the pointer */
     sim->nl.valid = sim->nl.valid && field != SPH_FIELD_POSITION;
     return sph_ok(sim);
@@ -77,8 +89,7 @@ sph_status sph_field_copy(sph_sim *sim, sph_field_id field, double *out)
         }
         memcpy(out, sim->dv_dt, n * dim * sizeof(double));
         break;
-    default:
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "field=%d is not a sph_field_id", (int)field);
+    default: return sph_fail(sim, SPH_ERR_ARGUMENT, "field=%d is not a sph_field_id", (int)field);
     }
     return sph_ok(sim);
 }
@@ -100,20 +111,22 @@ double sph_von_mises(int dimension, const double *S)
     return S ? von_mises_stress(dimension == 3 ? 3 : 2, S) : 0.0;
 }
 
-
-sph_status sph_derived_fields(sph_sim *sim, size_t n, const double *rho,
-                              const double *S, const int *material_of,
-                              double *pressure, double *stress, double *von_mises)
+sph_status sph_derived_fields(sph_sim *sim, size_t n, const double *rho, const double *S,
+                              const int *material_of, double *pressure, double *stress,
+                              double *von_mises)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (n > 0 && (!rho || !S || !material_of))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_derived_fields: rho, S and material must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "sph_derived_fields: rho, S and material must not be NULL");
     const int dim = sim->dim, nc = sim->ncomp;
     for (size_t a = 0; a < n; ++a) {
         if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_derived_fields: particle %zu has material %d, but %d materials are defined",
-                            a, material_of[a], sim->n_materials);
+            return sph_fail(
+                sim, SPH_ERR_ARGUMENT,
+                "sph_derived_fields: particle %zu has material %d, but %d materials are defined", a,
+                material_of[a], sim->n_materials);
         const material *m = &sim->materials[material_of[a]];
         const double P = eos_pressure(m->c0_squared, rho[a], m->rho0);
         if (pressure)
@@ -126,4 +139,3 @@ sph_status sph_derived_fields(sph_sim *sim, size_t n, const double *rho,
     }
     return SPH_OK;
 }
-

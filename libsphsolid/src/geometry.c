@@ -16,7 +16,7 @@ static const char *label(const char *name) { return name ? name : ""; }
 
 /* Records a lattice body's extent and per-axis lattice step. */
 void body_set_lattice(sph_sim *sim, int id, const double lo[3], const double hi[3],
-                        const double step[3])
+                      const double step[3])
 {
     body *b = &sim->bodies[id];
     for (int i = 0; i < 3; ++i) {
@@ -38,8 +38,10 @@ void body_extent_from_particles(sph_sim *sim, int id)
     for (size_t a = b->first; a < b->first + b->count; ++a)
         for (int i = 0; i < dim; ++i) {
             const double x = sim->x[a * dim + i];
-            if (x < b->lo[i]) b->lo[i] = x;
-            if (x > b->hi[i]) b->hi[i] = x;
+            if (x < b->lo[i])
+                b->lo[i] = x;
+            if (x > b->hi[i])
+                b->hi[i] = x;
         }
     for (int i = 0; i < dim; ++i) {
         b->lo[i] -= 0.5 * b->spacing;
@@ -47,8 +49,7 @@ void body_extent_from_particles(sph_sim *sim, int id)
     }
 }
 
-sph_status sph_body_extent(sph_sim *sim, int id, double lo[3], double hi[3],
-                           double step[3])
+sph_status sph_body_extent(sph_sim *sim, int id, double lo[3], double hi[3], double step[3])
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
@@ -56,22 +57,25 @@ sph_status sph_body_extent(sph_sim *sim, int id, double lo[3], double hi[3],
         return sph_fail(sim, SPH_ERR_ARGUMENT, "body=%d: %d bodies are defined", id, sim->n_bodies);
     const body *b = &sim->bodies[id];
     for (int i = 0; i < 3; ++i) {
-        if (lo) lo[i] = b->lo[i];
-        if (hi) hi[i] = b->hi[i];
-        if (step) step[i] = b->step[i];
+        if (lo)
+            lo[i] = b->lo[i];
+        if (hi)
+            hi[i] = b->hi[i];
+        if (step)
+            step[i] = b->step[i];
     }
     return sph_ok(sim);
 }
 
-sph_status sph_add_prism(sph_sim *sim, const char *name, int material,
-                         const double base_centre[3], double width, double depth,
-                         double height, double dx, int *body_id)
+sph_status sph_add_prism(sph_sim *sim, const char *name, int material, const double base_centre[3],
+                         double width, double depth, double height, double dx, int *body_id)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (sim->dim != 3)
-        return sph_fail(sim, SPH_ERR_STATE, "prism '%s' is 3D; this simulation is %dD (use sph_add_block)",
-                        label(name), sim->dim);
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "prism '%s' is 3D; this simulation is %dD (use sph_add_block)", label(name),
+                        sim->dim);
     if (!base_centre)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "prism '%s': base_centre is NULL", label(name));
     const double size[3] = {width, height, depth};
@@ -84,14 +88,16 @@ sph_status sph_add_prism(sph_sim *sim, const char *name, int material,
             return sph_fail(sim, SPH_ERR_ARGUMENT, "prism '%s': %s=%g m must be finite and > 0",
                             label(name), what[i], size[i]);
     }
-    const double lo[3] = {base_centre[0] - 0.5 * width, base_centre[1], base_centre[2] - 0.5 * depth};
-    const double hi[3] = {base_centre[0] + 0.5 * width, base_centre[1] + height, base_centre[2] + 0.5 * depth};
+    const double lo[3] = {base_centre[0] - 0.5 * width, base_centre[1],
+                          base_centre[2] - 0.5 * depth};
+    const double hi[3] = {base_centre[0] + 0.5 * width, base_centre[1] + height,
+                          base_centre[2] + 0.5 * depth};
     return sph_add_block(sim, name, material, lo, hi, dx, body_id);
 }
 
 sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material,
-                            const double base_centre[3], double radius, double length,
-                            double dx, int *body_id)
+                            const double base_centre[3], double radius, double length, double dx,
+                            int *body_id)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
@@ -102,8 +108,9 @@ sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material,
         return sph_fail(sim, SPH_ERR_ARGUMENT, "cylinder '%s': base_centre is NULL", label(name));
     for (int i = 0; i < 3; ++i)
         if (!isfinite(base_centre[i]))
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "cylinder '%s': base_centre[%d]=%g is not finite",
-                            label(name), i, base_centre[i]);
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "cylinder '%s': base_centre[%d]=%g is not finite", label(name), i,
+                            base_centre[i]);
     if (!(radius > 0.0) || !isfinite(radius))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "cylinder '%s': radius=%g m must be finite and > 0",
                         label(name), radius);
@@ -115,14 +122,16 @@ sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material,
                         label(name), dx);
     const long n_side = lround(2.0 * radius / dx), n_y = lround(length / dx);
     if (n_side < 1 || n_y < 1)
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "cylinder '%s': dx=%g m is more than twice the diameter %g m or the length %g m",
-                        label(name), dx, 2.0 * radius, length);
+        return sph_fail(
+            sim, SPH_ERR_ARGUMENT,
+            "cylinder '%s': dx=%g m is more than twice the diameter %g m or the length %g m",
+            label(name), dx, 2.0 * radius, length);
     const double s = 2.0 * radius / (double)n_side, sy = length / (double)n_y;
     /* one cross-section: the lattice points strictly inside the circle */
     double *ring = malloc((size_t)n_side * (size_t)n_side * 2 * sizeof *ring);
     if (!ring)
-        return sph_fail(sim, SPH_ERR_MEMORY, "cylinder '%s': cannot allocate its cross-section", label(name));
+        return sph_fail(sim, SPH_ERR_MEMORY, "cylinder '%s': cannot allocate its cross-section",
+                        label(name));
     size_t per_layer = 0;
     for (long k = 0; k < n_side; ++k)
         for (long i = 0; i < n_side; ++i) {
@@ -135,17 +144,21 @@ sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material,
         }
     if (per_layer == 0) {
         free(ring);
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "cylinder '%s' holds no particle at dx=%g m (radius %g m)",
-                        label(name), dx, radius);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "cylinder '%s' holds no particle at dx=%g m (radius %g m)", label(name), dx,
+                        radius);
     }
     const size_t n = per_layer * (size_t)n_y;
     if (n > (size_t)1 << 31) {
         free(ring);
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "cylinder '%s': %zu particles is too many", label(name), n);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "cylinder '%s': %zu particles is too many",
+                        label(name), n);
     }
     double *pos = malloc(n * 3 * sizeof *pos), *vol = malloc(n * sizeof *vol);
     if (!pos || !vol) {
-        free(ring); free(pos); free(vol);
+        free(ring);
+        free(pos);
+        free(vol);
         return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu cylinder particles", n);
     }
     const double volume = s * s * sy;
@@ -165,7 +178,8 @@ sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material,
     if (st)
         return st;
     const double lo[3] = {base_centre[0] - radius, base_centre[1], base_centre[2] - radius};
-    const double hi[3] = {base_centre[0] + radius, base_centre[1] + length, base_centre[2] + radius};
+    const double hi[3] = {base_centre[0] + radius, base_centre[1] + length,
+                          base_centre[2] + radius};
     const double step[3] = {s, sy, s};
     body_set_lattice(sim, id, lo, hi, step);
     if (body_id)
@@ -174,14 +188,14 @@ sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material,
 }
 
 /* A platen of `layers` lattice layers below (side < 0) or above the body. */
-static sph_status add_platen(sph_sim *sim, const char *name, int material, int against,
-                             int layers, int side, const char *role, int *platen_id)
+static sph_status add_platen(sph_sim *sim, const char *name, int material, int against, int layers,
+                             int side, const char *role, int *platen_id)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (against < 0 || against >= sim->n_bodies)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s '%s': body=%d, but %d bodies are defined",
-                        role, label(name), against, sim->n_bodies);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s '%s': body=%d, but %d bodies are defined", role,
+                        label(name), against, sim->n_bodies);
     const body *b = &sim->bodies[against];
     if (material < 0)
         material = b->material;
@@ -195,7 +209,8 @@ static sph_status add_platen(sph_sim *sim, const char *name, int material, int a
         layers = (int)least;
     if (layers < least && layers < least_nominal)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "%s '%s': layers=%d of %g m give %g m, thinner than the kernel support %g m (at least %ld layers)",
+                        "%s '%s': layers=%d of %g m give %g m, thinner than the kernel support %g "
+                        "m (at least %ld layers)",
                         role, label(name), layers, dy, layers * dy, sph_support_radius(sim),
                         least < least_nominal ? least : least_nominal);
     double lo[3], hi[3];
@@ -228,7 +243,8 @@ static sph_status add_platen(sph_sim *sim, const char *name, int material, int a
     }
     double *pos = malloc(n * (size_t)dim * sizeof *pos), *vol = malloc(n * sizeof *vol);
     if (!pos || !vol) {
-        free(pos); free(vol);
+        free(pos);
+        free(vol);
         return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu %s particles", n, role);
     }
     const double volume = step[0] * step[1] * (dim == 3 ? step[2] : 1.0);
@@ -272,7 +288,8 @@ sph_status sph_add_piston(sph_sim *sim, const char *name, int material, int body
                           double speed, int *piston)
 {
     if (sim && !isfinite(speed))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "piston '%s': speed=%g m/s is not finite", label(name), speed);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "piston '%s': speed=%g m/s is not finite",
+                        label(name), speed);
     int id;
     sph_status st = add_platen(sim, name, material, body, layers, +1, "piston", &id);
     if (st)

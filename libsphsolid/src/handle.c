@@ -40,12 +40,22 @@ void sph_destroy(sph_sim *sim)
     free(sim->materials);
     free(sim->bodies);
     free(sim->probes);
-    free(sim->x); free(sim->v); free(sim->rho); free(sim->S); free(sim->mass);
-    free(sim->material_of); free(sim->body_of);
+    free(sim->x);
+    free(sim->v);
+    free(sim->rho);
+    free(sim->S);
+    free(sim->mass);
+    free(sim->material_of);
+    free(sim->body_of);
     free(sim->saved);
     free(sim->x_saved);
-    free(sim->dv_dt); free(sim->drho_dt); free(sim->dS_dt); free(sim->dx_dt);
-    free(sim->pair_data); free(sim->stress_R); free(sim->sum_scratch);
+    free(sim->dv_dt);
+    free(sim->drho_dt);
+    free(sim->dS_dt);
+    free(sim->dx_dt);
+    free(sim->pair_data);
+    free(sim->stress_R);
+    free(sim->sum_scratch);
     for (size_t c = 0; c < sim->n_far; ++c) {
         free(sim->far[c].target);
         free(sim->far[c].terms);
@@ -62,25 +72,29 @@ sph_status sph_set_threads(sph_sim *sim, int threads)
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (threads < 0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "threads=%d: must be >= 0 (0 = OpenMP default)", threads);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "threads=%d: must be >= 0 (0 = OpenMP default)",
+                        threads);
     sim->threads = threads;
     return sph_ok(sim);
 }
 
-sph_status sph_set_watchdog(sph_sim *sim, double max_speed_over_cp,
-                            double min_density_ratio, double max_density_ratio)
+sph_status sph_set_watchdog(sph_sim *sim, double max_speed_over_cp, double min_density_ratio,
+                            double max_density_ratio)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!(max_speed_over_cp >= 0.0) || !isfinite(max_speed_over_cp))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "watchdog max_speed_over_cp=%g: must be finite and >= 0", max_speed_over_cp);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "watchdog max_speed_over_cp=%g: must be finite and >= 0",
+                        max_speed_over_cp);
     if (!(min_density_ratio >= 0.0 && min_density_ratio < 1.0))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "watchdog min_density_ratio=%g: must be in [0, 1)", min_density_ratio);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "watchdog min_density_ratio=%g: must be in [0, 1)",
+                        min_density_ratio);
     if (!(max_density_ratio == 0.0 || (max_density_ratio > 1.0 && isfinite(max_density_ratio))))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "watchdog max_density_ratio=%g: must be 0 (off) or > 1", max_density_ratio);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "watchdog max_density_ratio=%g: must be 0 (off) or > 1", max_density_ratio);
     sim->watch_speed = max_speed_over_cp;
     sim->watch_rho_min = min_density_ratio;
     sim->watch_rho_max = max_density_ratio;
     return sph_ok(sim);
 }
-

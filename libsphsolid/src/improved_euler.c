@@ -20,7 +20,7 @@
 /* ------------------------------------------------ stages on caller arrays */
 
 typedef struct saved_state {
-    double *v, *rho, *S, *u;    /* u: transport velocity, only with XSPH */
+    double *v, *rho, *S, *u; /* u: transport velocity, only with XSPH */
 } saved_state;
 
 static saved_state saved_layout(double *saved, size_t n, int dim, int ncomp, int with_u)
@@ -33,10 +33,9 @@ static saved_state saved_layout(double *saved, size_t n, int dim, int ncomp, int
     return s;
 }
 
-static inline void predict_particle(int dim, int ncomp, double dt, size_t a,
-                                    double *x, double *v, size_t xs, double *rho, double *S,
-                                    const sph_rates *r, int integrate, int move,
-                                    const saved_state *s)
+static inline void predict_particle(int dim, int ncomp, double dt, size_t a, double *x, double *v,
+                                    size_t xs, double *rho, double *S, const sph_rates *r,
+                                    int integrate, int move, const saved_state *s)
 {
     const double *u = (integrate && r->dx_dt) ? r->dx_dt + a * dim : v + a * xs;
     for (int i = 0; i < dim; ++i) {
@@ -58,10 +57,9 @@ static inline void predict_particle(int dim, int ncomp, double dt, size_t a,
 
 /* Returns the distance bound moved in this step (for the neighbour list),
  * or NAN if a value went non-finite. */
-static inline double correct_particle(int dim, int ncomp, double dt, size_t a,
-                                      double *x, double *v, size_t xs, double *rho, double *S,
-                                      const sph_rates *r, int integrate, int move,
-                                      const saved_state *s)
+static inline double correct_particle(int dim, int ncomp, double dt, size_t a, double *x, double *v,
+                                      size_t xs, double *rho, double *S, const sph_rates *r,
+                                      int integrate, int move, const saved_state *s)
 {
     const double *u_star = (integrate && r->dx_dt) ? r->dx_dt + a * dim : v + a * xs;
     const double *u_n = s->u ? s->u + a * dim : s->v + a * dim;
@@ -72,23 +70,22 @@ static inline double correct_particle(int dim, int ncomp, double dt, size_t a,
         if (move)
             x[a * xs + i] += 0.5 * dt * (u_star[i] - u_n[i]);
         if (integrate)
-            v[a * xs + i] = 0.5 * (s->v[a * dim + i] + v[a * xs + i]) +
-                            0.5 * dt * r->dv_dt[a * dim + i];
+            v[a * xs + i] =
+                0.5 * (s->v[a * dim + i] + v[a * xs + i]) + 0.5 * dt * r->dv_dt[a * dim + i];
         ok *= isfinite(x[a * xs + i]) && isfinite(v[a * xs + i]);
     }
     rho[a] = 0.5 * (s->rho[a] + rho[a]) + 0.5 * dt * r->drho_dt[a];
     ok *= isfinite(rho[a]) && rho[a] > 0.0;
     for (int c = 0; c < ncomp; ++c) {
-        S[a * ncomp + c] = 0.5 * (s->S[a * ncomp + c] + S[a * ncomp + c]) +
-                           0.5 * dt * r->dS_dt[a * ncomp + c];
+        S[a * ncomp + c] =
+            0.5 * (s->S[a * ncomp + c] + S[a * ncomp + c]) + 0.5 * dt * r->dS_dt[a * ncomp + c];
         ok *= isfinite(S[a * ncomp + c]);
     }
     return ok ? sqrt(moved2) : NAN;
 }
 
-static sph_status check_stage_args(sph_sim *sim, size_t n, double dt,
-                                   double *x, double *v, double *rho, double *S,
-                                   const sph_rates *r, const double *saved)
+static sph_status check_stage_args(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                   double *rho, double *S, const sph_rates *r, const double *saved)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
@@ -103,7 +100,8 @@ static sph_status check_stage_args(sph_sim *sim, size_t n, double dt,
  * leaves the prescribed particles' x and v to the caller (*_strided). */
 static sph_status predict_external(sph_sim *sim, size_t n, double dt, double *x, double *v,
                                    size_t xs, double *rho, double *S, const sph_rates *r,
-                                   const unsigned char *integrate_motion, double *saved, int move_all)
+                                   const unsigned char *integrate_motion, double *saved,
+                                   int move_all)
 {
     sph_status st = check_stage_args(sim, n, dt, x, v, rho, S, r, saved);
     if (st)
@@ -142,7 +140,8 @@ static sph_status correct_external(sph_sim *sim, size_t n, double dt, double *x,
                 bad = a;
         } else if (material_of && a < wild) {
             double vmax2, rho_lo, rho_hi;
-            watchdog_bounds(sim, &sim->materials[material_of[a]], integrate, &vmax2, &rho_lo, &rho_hi);
+            watchdog_bounds(sim, &sim->materials[material_of[a]], integrate, &vmax2, &rho_lo,
+                            &rho_hi);
             if (watchdog_trips(dim, v + a * xs, rho[a], vmax2, rho_lo, rho_hi))
                 wild = a;
         }
@@ -151,7 +150,8 @@ static sph_status correct_external(sph_sim *sim, size_t n, double dt, double *x,
         *particle = bad < nn ? bad : wild < nn ? wild : -1;
     if (bad < nn)
         return sph_fail(sim, SPH_ERR_NONFINITE,
-                        "Improved Euler correction produced a non-finite value (or non-positive density) at particle %ld",
+                        "Improved Euler correction produced a non-finite value (or non-positive "
+                        "density) at particle %ld",
                         bad);
     if (wild < nn)
         return watchdog_report(sim, wild, dim, v + wild * xs, rho[wild],
@@ -160,17 +160,17 @@ static sph_status correct_external(sph_sim *sim, size_t n, double dt, double *x,
     return SPH_OK;
 }
 
-sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt, double *x,
-                            double *v, double *rho, double *S, const sph_rates *r,
-                            const unsigned char *integrate_motion, double *saved)
+sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt, double *x, double *v, double *rho,
+                            double *S, const sph_rates *r, const unsigned char *integrate_motion,
+                            double *saved)
 {
     return predict_external(sim, n, dt, x, v, sim ? (size_t)sim->dim : 0, rho, S, r,
                             integrate_motion, saved, 1);
 }
 
-sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt, double *x,
-                            double *v, double *rho, double *S, const sph_rates *r,
-                            const unsigned char *integrate_motion, const double *saved)
+sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt, double *x, double *v, double *rho,
+                            double *S, const sph_rates *r, const unsigned char *integrate_motion,
+                            const double *saved)
 {
     return correct_external(sim, n, dt, x, v, sim ? (size_t)sim->dim : 0, rho, S, r,
                             integrate_motion, saved, 1, NULL, NULL);
@@ -186,19 +186,19 @@ static sph_status check_stride(sph_sim *sim, size_t stride)
     return SPH_OK;
 }
 
-sph_status sph_heun_predict_strided(sph_sim *sim, size_t n, double dt, double *x,
-                                    double *v, size_t stride, double *rho, double *S,
-                                    const sph_rates *r, const unsigned char *integrate_motion,
-                                    double *saved)
+sph_status sph_heun_predict_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                    size_t stride, double *rho, double *S, const sph_rates *r,
+                                    const unsigned char *integrate_motion, double *saved)
 {
     sph_status st = check_stride(sim, stride);
-    return st ? st : predict_external(sim, n, dt, x, v, stride, rho, S, r, integrate_motion, saved, 0);
+    return st ? st
+              : predict_external(sim, n, dt, x, v, stride, rho, S, r, integrate_motion, saved, 0);
 }
 
-sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, double *x,
-                                    double *v, size_t stride, double *rho, double *S,
-                                    const sph_rates *r, const unsigned char *integrate_motion,
-                                    const int *material_of, const double *saved, long *particle)
+sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                    size_t stride, double *rho, double *S, const sph_rates *r,
+                                    const unsigned char *integrate_motion, const int *material_of,
+                                    const double *saved, long *particle)
 {
     if (particle)
         *particle = -1;
@@ -206,11 +206,13 @@ sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, double *x
     if (st)
         return st;
     if (n > 0 && !material_of)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_heun_correct_strided: material must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "sph_heun_correct_strided: material must not be NULL");
     for (size_t a = 0; a < n; ++a)
         if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
             return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "sph_heun_correct_strided: particle %zu has material %d, but %d materials are defined",
+                            "sph_heun_correct_strided: particle %zu has material %d, but %d "
+                            "materials are defined",
                             a, material_of[a], sim->n_materials);
     return correct_external(sim, n, dt, x, v, stride, rho, S, r, integrate_motion, saved, 0,
                             material_of, particle);
@@ -236,7 +238,9 @@ static void heun_undo(sph_sim *sim)
 static sph_status heun_stage(sph_sim *sim, double dt, int corrector, double *moved)
 {
     const int dim = sim->dim, nc = sim->ncomp;
-    const sph_rates r = {.dv_dt = sim->dv_dt, .drho_dt = sim->drho_dt, .dS_dt = sim->dS_dt,
+    const sph_rates r = {.dv_dt = sim->dv_dt,
+                         .drho_dt = sim->drho_dt,
+                         .dS_dt = sim->dS_dt,
                          .dx_dt = sim->fx.xsph ? sim->dx_dt : NULL};
     const saved_state s = saved_layout(sim->saved, sim->n, dim, nc, sim->fx.xsph);
     body_stage small[8], *bs;
@@ -252,19 +256,22 @@ static sph_status heun_stage(sph_sim *sim, double dt, int corrector, double *mov
         for (long a = 0; a < n; ++a) {
             for (int i = 0; i < dim; ++i)
                 sim->x_saved[a * dim + i] = sim->x[a * dim + i];
-            predict_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, (size_t)dim, sim->rho, sim->S, &r,
-                             bs[body_of[a]].integrate, 1, &s);
+            predict_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, (size_t)dim, sim->rho, sim->S,
+                             &r, bs[body_of[a]].integrate, 1, &s);
             if (bs[body_of[a]].rotate)
-                rotate_particle(dim, &bs[body_of[a]], sim->x_saved + a * dim, sim->x + a * dim, sim->v + a * dim);
+                rotate_particle(dim, &bs[body_of[a]], sim->x_saved + a * dim, sim->x + a * dim,
+                                sim->v + a * dim);
         }
     } else {
-#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild) reduction(max : max_moved)
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild) \
+    reduction(max : max_moved)
         for (long a = 0; a < n; ++a) {
             const body_stage *b = &bs[body_of[a]];
-            double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, (size_t)dim, sim->rho,
-                                        sim->S, &r, b->integrate, 1, &s);
+            double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, (size_t)dim,
+                                        sim->rho, sim->S, &r, b->integrate, 1, &s);
             if (b->rotate && !isnan(d))
-                d = rotate_particle(dim, b, sim->x_saved + a * dim, sim->x + a * dim, sim->v + a * dim);
+                d = rotate_particle(dim, b, sim->x_saved + a * dim, sim->x + a * dim,
+                                    sim->v + a * dim);
             if (isnan(d)) {
                 if (a < bad)
                     bad = a;
@@ -272,7 +279,9 @@ static sph_status heun_stage(sph_sim *sim, double dt, int corrector, double *mov
             }
             if (d > max_moved)
                 max_moved = d;
-            if (watchdog_trips(dim, sim->v + a * dim, sim->rho[a], b->vmax2, b->rho_lo, b->rho_hi) && a < wild)
+            if (watchdog_trips(dim, sim->v + a * dim, sim->rho[a], b->vmax2, b->rho_lo,
+                               b->rho_hi) &&
+                a < wild)
                 wild = a;
         }
     }

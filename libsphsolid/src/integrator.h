@@ -16,8 +16,8 @@
 
 typedef struct integrator {
     const char *name;
-    const char *description;       /* one line */
-    int evaluations;               /* rate evaluations per step */
+    const char *description; /* one line */
+    int evaluations;         /* rate evaluations per step */
     /* largest stable step as a multiple of h / max(c_p + |v|) */
     double stable_factor;
     /* default step as a multiple of h / max(c0), capped at the stable step */
@@ -48,14 +48,14 @@ void carried_rates_set(sph_sim *sim);
 int carried_rates_valid(const sph_sim *sim);
 
 /* run.c */
-sph_status sim_evaluate(sph_sim *sim);   /* rates at the handle's state, motions applied */
+sph_status sim_evaluate(sph_sim *sim); /* rates at the handle's state, motions applied */
 sph_status sim_ensure_neighbours(sph_sim *sim, double extra_displacement);
 
 /* stages.c: per-body constants of a step */
 typedef struct body_stage {
-    int integrate;                  /* velocity integrated (free, force) */
-    int rotate;                     /* prescribed rotation by R about c */
-    double vmax2, rho_lo, rho_hi;   /* watchdog bounds */
+    int integrate;                /* velocity integrated (free, force) */
+    int rotate;                   /* prescribed rotation by R about c */
+    double vmax2, rho_lo, rho_hi; /* watchdog bounds */
     double R[3][3], c[3];
     const double *omega;
 } body_stage;

@@ -7,7 +7,7 @@
 #include "integrator.h"
 
 static const integrator *const registry[] = {
-    &integrator_improved_euler,   /* the default: the paper's scheme */
+    &integrator_improved_euler, /* the default: the paper's scheme */
     &integrator_leapfrog,
 };
 #define N_INTEGRATORS (sizeof registry / sizeof registry[0])
@@ -57,7 +57,8 @@ sph_status sph_set_integrator(sph_sim *sim, const char *name)
         if (stable > 0.0 && sim->dt > stable) {
             sim->integ = old;
             return sph_fail(sim, SPH_ERR_STATE,
-                            "integrator '%s': the time step dt=%g s set for '%s' exceeds its stability limit %g s; set a smaller step first",
+                            "integrator '%s': the time step dt=%g s set for '%s' exceeds its "
+                            "stability limit %g s; set a smaller step first",
                             name, sim->dt, old->name, stable);
         }
     }

@@ -47,7 +47,7 @@ struct output_file {
     long snapshot_interval, probe_interval;
     long frames, probe_frames;
     long last_snapshot_step, last_probe_step;
-    int failed;                 /* a write failed: the file takes no more */
+    int failed; /* a write failed: the file takes no more */
     char error[SPH_ERRMSG_SIZE];
     char *path;
 };
@@ -152,8 +152,7 @@ static void close_id(hid_t id)
 
 /* ------------------------------------------------------------ writing */
 
-static int write_attr(io *c, hid_t obj, const char *name, hid_t type, hid_t space,
-                      const void *data)
+static int write_attr(io *c, hid_t obj, const char *name, hid_t type, hid_t space, const void *data)
 {
     if (c->failed)
         return -1;
@@ -245,8 +244,10 @@ static int write_dataset(io *c, hid_t loc, const char *name, hid_t type, int ran
         }
         chunk[0] = (hsize_t)1 << 20;
         chunk[0] = row ? chunk[0] / row : 1;
-        if (chunk[0] < 1) chunk[0] = 1;
-        if (chunk[0] > dims[0]) chunk[0] = dims[0];
+        if (chunk[0] < 1)
+            chunk[0] = 1;
+        if (chunk[0] > dims[0])
+            chunk[0] = dims[0];
         if (total > 0) {
             ok(c, H5Pset_chunk(plist, rank, chunk), name);
             ok(c, H5Pset_fletcher32(plist), name);
@@ -284,8 +285,8 @@ static int series_create(io *c, hid_t loc, const char *name, int rank, const hsi
         hid_t plist = H5Pcreate(H5P_DATASET_CREATE);
         if (ok(c, space, what) && ok(c, plist, what) && ok(c, H5Pset_chunk(plist, r, c1), what) &&
             ok(c, H5Pset_fletcher32(plist), what)) {
-            hid_t d = H5Dcreate2(g, names[k], k == 0 ? H5T_NATIVE_LONG : H5T_NATIVE_DOUBLE,
-                                 space, H5P_DEFAULT, plist, H5P_DEFAULT);
+            hid_t d = H5Dcreate2(g, names[k], k == 0 ? H5T_NATIVE_LONG : H5T_NATIVE_DOUBLE, space,
+                                 H5P_DEFAULT, plist, H5P_DEFAULT);
             if (ok(c, d, what))
                 ok(c, H5Dclose(d), what);
         }
@@ -348,7 +349,9 @@ static hid_t file_access(io *c, int in_memory)
 {
     hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
     if (ok(c, fapl, "file access properties") &&
-        ok(c, H5Pset_libver_bounds(fapl, in_memory ? H5F_LIBVER_EARLIEST : H5F_LIBVER_V18, H5F_LIBVER_V18),
+        ok(c,
+           H5Pset_libver_bounds(fapl, in_memory ? H5F_LIBVER_EARLIEST : H5F_LIBVER_V18,
+                                H5F_LIBVER_V18),
            "file format") &&
         ok(c, H5Pset_fclose_degree(fapl, H5F_CLOSE_STRONG), "file access properties") &&
         (!in_memory || ok(c, H5Pset_fapl_core(fapl, (size_t)1 << 16, 0), "in-memory file")))
@@ -446,7 +449,8 @@ static sph_status output_failed(sph_sim *sim, const char *action, const io *c)
 {
     struct output_file *o = sim->out;
     o->failed = 1;
-    sph_fail(sim, SPH_ERR_IO, "%s '%s' failed: %s (writing %s); the file keeps the %ld frame%s written before",
+    sph_fail(sim, SPH_ERR_IO,
+             "%s '%s' failed: %s (writing %s); the file keeps the %ld frame%s written before",
              action, o->path, c->cause, c->what, o->frames, o->frames == 1 ? "" : "s");
     memcpy(o->error, sim->errmsg, sizeof o->error);
     return SPH_ERR_IO;
@@ -637,8 +641,11 @@ static int write_static(io *c, sph_sim *sim, hid_t file)
                     points[k * dim + i] = sim->probes[k].point[i];
             }
             attr_string(c, pg, "names", names);
-            attr_string(c, pg, "columns", dim == 2 ? "von_mises pressure sigma_xx sigma_yy sigma_zz sigma_xy"
-                                                   : "von_mises pressure sigma_xx sigma_yy sigma_zz sigma_xy sigma_xz sigma_yz");
+            attr_string(
+                c, pg, "columns",
+                dim == 2
+                    ? "von_mises pressure sigma_xx sigma_yy sigma_zz sigma_xy"
+                    : "von_mises pressure sigma_xx sigma_yy sigma_zz sigma_xy sigma_xz sigma_yz");
             hsize_t pd[2] = {(hsize_t)sim->n_probes, (hsize_t)dim};
             write_dataset(c, pg, "points", H5T_NATIVE_DOUBLE, 2, pd, points);
         }
@@ -674,10 +681,12 @@ sph_status sph_output_open(sph_sim *sim, const char *path, long snapshot_interva
     if (!path || !*path)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "output path is empty");
     if (snapshot_interval < 0 || probe_interval < 0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "output intervals (snapshot %ld, probe %ld) must be >= 0",
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "output intervals (snapshot %ld, probe %ld) must be >= 0",
                         snapshot_interval, probe_interval);
     if (sim->out)
-        return sph_fail(sim, SPH_ERR_STATE, "an output file is already open ('%s')", sim->out->path);
+        return sph_fail(sim, SPH_ERR_STATE, "an output file is already open ('%s')",
+                        sim->out->path);
     sph_status st = sim_prepare(sim);
     if (st)
         return st;
@@ -712,7 +721,8 @@ sph_status sph_output_open(sph_sim *sim, const char *path, long snapshot_interva
     o->path = copy;
     sim->out = o;
     if (write_static(&c, sim, file)) {
-        st = sph_fail(sim, SPH_ERR_IO, "cannot write the header of '%s': %s (writing %s)", path, c.cause, c.what);
+        st = sph_fail(sim, SPH_ERR_IO, "cannot write the header of '%s': %s (writing %s)", path,
+                      c.cause, c.what);
         io ignored = {0};
         output_release(&ignored, sim);
     } else if (!(st = write_snapshot(sim)) && probe_interval > 0 && !(st = write_probes(sim))) {
@@ -746,7 +756,8 @@ void output_free(sph_sim *sim)
         quiet_begin(&q);
         io c = {0};
         if (!sim->out->failed)
-            output_commit(&c, sim->out, sim->out->frames, sim->n_probes > 0 ? sim->out->probe_frames : -1);
+            output_commit(&c, sim->out, sim->out->frames,
+                          sim->n_probes > 0 ? sim->out->probe_frames : -1);
         output_release(&c, sim);
         quiet_end(&q);
     }
@@ -784,7 +795,8 @@ sph_status sph_output_close(sph_sim *sim)
     } else if (failed) {
         st = sph_fail(sim, SPH_ERR_IO, "closed after an earlier failure: %s", earlier);
     } else if (c.failed) {
-        st = sph_fail(sim, SPH_ERR_IO, "closing '%s' failed: %s (writing %s); frames after %ld may be lost",
+        st = sph_fail(sim, SPH_ERR_IO,
+                      "closing '%s' failed: %s (writing %s); frames after %ld may be lost",
                       path ? path : "?", c.cause, c.what, frames);
     } else if (path) {
         st = sph_write_xdmf(sim, path);
@@ -878,19 +890,23 @@ static hid_t open_checked(sph_sim *sim, const char *path, const char *content)
     long version = 0;
     char kind[32] = "";
     if (read_attr_long(f, "sphsolid_format", &version)) {
-        const int ours = H5Lexists(f, "checkpoint", H5P_DEFAULT) > 0 || H5Lexists(f, "h5md", H5P_DEFAULT) > 0;
+        const int ours =
+            H5Lexists(f, "checkpoint", H5P_DEFAULT) > 0 || H5Lexists(f, "h5md", H5P_DEFAULT) > 0;
         if (ours)
             sph_fail(sim, SPH_ERR_IO,
-                     "'%s' is in libsphsolid file format 1 (written before the format was versioned); this library reads format %ld: "
+                     "'%s' is in libsphsolid file format 1 (written before the format was "
+                     "versioned); this library reads format %ld: "
                      "read it with the version that wrote it, or rerun",
                      path, SPH_FILE_FORMAT);
         else
-            sph_fail(sim, SPH_ERR_IO, "'%s' is not a libsphsolid file (no sphsolid_format attribute)", path);
+            sph_fail(sim, SPH_ERR_IO,
+                     "'%s' is not a libsphsolid file (no sphsolid_format attribute)", path);
         H5Fclose(f);
         return -1;
     }
     if (version != SPH_FILE_FORMAT) {
-        sph_fail(sim, SPH_ERR_IO, "'%s' has libsphsolid file format %ld; this library reads format %ld", path,
+        sph_fail(sim, SPH_ERR_IO,
+                 "'%s' has libsphsolid file format %ld; this library reads format %ld", path,
                  version, SPH_FILE_FORMAT);
         H5Fclose(f);
         return -1;
@@ -924,8 +940,9 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
         goto done;
     }
     if (dim != sim->dim) {
-        sph_fail(sim, SPH_ERR_ARGUMENT, "'%s' does not match this simulation: the file is %ldD, the simulation %dD",
-                 path, dim, sim->dim);
+        sph_fail(sim, SPH_ERR_ARGUMENT,
+                 "'%s' does not match this simulation: the file is %ldD, the simulation %dD", path,
+                 dim, sim->dim);
         goto done;
     }
     mat = H5Dopen2(par, "materials", H5P_DEFAULT);
@@ -937,12 +954,15 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
         goto done;
     }
     if (mcount / 3 != sim->n_materials) {
-        sph_fail(sim, SPH_ERR_ARGUMENT, "'%s' does not match this simulation: the file has %ld materials, the simulation %d",
-                 path, (long)(mcount / 3), sim->n_materials);
+        sph_fail(
+            sim, SPH_ERR_ARGUMENT,
+            "'%s' does not match this simulation: the file has %ld materials, the simulation %d",
+            path, (long)(mcount / 3), sim->n_materials);
         goto done;
     }
     materials = malloc((size_t)mcount * sizeof *materials + 1);
-    if (!materials || (mcount && H5Dread(mat, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, materials) < 0)) {
+    if (!materials ||
+        (mcount && H5Dread(mat, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, materials) < 0)) {
         io c = {0};
         fail_at(&c, "materials", 0);
         sph_fail(sim, SPH_ERR_IO, "'%s': cannot read /parameters/materials: %s", path, c.cause);
@@ -954,7 +974,8 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
         for (int j = 0; j < 3; ++j)
             if (materials[3 * k + j] != here[j]) {
                 sph_fail(sim, SPH_ERR_ARGUMENT,
-                         "'%s' does not match this simulation: material %d has %s = %.17g in the file, %.17g here",
+                         "'%s' does not match this simulation: material %d has %s = %.17g in the "
+                         "file, %.17g here",
                          path, k, names[j], materials[3 * k + j], here[j]);
                 goto done;
             }
@@ -966,14 +987,16 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
     }
     nb = (long)info.nlinks;
     if (nb != sim->n_bodies) {
-        sph_fail(sim, SPH_ERR_ARGUMENT, "'%s' does not match this simulation: the file has %ld bodies, the simulation %d",
+        sph_fail(sim, SPH_ERR_ARGUMENT,
+                 "'%s' does not match this simulation: the file has %ld bodies, the simulation %d",
                  path, nb, sim->n_bodies);
         goto done;
     }
     for (int k = 0; k < sim->n_bodies; ++k) {
         const body *b = &sim->bodies[k];
         if (H5Lexists(bodies, b->name, H5P_DEFAULT) <= 0) {
-            sph_fail(sim, SPH_ERR_ARGUMENT, "'%s' does not match this simulation: the file has no body '%s'", path,
+            sph_fail(sim, SPH_ERR_ARGUMENT,
+                     "'%s' does not match this simulation: the file has no body '%s'", path,
                      b->name);
             goto done;
         }
@@ -982,8 +1005,9 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
         char motion[32] = "";
         double lo[3] = {0}, hi[3] = {0}, spacing = 0;
         size_t nlo = 0, nhi = 0, ns = 0;
-        const int bad = g < 0 || read_attr_long(g, "index", &index) || read_attr_long(g, "first", &first) ||
-                        read_attr_long(g, "count", &count) || read_attr_long(g, "material", &material) ||
+        const int bad = g < 0 || read_attr_long(g, "index", &index) ||
+                        read_attr_long(g, "first", &first) || read_attr_long(g, "count", &count) ||
+                        read_attr_long(g, "material", &material) ||
                         read_attr_string(g, "motion", motion, sizeof motion) ||
                         read_attr_doubles(g, "spacing", &spacing, 1, &ns) ||
                         read_attr_doubles(g, "extent_lo", lo, 3, &nlo) ||
@@ -993,17 +1017,20 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
             sph_fail(sim, SPH_ERR_IO, "'%s': cannot read the record of body '%s'", path, b->name);
             goto done;
         }
-#define DIFFERS(fmt, file_value, here_value)                                                                 \
-    do {                                                                                                     \
-        sph_fail(sim, SPH_ERR_ARGUMENT, "'%s' does not match this simulation: body '%s' has " fmt " in the file, " fmt " here", \
-                 path, b->name, file_value, here_value);                                                     \
-        goto done;                                                                                           \
+#define DIFFERS(fmt, file_value, here_value)                                                    \
+    do {                                                                                        \
+        sph_fail(sim, SPH_ERR_ARGUMENT,                                                         \
+                 "'%s' does not match this simulation: body '%s' has " fmt " in the file, " fmt \
+                 " here",                                                                       \
+                 path, b->name, file_value, here_value);                                        \
+        goto done;                                                                              \
     } while (0)
         if (index != k)
             DIFFERS("index %ld", index, (long)k);
         if (first != (long)b->first || count != (long)b->count) {
             sph_fail(sim, SPH_ERR_ARGUMENT,
-                     "'%s' does not match this simulation: body '%s' holds particles [%ld, %ld) in the file, [%zu, %zu) here",
+                     "'%s' does not match this simulation: body '%s' holds particles [%ld, %ld) in "
+                     "the file, [%zu, %zu) here",
                      path, b->name, first, first + count, b->first, b->first + b->count);
             goto done;
         }
@@ -1018,7 +1045,8 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
                 break;
             if (lo[i] != b->extent_lo[i] || hi[i] != b->extent_hi[i]) {
                 sph_fail(sim, SPH_ERR_ARGUMENT,
-                         "'%s' does not match this simulation: body '%s' spans %c in [%.9g, %.9g] m in the file, [%.9g, %.9g] m here (another shape)",
+                         "'%s' does not match this simulation: body '%s' spans %c in [%.9g, %.9g] "
+                         "m in the file, [%.9g, %.9g] m here (another shape)",
                          path, b->name, "xyz"[i], lo[i], hi[i], b->extent_lo[i], b->extent_hi[i]);
                 goto done;
             }
@@ -1077,7 +1105,8 @@ static int read_long_at(io *c, hid_t loc, const char *name, long frame, long *ou
         return -1;
     hid_t space = H5Dget_space(d), mem = -1;
     hsize_t s = (hsize_t)frame, one = 1;
-    if (ok(c, space, name) && ok(c, H5Sselect_hyperslab(space, H5S_SELECT_SET, &s, NULL, &one, NULL), name) &&
+    if (ok(c, space, name) &&
+        ok(c, H5Sselect_hyperslab(space, H5S_SELECT_SET, &s, NULL, &one, NULL), name) &&
         ok(c, mem = H5Screate_simple(1, &one, NULL), name))
         ok(c, H5Dread(d, H5T_NATIVE_LONG, mem, space, H5P_DEFAULT, out), name);
     close_id(mem);
@@ -1098,7 +1127,7 @@ static long first_nonfinite(const double *a, size_t n)
 /* Scratch copies of the state a read fills before anything is committed. */
 typedef struct state_copy {
     double *x, *v, *rho, *S, *mass, *motion;
-    double *dv, *drho, *dS;     /* rates an integrator carries, if any */
+    double *dv, *drho, *dS; /* rates an integrator carries, if any */
 } state_copy;
 
 static int state_alloc(state_copy *s, const sph_sim *sim)
@@ -1135,23 +1164,28 @@ static int state_plausible(sph_sim *sim, const state_copy *s, const char *path, 
         const char *name;
         const double *a;
         size_t per;
-    } arrays[] = {{"position", s->x, dim}, {"velocity", s->v, dim}, {"density", s->rho, 1},
-                  {"deviatoric_stress", s->S, nc}, {"mass", s->mass, 1}};
+    } arrays[] = {{"position", s->x, dim},
+                  {"velocity", s->v, dim},
+                  {"density", s->rho, 1},
+                  {"deviatoric_stress", s->S, nc},
+                  {"mass", s->mass, 1}};
     for (int k = 0; k < (with_mass ? 5 : 4); ++k) {
         const long i = first_nonfinite(arrays[k].a, n * arrays[k].per);
         if (i >= 0) {
-            sph_fail(sim, SPH_ERR_IO, "'%s' is damaged: %s of particle %ld is %g", path, arrays[k].name,
-                     i / (long)arrays[k].per, arrays[k].a[i]);
+            sph_fail(sim, SPH_ERR_IO, "'%s' is damaged: %s of particle %ld is %g", path,
+                     arrays[k].name, i / (long)arrays[k].per, arrays[k].a[i]);
             return 0;
         }
     }
     for (size_t a = 0; a < n; ++a) {
         if (!(s->rho[a] > 0.0)) {
-            sph_fail(sim, SPH_ERR_IO, "'%s' is damaged: density of particle %zu is %g", path, a, s->rho[a]);
+            sph_fail(sim, SPH_ERR_IO, "'%s' is damaged: density of particle %zu is %g", path, a,
+                     s->rho[a]);
             return 0;
         }
         if (with_mass && !(s->mass[a] > 0.0)) {
-            sph_fail(sim, SPH_ERR_IO, "'%s' is damaged: mass of particle %zu is %g", path, a, s->mass[a]);
+            sph_fail(sim, SPH_ERR_IO, "'%s' is damaged: mass of particle %zu is %g", path, a,
+                     s->mass[a]);
             return 0;
         }
     }
@@ -1165,7 +1199,8 @@ static sph_status frame_count(sph_sim *sim, hid_t f, const char *path, long *fra
     const int bad = all < 0 || read_attr_long(all, "complete_frames", &complete) || complete < 0;
     close_id(all);
     if (bad)
-        return sph_fail(sim, SPH_ERR_IO, "'%s' has no complete_frames count on /particles/all", path);
+        return sph_fail(sim, SPH_ERR_IO, "'%s' has no complete_frames count on /particles/all",
+                        path);
     *frames = complete;
     return SPH_OK;
 }
@@ -1179,7 +1214,9 @@ sph_status sph_read_frame_count(sph_sim *sim, const char *path, long *frames)
     quiet q;
     quiet_begin(&q);
     hid_t f = open_checked(sim, path, "output");
-    sph_status st = f == -2 ? SPH_ERR_ARGUMENT : f < 0 ? SPH_ERR_IO : frame_count(sim, f, path, frames);
+    sph_status st = f == -2 ? SPH_ERR_ARGUMENT
+                    : f < 0 ? SPH_ERR_IO
+                            : frame_count(sim, f, path, frames);
     if (f >= 0)
         H5Fclose(f);
     quiet_end(&q);
@@ -1191,7 +1228,9 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (sim->n == 0)
-        return sph_fail(sim, SPH_ERR_STATE, "the simulation has no particles: build the scene the file was written from first");
+        return sph_fail(
+            sim, SPH_ERR_STATE,
+            "the simulation has no particles: build the scene the file was written from first");
     quiet q;
     quiet_begin(&q);
     sph_status st = SPH_OK;
@@ -1210,11 +1249,13 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
     if (frame < 0)
         frame += frames;
     if (frame < 0 || frame >= frames) {
-        st = sph_fail(sim, SPH_ERR_ARGUMENT, "frame=%ld: '%s' has %ld complete frames", asked, path, frames);
+        st = sph_fail(sim, SPH_ERR_ARGUMENT, "frame=%ld: '%s' has %ld complete frames", asked, path,
+                      frames);
         goto done;
     }
     if (!scene_matches(sim, f, path)) {
-        st = sph_errmsg(sim)[0] && strstr(sph_errmsg(sim), "does not match") ? SPH_ERR_ARGUMENT : SPH_ERR_IO;
+        st = sph_errmsg(sim)[0] && strstr(sph_errmsg(sim), "does not match") ? SPH_ERR_ARGUMENT
+                                                                             : SPH_ERR_IO;
         goto done;
     }
     if (state_alloc(&s, sim)) {
@@ -1226,19 +1267,25 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
     const size_t n = sim->n, dim = (size_t)sim->dim;
     if (ok(&c, all, "/particles/all")) {
         read_doubles(&c, all, "position/value", frame, n * dim, s.x);
-        if (!c.failed) read_doubles(&c, all, "velocity/value", frame, n * dim, s.v);
-        if (!c.failed) read_doubles(&c, all, "density/value", frame, n, s.rho);
-        if (!c.failed) read_doubles(&c, all, "deviatoric_stress/value", frame, n * (size_t)sim->ncomp, s.S);
-        if (!c.failed) read_long_at(&c, all, "position/step", frame, &step);
+        if (!c.failed)
+            read_doubles(&c, all, "velocity/value", frame, n * dim, s.v);
+        if (!c.failed)
+            read_doubles(&c, all, "density/value", frame, n, s.rho);
+        if (!c.failed)
+            read_doubles(&c, all, "deviatoric_stress/value", frame, n * (size_t)sim->ncomp, s.S);
+        if (!c.failed)
+            read_long_at(&c, all, "position/step", frame, &step);
         if (!c.failed) {
             hid_t d = H5Dopen2(all, "position/time", H5P_DEFAULT);
             if (ok(&c, d, "position/time")) {
                 hid_t space = H5Dget_space(d), mem = -1;
                 hsize_t s0 = (hsize_t)frame, one = 1;
                 if (ok(&c, space, "position/time") &&
-                    ok(&c, H5Sselect_hyperslab(space, H5S_SELECT_SET, &s0, NULL, &one, NULL), "position/time") &&
+                    ok(&c, H5Sselect_hyperslab(space, H5S_SELECT_SET, &s0, NULL, &one, NULL),
+                       "position/time") &&
                     ok(&c, mem = H5Screate_simple(1, &one, NULL), "position/time"))
-                    ok(&c, H5Dread(d, H5T_NATIVE_DOUBLE, mem, space, H5P_DEFAULT, &time), "position/time");
+                    ok(&c, H5Dread(d, H5T_NATIVE_DOUBLE, mem, space, H5P_DEFAULT, &time),
+                       "position/time");
                 close_id(mem);
                 close_id(space);
                 H5Dclose(d);
@@ -1246,11 +1293,13 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
         }
     }
     if (c.failed) {
-        st = sph_fail(sim, SPH_ERR_IO, "cannot read frame %ld of '%s': %s (reading %s)", frame, path, c.cause, c.what);
+        st = sph_fail(sim, SPH_ERR_IO, "cannot read frame %ld of '%s': %s (reading %s)", frame,
+                      path, c.cause, c.what);
         goto done;
     }
     if (!isfinite(time)) {
-        st = sph_fail(sim, SPH_ERR_IO, "'%s' is damaged: the time of frame %ld is %g", path, frame, time);
+        st = sph_fail(sim, SPH_ERR_IO, "'%s' is damaged: the time of frame %ld is %g", path, frame,
+                      time);
         goto done;
     }
     if (!state_plausible(sim, &s, path, 0)) {
@@ -1370,12 +1419,15 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
     if (!path || !*path)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "checkpoint path is empty");
     if (sim->n == 0)
-        return sph_fail(sim, SPH_ERR_STATE, "nothing to checkpoint: the simulation has no particles");
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "nothing to checkpoint: the simulation has no particles");
     if (!sim->dt_set && sim->dt <= 0.0)
         sim->dt = sph_default_dt(sim);
     char *tmp = temporary_beside(path);
     if (!tmp)
-        return sph_fail(sim, SPH_ERR_IO, "cannot write checkpoint '%s': %s (creating a temporary file beside it); the previous file is unchanged",
+        return sph_fail(sim, SPH_ERR_IO,
+                        "cannot write checkpoint '%s': %s (creating a temporary file beside it); "
+                        "the previous file is unchanged",
                         path, strerror(errno));
     quiet q;
     quiet_begin(&q);
@@ -1458,10 +1510,13 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
     const char *step = "write";
     sph_status st = SPH_OK;
     if (c.failed)
-        st = sph_fail(sim, SPH_ERR_IO, "cannot write checkpoint '%s': %s (building %s); the previous file is unchanged",
-                      path, c.cause, c.what);
+        st = sph_fail(
+            sim, SPH_ERR_IO,
+            "cannot write checkpoint '%s': %s (building %s); the previous file is unchanged", path,
+            c.cause, c.what);
     else if (write_image(tmp, image, (size_t)size) || sync_and_rename(tmp, path, &step))
-        st = sph_fail(sim, SPH_ERR_IO, "cannot write checkpoint '%s': %s (%s '%s'); the previous file is unchanged",
+        st = sph_fail(sim, SPH_ERR_IO,
+                      "cannot write checkpoint '%s': %s (%s '%s'); the previous file is unchanged",
                       path, strerror(errno), step, tmp);
     if (st)
         unlink(tmp);
@@ -1475,7 +1530,9 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (sim->n == 0)
-        return sph_fail(sim, SPH_ERR_STATE, "the simulation has no particles: build the scene the checkpoint was written from first");
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "the simulation has no particles: build the scene the checkpoint was "
+                        "written from first");
     quiet q;
     quiet_begin(&q);
     sph_status st = SPH_OK;
@@ -1508,13 +1565,15 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
         goto done;
     }
     if (!(in = integrator_find(integ_name))) {
-        st = sph_fail(sim, SPH_ERR_IO, "checkpoint '%s' was written by integrator '%s', unknown here (known: %s)",
+        st = sph_fail(sim, SPH_ERR_IO,
+                      "checkpoint '%s' was written by integrator '%s', unknown here (known: %s)",
                       path, integ_name, sph_integrator_names());
         goto done;
     }
     if (dim != sim->dim || n < 0 || (size_t)n != sim->n || nb != sim->n_bodies) {
         st = sph_fail(sim, SPH_ERR_ARGUMENT,
-                      "checkpoint '%s' holds %ld particles in %ld bodies in %ldD; this simulation has %zu in %d bodies in %dD",
+                      "checkpoint '%s' holds %ld particles in %ld bodies in %ldD; this simulation "
+                      "has %zu in %d bodies in %dD",
                       path, n, nb, dim, sim->n, sim->n_bodies, sim->dim);
         goto done;
     }
@@ -1527,18 +1586,22 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
         io cc = {0};
         double clock[4];
         if (read_doubles(&cc, g, "clock", -1, 4, clock)) {
-            st = sph_fail(sim, SPH_ERR_IO, "cannot read checkpoint '%s': %s (reading %s)", path, cc.cause, cc.what);
+            st = sph_fail(sim, SPH_ERR_IO, "cannot read checkpoint '%s': %s (reading %s)", path,
+                          cc.cause, cc.what);
             goto done;
         }
-        if (clock[0] != (double)step || clock[1] != t || clock[2] != dt || clock[3] != (double)dt_set) {
+        if (clock[0] != (double)step || clock[1] != t || clock[2] != dt ||
+            clock[3] != (double)dt_set) {
             st = sph_fail(sim, SPH_ERR_IO,
-                          "checkpoint '%s' is damaged: its clock attributes (step %ld, t %g s, dt %g s) differ from the checksummed clock (step %.0f, t %g s, dt %g s)",
+                          "checkpoint '%s' is damaged: its clock attributes (step %ld, t %g s, dt "
+                          "%g s) differ from the checksummed clock (step %.0f, t %g s, dt %g s)",
                           path, step, t, dt, clock[0], clock[1], clock[2]);
             goto done;
         }
     }
     if (!isfinite(t) || !(dt > 0.0) || !isfinite(dt) || step < 0) {
-        st = sph_fail(sim, SPH_ERR_IO, "checkpoint '%s' is damaged: time %g, dt %g, step %ld", path, t, dt, step);
+        st = sph_fail(sim, SPH_ERR_IO, "checkpoint '%s' is damaged: time %g, dt %g, step %ld", path,
+                      t, dt, step);
         goto done;
     }
     if (state_alloc(&s, sim)) {
@@ -1548,14 +1611,21 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
     io c = {0};
     const size_t nn = sim->n, d = (size_t)sim->dim;
     read_doubles(&c, g, "position", -1, nn * d, s.x);
-    if (!c.failed) read_doubles(&c, g, "velocity", -1, nn * d, s.v);
-    if (!c.failed) read_doubles(&c, g, "density", -1, nn, s.rho);
-    if (!c.failed) read_doubles(&c, g, "deviatoric_stress", -1, nn * (size_t)sim->ncomp, s.S);
-    if (!c.failed) read_doubles(&c, g, "mass", -1, nn, s.mass);
-    if (!c.failed) read_doubles(&c, g, "motion_vectors", -1, (size_t)nb * 3, s.motion);
-    if (!c.failed) read_doubles(&c, g, "motion_centres", -1, (size_t)nb * 3, s.motion + (size_t)nb * 3);
+    if (!c.failed)
+        read_doubles(&c, g, "velocity", -1, nn * d, s.v);
+    if (!c.failed)
+        read_doubles(&c, g, "density", -1, nn, s.rho);
+    if (!c.failed)
+        read_doubles(&c, g, "deviatoric_stress", -1, nn * (size_t)sim->ncomp, s.S);
+    if (!c.failed)
+        read_doubles(&c, g, "mass", -1, nn, s.mass);
+    if (!c.failed)
+        read_doubles(&c, g, "motion_vectors", -1, (size_t)nb * 3, s.motion);
+    if (!c.failed)
+        read_doubles(&c, g, "motion_centres", -1, (size_t)nb * 3, s.motion + (size_t)nb * 3);
     if (c.failed) {
-        st = sph_fail(sim, SPH_ERR_IO, "cannot read checkpoint '%s': %s (reading %s)", path, c.cause, c.what);
+        st = sph_fail(sim, SPH_ERR_IO, "cannot read checkpoint '%s': %s (reading %s)", path,
+                      c.cause, c.what);
         goto done;
     }
     if (!state_plausible(sim, &s, path, 1)) {
@@ -1563,7 +1633,8 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
         goto done;
     }
     if (first_nonfinite(s.motion, (size_t)nb * 6) >= 0) {
-        st = sph_fail(sim, SPH_ERR_IO, "checkpoint '%s' is damaged: a body's motion vector is not finite", path);
+        st = sph_fail(sim, SPH_ERR_IO,
+                      "checkpoint '%s' is damaged: a body's motion vector is not finite", path);
         goto done;
     }
     const int with_rates = in->carries_rates && H5Lexists(g, "rate_velocity", H5P_DEFAULT) > 0;
@@ -1576,20 +1647,26 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
             goto done;
         }
         read_doubles(&c, g, "rate_velocity", -1, nn * d, s.dv);
-        if (!c.failed) read_doubles(&c, g, "rate_density", -1, nn, s.drho);
-        if (!c.failed) read_doubles(&c, g, "rate_deviatoric_stress", -1, nn * (size_t)sim->ncomp, s.dS);
+        if (!c.failed)
+            read_doubles(&c, g, "rate_density", -1, nn, s.drho);
+        if (!c.failed)
+            read_doubles(&c, g, "rate_deviatoric_stress", -1, nn * (size_t)sim->ncomp, s.dS);
         if (c.failed) {
-            st = sph_fail(sim, SPH_ERR_IO, "cannot read the integrator's rates of checkpoint '%s': %s (reading %s)",
+            st = sph_fail(sim, SPH_ERR_IO,
+                          "cannot read the integrator's rates of checkpoint '%s': %s (reading %s)",
                           path, c.cause, c.what);
             goto done;
         }
         /* the simulation's own rate arrays, grown before anything changes */
         double *dv = realloc(sim->dv_dt, nn * d * sizeof(double));
-        if (dv) sim->dv_dt = dv;
+        if (dv)
+            sim->dv_dt = dv;
         double *dr = realloc(sim->drho_dt, nn * sizeof(double));
-        if (dr) sim->drho_dt = dr;
+        if (dr)
+            sim->drho_dt = dr;
         double *dS = realloc(sim->dS_dt, nn * (size_t)sim->ncomp * sizeof(double));
-        if (dS) sim->dS_dt = dS;
+        if (dS)
+            sim->dS_dt = dS;
         if (!dv || !dr || !dS) {
             st = sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate the rates to read '%s'", path);
             goto done;
@@ -1633,19 +1710,42 @@ done:
 
 #define NO_HDF5(sim) sph_fail(sim, SPH_ERR_UNSUPPORTED, "libsphsolid was built without HDF5")
 
-sph_status output_write_due(sph_sim *sim) { (void)sim; return SPH_OK; }
+sph_status output_write_due(sph_sim *sim)
+{
+    (void)sim;
+    return SPH_OK;
+}
 void output_free(sph_sim *sim) { (void)sim; }
 sph_status sph_output_open(sph_sim *sim, const char *p, long a, long b)
-{ (void)p; (void)a; (void)b; return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT; }
+{
+    (void)p;
+    (void)a;
+    (void)b;
+    return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT;
+}
 sph_status sph_output_snapshot(sph_sim *sim) { return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT; }
 sph_status sph_output_close(sph_sim *sim) { return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT; }
 sph_status sph_read_frame_count(sph_sim *sim, const char *p, long *f)
-{ (void)p; (void)f; return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT; }
+{
+    (void)p;
+    (void)f;
+    return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT;
+}
 sph_status sph_read_frame(sph_sim *sim, const char *p, long f)
-{ (void)p; (void)f; return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT; }
+{
+    (void)p;
+    (void)f;
+    return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT;
+}
 sph_status sph_checkpoint_write(sph_sim *sim, const char *p)
-{ (void)p; return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT; }
+{
+    (void)p;
+    return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT;
+}
 sph_status sph_checkpoint_read(sph_sim *sim, const char *p)
-{ (void)p; return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT; }
+{
+    (void)p;
+    return sim ? NO_HDF5(sim) : SPH_ERR_ARGUMENT;
+}
 
 #endif

@@ -7,15 +7,13 @@
 #include "sim.h"
 
 #define KERNEL_WORD(id, name, prefix, support, step) " " #name
-const char *sph_kernel_names(void)
-{
-    return SPH_KERNELS(KERNEL_WORD) + 1;
-}
+const char *sph_kernel_names(void) { return SPH_KERNELS(KERNEL_WORD) + 1; }
 #undef KERNEL_WORD
 
 const char *sph_kernel_name(sph_kernel kernel)
 {
-#define KERNEL_CASE_NAME(id, name, prefix, support, step) case id: return #name;
+#define KERNEL_CASE_NAME(id, name, prefix, support, step) \
+    case id: return #name;
     switch (kernel) {
         SPH_KERNELS(KERNEL_CASE_NAME)
     }
@@ -27,7 +25,9 @@ int sph_kernel_from_name(const char *name)
 {
     if (!name)
         return -1;
-#define KERNEL_MATCH(id, kname, prefix, support, step) if (strcmp(name, #kname) == 0) return id;
+#define KERNEL_MATCH(id, kname, prefix, support, step) \
+    if (strcmp(name, #kname) == 0)                     \
+        return id;
     SPH_KERNELS(KERNEL_MATCH)
 #undef KERNEL_MATCH
     return -1;
@@ -52,13 +52,13 @@ sph_status sph_kernel_values(sph_sim *sim, size_t n, const double *q, double *w,
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_kernel_values: q must not be NULL");
     for (size_t i = 0; i < n; ++i)
         if (!(q[i] >= 0.0) || !isfinite(q[i]))
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_kernel_values: q[%zu]=%g must be finite and >= 0",
-                            i, q[i]);
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "sph_kernel_values: q[%zu]=%g must be finite and >= 0", i, q[i]);
     const double sigma = kernel_sigma(sim->kernel, sim->dim);
     for (size_t i = 0; i < n; ++i) {
         if (w)
             w[i] = sigma * kernel_w(sim->kernel, sim->dim, q[i]);
-        if (dw_dq)   /* dw/dq = q f(q) */
+        if (dw_dq) /* dw/dq = q f(q) */
             dw_dq[i] = sigma * q[i] * kernel_f(sim->kernel, sim->dim, q[i]);
     }
     return sph_ok(sim);

@@ -121,27 +121,38 @@ static inline double kernel_cubic_o4_sigma(int dim) { return kernel_cubic_sigma(
  * units of h (1, or the inner length of a combined kernel).  The dispatch
  * below, the names the library reports and the rate-loop variants are
  * generated from it. */
-#define SPH_KERNELS(X)                                                        \
-    X(SPH_KERNEL_CUBIC_SPLINE, cubic_spline, kernel_cubic, 2.0, 1.0)          \
-    X(SPH_KERNEL_WENDLAND_C2, wendland_c2, kernel_wendland, 2.0, 1.0)         \
+#define SPH_KERNELS(X)                                                \
+    X(SPH_KERNEL_CUBIC_SPLINE, cubic_spline, kernel_cubic, 2.0, 1.0)  \
+    X(SPH_KERNEL_WENDLAND_C2, wendland_c2, kernel_wendland, 2.0, 1.0) \
     X(SPH_KERNEL_CUBIC_O4, cubic_o4, kernel_cubic_o4, 2.0, 1.0 / KERNEL_O4_S)
 
 /* Dispatch by kernel id over the registry; with a constant id the switch
  * folds away.  KERNEL_SWITCH(kernel, CASE) expands CASE(id, name, prefix,
  * support, step) for every row as the cases of one switch. */
-#define KERNEL_SWITCH(kernel, CASE)                                           \
-    switch (kernel) {                                                         \
-        SPH_KERNELS(CASE)                                                     \
-    }                                                                         \
+#define KERNEL_SWITCH(kernel, CASE) \
+    switch (kernel) {               \
+        SPH_KERNELS(CASE)           \
+    }                               \
     return 0.0
-#define KERNEL_CASE_W(id, name, prefix, support, step) case id: return prefix##_w(dim, q);
-#define KERNEL_CASE_F(id, name, prefix, support, step) case id: return prefix##_f(dim, q);
-#define KERNEL_CASE_SIGMA(id, name, prefix, support, step) case id: return prefix##_sigma(dim);
-#define KERNEL_CASE_SUPPORT(id, name, prefix, support, step) case id: return support;
-#define KERNEL_CASE_STEP(id, name, prefix, support, step) case id: return step;
+#define KERNEL_CASE_W(id, name, prefix, support, step) \
+    case id: return prefix##_w(dim, q);
+#define KERNEL_CASE_F(id, name, prefix, support, step) \
+    case id: return prefix##_f(dim, q);
+#define KERNEL_CASE_SIGMA(id, name, prefix, support, step) \
+    case id: return prefix##_sigma(dim);
+#define KERNEL_CASE_SUPPORT(id, name, prefix, support, step) \
+    case id: return support;
+#define KERNEL_CASE_STEP(id, name, prefix, support, step) \
+    case id: return step;
 
-static inline double kernel_w(int kernel, int dim, double q) { KERNEL_SWITCH(kernel, KERNEL_CASE_W); }
-static inline double kernel_f(int kernel, int dim, double q) { KERNEL_SWITCH(kernel, KERNEL_CASE_F); }
+static inline double kernel_w(int kernel, int dim, double q)
+{
+    KERNEL_SWITCH(kernel, KERNEL_CASE_W);
+}
+static inline double kernel_f(int kernel, int dim, double q)
+{
+    KERNEL_SWITCH(kernel, KERNEL_CASE_F);
+}
 static inline double kernel_sigma(int kernel, int dim) { KERNEL_SWITCH(kernel, KERNEL_CASE_SIGMA); }
 /* Support radius in units of h. */
 static inline double kernel_support(int kernel) { KERNEL_SWITCH(kernel, KERNEL_CASE_SUPPORT); }

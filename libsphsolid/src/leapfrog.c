@@ -45,7 +45,7 @@
 static size_t leapfrog_saved_values(int dim, int ncomp, int xsph)
 {
     (void)xsph;
-    return (size_t)dim + 1 + (size_t)ncomp;    /* v_n, rho_n, S_n */
+    return (size_t)dim + 1 + (size_t)ncomp; /* v_n, rho_n, S_n */
 }
 
 static void leapfrog_undo(sph_sim *sim)
@@ -118,7 +118,8 @@ static sph_status leapfrog_step(sph_sim *sim, double dt, double *moved)
     const double *u = sim->fx.xsph ? sim->dx_dt : v;
     double max_moved = 0.0;
     long bad = n, wild = n;
-#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild) reduction(max : max_moved)
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(min : bad, wild) \
+    reduction(max : max_moved)
     for (long a = 0; a < n; ++a) {
         const body_stage *b = &bs[body_of[a]];
         double *xa = x + a * dim;
@@ -147,7 +148,7 @@ static sph_status leapfrog_step(sph_sim *sim, double dt, double *moved)
             if (a < bad)
                 bad = a;
         } else if ((rho[a] < b->rho_lo || rho[a] > b->rho_hi) && a < wild) {
-            wild = a;    /* the watchdog's density bounds, before anything overflows */
+            wild = a; /* the watchdog's density bounds, before anything overflows */
         }
         if (d > max_moved)
             max_moved = d;
@@ -206,8 +207,9 @@ static sph_status leapfrog_step(sph_sim *sim, double dt, double *moved)
  * Euler. */
 const integrator integrator_leapfrog = {
     .name = "leapfrog",
-    .description = "kick-drift-kick leapfrog (velocity Verlet), density and stress advanced with the "
-                   "half-step velocity: symplectic, stable without viscosity up to 1.75 h/(c_p + |v|)",
+    .description =
+        "kick-drift-kick leapfrog (velocity Verlet), density and stress advanced with the "
+        "half-step velocity: symplectic, stable without viscosity up to 1.75 h/(c_p + |v|)",
     .evaluations = 2,
     .stable_factor = 1.75,
     .default_factor = 1.0,
@@ -226,7 +228,8 @@ static sph_status leapfrog_args(sph_sim *sim, size_t n, double dt, size_t stride
     if (!(dt > 0.0) || !isfinite(dt))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "dt=%g: must be finite and > 0", dt);
     if (stride < (size_t)sim->dim)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "stride=%zu is smaller than the dimension %d", stride, sim->dim);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "stride=%zu is smaller than the dimension %d",
+                        stride, sim->dim);
     if (n > 0 && (!a || !b || !c || !d || !e))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "leapfrog stage: an array argument is NULL");
     return SPH_OK;
@@ -237,7 +240,8 @@ sph_status sph_leapfrog_begin_strided(sph_sim *sim, size_t n, double dt, double 
                                       const unsigned char *integrate_motion, double *saved)
 {
     sph_status st = leapfrog_args(sim, n, dt, stride, x, v, rho, S, saved);
-    if (st || (n > 0 && (st = leapfrog_args(sim, n, dt, stride, r, r->dv_dt, r->drho_dt, r->dS_dt, r))))
+    if (st ||
+        (n > 0 && (st = leapfrog_args(sim, n, dt, stride, r, r->dv_dt, r->drho_dt, r->dS_dt, r))))
         return st;
     const int dim = sim->dim, nc = sim->ncomp;
     double *x_n = saved, *rho_n = saved + n * dim, *S_n = rho_n + n;
@@ -270,7 +274,8 @@ sph_status sph_leapfrog_drift_strided(sph_sim *sim, size_t n, double dt, double 
     if (particle)
         *particle = -1;
     sph_status st = leapfrog_args(sim, n, dt, stride, x, v, rho, S, saved);
-    if (st || (n > 0 && (st = leapfrog_args(sim, n, dt, stride, r, r->drho_dt, r->dS_dt, material_of, r))))
+    if (st || (n > 0 &&
+               (st = leapfrog_args(sim, n, dt, stride, r, r->drho_dt, r->dS_dt, material_of, r))))
         return st;
     const int dim = sim->dim, nc = sim->ncomp;
     const double *x_n = saved, *rho_n = saved + n * dim, *S_n = rho_n + n;
@@ -305,10 +310,13 @@ sph_status sph_leapfrog_drift_strided(sph_sim *sim, size_t n, double dt, double 
     if (particle)
         *particle = bad < nn ? bad : wild < nn ? wild : -1;
     if (bad < nn)
-        return sph_fail(sim, SPH_ERR_NONFINITE,
-                        "leapfrog drift produced a non-finite value (or non-positive density) at particle %ld", bad);
+        return sph_fail(
+            sim, SPH_ERR_NONFINITE,
+            "leapfrog drift produced a non-finite value (or non-positive density) at particle %ld",
+            bad);
     if (wild < nn)
-        return watchdog_report(sim, wild, dim, v + wild * stride, rho[wild], &sim->materials[material_of[wild]],
+        return watchdog_report(sim, wild, dim, v + wild * stride, rho[wild],
+                               &sim->materials[material_of[wild]],
                                integrate_motion ? integrate_motion[wild] : 1);
     return SPH_OK;
 }
@@ -348,9 +356,11 @@ sph_status sph_leapfrog_end_strided(sph_sim *sim, size_t n, double dt, double *v
     if (particle)
         *particle = bad < nn ? bad : wild < nn ? wild : -1;
     if (bad < nn)
-        return sph_fail(sim, SPH_ERR_NONFINITE, "leapfrog kick produced a non-finite velocity at particle %ld", bad);
+        return sph_fail(sim, SPH_ERR_NONFINITE,
+                        "leapfrog kick produced a non-finite velocity at particle %ld", bad);
     if (wild < nn)
-        return watchdog_report(sim, wild, dim, v + wild * stride, rho[wild], &sim->materials[material_of[wild]],
+        return watchdog_report(sim, wild, dim, v + wild * stride, rho[wild],
+                               &sim->materials[material_of[wild]],
                                integrate_motion ? integrate_motion[wild] : 1);
     return SPH_OK;
 }

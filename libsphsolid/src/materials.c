@@ -8,21 +8,22 @@
 
 /* ------------------------------------------------------------- materials */
 
-static sph_status add_material(sph_sim *sim, double K, double mu, double rho0,
-                               int *id)
+static sph_status add_material(sph_sim *sim, double K, double mu, double rho0, int *id)
 {
     if (!(K > 0.0) || !isfinite(K))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "bulk modulus K=%g: must be finite and > 0", K);
     if (!(mu >= 0.0) || !isfinite(mu))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "shear modulus mu=%g: must be finite and >= 0", mu);
     if (!(rho0 > 0.0) || !isfinite(rho0))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "reference density rho0=%g: must be finite and > 0", rho0);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "reference density rho0=%g: must be finite and > 0",
+                        rho0);
     {
         /* derived constants must be finite too (K = mu = 1e300 gives E = inf) */
         const double E = 9.0 * K * mu / (3.0 * K + mu), c_p2 = (K + 4.0 * mu / 3.0) / rho0;
         if (!isfinite(E) || !isfinite(c_p2) || !isfinite(K / rho0))
             return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "K=%g, mu=%g, rho0=%g: the derived constants overflow (Young's modulus E=%g, c_p^2=%g m^2/s^2)",
+                            "K=%g, mu=%g, rho0=%g: the derived constants overflow (Young's modulus "
+                            "E=%g, c_p^2=%g m^2/s^2)",
                             K, mu, rho0, E, c_p2);
     }
     material *m = realloc(sim->materials, (size_t)(sim->n_materials + 1) * sizeof *m);
@@ -65,7 +66,8 @@ sph_status sph_add_material_E_nu(sph_sim *sim, double E, double nu, double rho0,
         return SPH_ERR_ARGUMENT;
     const sph_status st = check_pair(sim, "Young's modulus E", E, nu);
     /* isotropic elasticity: K = E / (3 (1 - 2 nu)), mu = E / (2 (1 + nu)) */
-    return st ? st : add_material(sim, E / (3.0 * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu)), rho0, id);
+    return st ? st
+              : add_material(sim, E / (3.0 * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu)), rho0, id);
 }
 
 sph_status sph_add_material_K_nu(sph_sim *sim, double K, double nu, double rho0, int *id)
@@ -74,7 +76,8 @@ sph_status sph_add_material_K_nu(sph_sim *sim, double K, double nu, double rho0,
         return SPH_ERR_ARGUMENT;
     const sph_status st = check_pair(sim, "bulk modulus K", K, nu);
     /* isotropic elasticity: mu = 3K (1 - 2 nu) / (2 (1 + nu)) */
-    return st ? st : add_material(sim, K, 3.0 * K * (1.0 - 2.0 * nu) / (2.0 * (1.0 + nu)), rho0, id);
+    return st ? st
+              : add_material(sim, K, 3.0 * K * (1.0 - 2.0 * nu) / (2.0 * (1.0 + nu)), rho0, id);
 }
 
 sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
@@ -84,7 +87,8 @@ sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
     if (!info)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_material_info_get: info is NULL");
     if (id < 0 || id >= sim->n_materials)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "material=%d: %d materials are defined", id, sim->n_materials);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "material=%d: %d materials are defined", id,
+                        sim->n_materials);
     const material *m = &sim->materials[id];
     info->bulk_modulus = m->K;
     info->shear_modulus = m->mu;
@@ -98,4 +102,3 @@ sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
     info->c_p = m->c_p;
     return SPH_OK;
 }
-

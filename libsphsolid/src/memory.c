@@ -10,7 +10,7 @@ int sph_memory_parts(const sph_sim *sim, const char **names, size_t *bytes, int 
 {
     static const char *const part_names[SPH_MEMORY_PARTS] = {
         "particle state", "integrator saved state", "rates", "pair data",
-        "pair sums", "neighbour list", "model"};
+        "pair sums",      "neighbour list",         "model"};
     size_t part[SPH_MEMORY_PARTS] = {0};
     if (sim) {
         const size_t cap = sim->capacity, n = sim->n;

@@ -20,8 +20,8 @@ typedef struct grid {
     long ncell[3];
     int periodic[3];
     double box[3];
-    size_t *start;          /* ncells + 1 */
-    int *members;           /* particles sorted by cell */
+    size_t *start; /* ncells + 1 */
+    int *members;  /* particles sorted by cell */
 } grid;
 
 static long cell_coord(const grid *g, int axis, double x)
@@ -75,8 +75,7 @@ static int compare_int(const void *a, const void *b)
 
 /* Visit the neighbours b > a of particle a within rc; fill `out` if not
  * NULL.  Returns the count. */
-static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2,
-                   int *out)
+static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2, int *out)
 {
     const int dim = sim->dim;
     const double *xa = sim->x + a * (size_t)dim;
@@ -131,8 +130,8 @@ static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2,
  * or allocated before it is known to fit.  Refuses positions that are not
  * finite and extents that overflow, naming the particle and the value. */
 static sph_status grid_size(sph_sim *sim, grid *g, const double *lo, const double *hi,
-                            const size_t *lo_at, const size_t *hi_at, double rc,
-                            size_t limit, size_t *ncells)
+                            const size_t *lo_at, const size_t *hi_at, double rc, size_t limit,
+                            size_t *ncells)
 {
     const int dim = sim->dim;
     double cells[3] = {1, 1, 1};
@@ -149,7 +148,8 @@ static sph_status grid_size(sph_sim *sim, grid *g, const double *lo, const doubl
         const double extent = hi[i] - lo[i];
         if (!isfinite(extent))
             return sph_fail(sim, SPH_ERR_NONFINITE,
-                            "particles %zu at %c=%g and %zu at %c=%g are too far apart for the neighbour search (extent %g m)",
+                            "particles %zu at %c=%g and %zu at %c=%g are too far apart for the "
+                            "neighbour search (extent %g m)",
                             lo_at[i], "xyz"[i], lo[i], hi_at[i], "xyz"[i], hi[i], extent);
         g->lo[i] = lo[i];
         g->width[i] = rc;
@@ -169,7 +169,8 @@ static sph_status grid_size(sph_sim *sim, grid *g, const double *lo, const doubl
                 widened = 1;
             }
         if (!widened)
-            return sph_fail(sim, SPH_ERR_MEMORY, "the periodic domain needs %g cells, more than %zu", total, limit);
+            return sph_fail(sim, SPH_ERR_MEMORY,
+                            "the periodic domain needs %g cells, more than %zu", total, limit);
     }
     size_t product = 1;
     for (int i = 0; i < dim; ++i) {
@@ -200,10 +201,17 @@ sph_status neighbour_build(sph_sim *sim)
         for (int i = 0; i < dim; ++i) {
             const double xi = sim->x[a * dim + i];
             if (!isfinite(xi))
-                return sph_fail(sim, SPH_ERR_NONFINITE, "particle %zu (body '%s') has a non-finite position %c=%g",
-                                a, sim->bodies[sim->body_of[a]].name, "xyz"[i], xi);
-            if (xi < lo[i]) { lo[i] = xi; lo_at[i] = a; }
-            if (xi > hi[i]) { hi[i] = xi; hi_at[i] = a; }
+                return sph_fail(sim, SPH_ERR_NONFINITE,
+                                "particle %zu (body '%s') has a non-finite position %c=%g", a,
+                                sim->bodies[sim->body_of[a]].name, "xyz"[i], xi);
+            if (xi < lo[i]) {
+                lo[i] = xi;
+                lo_at[i] = a;
+            }
+            if (xi > hi[i]) {
+                hi[i] = xi;
+                hi_at[i] = a;
+            }
         }
     for (int i = 0; i < dim; ++i)
         g.periodic[i] = sim->has_domain && sim->periodic[i];
@@ -219,7 +227,10 @@ sph_status neighbour_build(sph_sim *sim)
     g.members = malloc((n ? n : 1) * sizeof *g.members);
     size_t *counts = malloc((n + 1) * sizeof *counts);
     if (!cell_index || !g.start || !g.members || !counts) {
-        free(cell_index); free(g.start); free(g.members); free(counts);
+        free(cell_index);
+        free(g.start);
+        free(g.members);
+        free(counts);
         return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate the cell list (%zu cells)", ncells);
     }
     for (size_t a = 0; a < n; ++a) {
@@ -231,8 +242,12 @@ sph_status neighbour_build(sph_sim *sim)
     {
         size_t *fill = malloc((ncells + 1) * sizeof *fill);
         if (!fill) {
-            free(cell_index); free(g.start); free(g.members); free(counts);
-            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate the cell list (%zu cells)", ncells);
+            free(cell_index);
+            free(g.start);
+            free(g.members);
+            free(counts);
+            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate the cell list (%zu cells)",
+                            ncells);
         }
         memcpy(fill, g.start, (ncells + 1) * sizeof *fill);
         for (size_t a = 0; a < n; ++a)
@@ -251,7 +266,9 @@ sph_status neighbour_build(sph_sim *sim)
 
     size_t *offsets = realloc(nl->offsets, (n + 1) * sizeof *offsets);
     if (!offsets) {
-        free(g.start); free(g.members); free(counts);
+        free(g.start);
+        free(g.members);
+        free(counts);
         return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate neighbour offsets");
     }
     nl->offsets = offsets;
@@ -265,7 +282,8 @@ sph_status neighbour_build(sph_sim *sim)
         const size_t cap = nl->indices ? total + total / 16 + 16 : total;
         int *idx = realloc(nl->indices, cap * sizeof *idx);
         if (!idx) {
-            free(g.start); free(g.members);
+            free(g.start);
+            free(g.members);
             return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu neighbour entries", cap);
         }
         nl->indices = idx;

@@ -3,23 +3,32 @@
 
 #include "sim.h"
 
-sph_status sph_build_paper_scene(sph_sim *sim, double dx, double piston_speed,
-                                 int gravity_only, sph_paper_scene *scene)
+sph_status sph_build_paper_scene(sph_sim *sim, double dx, double piston_speed, int gravity_only,
+                                 sph_paper_scene *scene)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (sim->dim != 2)
-        return sph_fail(sim, SPH_ERR_STATE, "the paper scene is 2D (plane strain); this simulation is %dD", sim->dim);
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "the paper scene is 2D (plane strain); this simulation is %dD", sim->dim);
     if (sim->n_bodies != 0)
-        return sph_fail(sim, SPH_ERR_STATE, "the paper scene needs an empty simulation (it has %d bodies)", sim->n_bodies);
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "the paper scene needs an empty simulation (it has %d bodies)",
+                        sim->n_bodies);
     if (!(dx > 0.0) || !isfinite(dx) || dx > 0.02)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "dx=%g m: must be in (0, 0.02] m", dx);
     if (!isfinite(piston_speed) || piston_speed < 0.0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "piston_speed=%g m/s: must be finite and >= 0", piston_speed);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "piston_speed=%g m/s: must be finite and >= 0",
+                        piston_speed);
 
     const double width = 0.086, height = 0.140;
-    sph_paper_scene s = {.specimen = -1, .piston = -1, .plate = -1, .material = -1,
-                         .probe_A = -1, .probe_B = -1, .probe_C = -1};
+    sph_paper_scene s = {.specimen = -1,
+                         .piston = -1,
+                         .plate = -1,
+                         .material = -1,
+                         .probe_A = -1,
+                         .probe_B = -1,
+                         .probe_C = -1};
     sph_status st = sph_add_material_K_mu(sim, 12.2e9, 2.67e9, 2300.0, &s.material);
     if (st)
         return st;
@@ -31,7 +40,8 @@ sph_status sph_build_paper_scene(sph_sim *sim, double dx, double piston_speed,
     if ((st = sph_add_plate(sim, "plate", s.material, s.specimen, 0, &s.plate)))
         return st;
     if (!gravity_only) {
-        if ((st = sph_add_piston(sim, "piston", s.material, s.specimen, 0, piston_speed, &s.piston)))
+        if ((st =
+                 sph_add_piston(sim, "piston", s.material, s.specimen, 0, piston_speed, &s.piston)))
             return st;
     } else {
         if ((st = sph_effect(sim, "gravity", "gy=-9.81")))

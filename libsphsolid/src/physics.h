@@ -45,8 +45,7 @@ static inline double eos_pressure(double c0_squared, double rho, double rho0)
 
 /* In-plane sigma/rho^2 with sigma = -P I + S (paper eq. 5), the per-particle
  * factor of the symmetric momentum equation. */
-static inline void stress_over_rho2(int dim, const double *S, double P,
-                                    double rho, double *T)
+static inline void stress_over_rho2(int dim, const double *S, double P, double rho, double *T)
 {
     const double inv_rho2 = 1.0 / (rho * rho);
     for (int i = 0; i < dim; ++i)
@@ -62,8 +61,7 @@ static inline void stress_over_rho2(int dim, const double *S, double P,
 
 /* Continuity, paper eq. (3): contribution of b to drho_a/dt,
  * m_b v_ab . grad_a W_ab. */
-static inline double continuity_pair(int dim, double m_b, const double *v_ab,
-                                     const double *grad_W)
+static inline double continuity_pair(int dim, double m_b, const double *v_ab, const double *grad_W)
 {
     double s = 0.0;
     for (int i = 0; i < dim; ++i)
@@ -73,8 +71,7 @@ static inline double continuity_pair(int dim, double m_b, const double *v_ab,
 
 /* Velocity gradient: (dv^i/dx^j)_a += (m_b/rho_b) (v_b^i - v_a^i)
  * dW_ab/dx_a^j, with v_b - v_a = -v_ab. */
-static inline void velocity_gradient_pair(int dim, double volume_b,
-                                          const double *v_ab,
+static inline void velocity_gradient_pair(int dim, double volume_b, const double *v_ab,
                                           const double *grad_W, double L[3][3])
 {
     for (int i = 0; i < dim; ++i)
@@ -85,8 +82,8 @@ static inline void velocity_gradient_pair(int dim, double volume_b,
 /* Symmetric momentum equation, Gray, Monaghan & Swift (2001) eq. (29):
  * dv_a/dt += m_b T_ab . grad_a W_ab with T_ab = sigma_a/rho_a^2 +
  * sigma_b/rho_b^2 (+ effect terms), an in-plane symmetric tensor. */
-static inline void momentum_pair(int dim, double m_b, const double *T_ab,
-                                 const double *grad_W, double *dv_dt)
+static inline void momentum_pair(int dim, double m_b, const double *T_ab, const double *grad_W,
+                                 double *dv_dt)
 {
     for (int i = 0; i < dim; ++i) {
         double s = 0.0;
@@ -100,17 +97,15 @@ static inline void momentum_pair(int dim, double m_b, const double *T_ab,
  *   dS/dt = 2 mu (eps_dot - tr(eps_dot)/3 I) + S Omega^T + Omega S
  * with eps_dot = (L + L^T)/2 (eq. 7) and Omega = (L - L^T)/2 (eq. 8).
  * In 2D (plane strain) eps_dot_zz = 0 and dS_zz/dt = -2 mu tr/3. */
-static inline void jaumann_stress_rate(int dim, double mu, const double L[3][3],
-                                       const double *S, double *dS_dt)
+static inline void jaumann_stress_rate(int dim, double mu, const double L[3][3], const double *S,
+                                       double *dS_dt)
 {
     double eps[3][3], omega[3][3], s[3][3];
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
             eps[i][j] = 0.5 * (L[i][j] + L[j][i]);
             omega[i][j] = 0.5 * (L[i][j] - L[j][i]);
-            s[i][j] = (dim == 3 || (i < 2 && j < 2) || i == j)
-                          ? S[stress_index(dim, i, j)]
-                          : 0.0;
+            s[i][j] = (dim == 3 || (i < 2 && j < 2) || i == j) ? S[stress_index(dim, i, j)] : 0.0;
         }
     const double trace = eps[0][0] + eps[1][1] + eps[2][2];
     const int ncomp = dim == 2 ? 4 : 6;
@@ -119,7 +114,8 @@ static inline void jaumann_stress_rate(int dim, double mu, const double L[3][3],
         if (c < 3) {
             i = j = c;
         } else if (dim == 2) {
-            i = 0; j = 1;
+            i = 0;
+            j = 1;
         } else {
             i = c == 5 ? 1 : 0;
             j = c == 3 ? 1 : 2;
@@ -149,8 +145,7 @@ static inline double von_mises_stress(int dim, const double *S)
 /* Elastic energy per unit mass: volumetric part integrating P/rho^2 along
  * the equation of state, c0^2 (ln(rho/rho0) + rho0/rho - 1), plus the
  * shear part S:S / (4 mu rho). */
-static inline double elastic_energy_per_mass(int dim, double c0_squared,
-                                             double rho0, double mu,
+static inline double elastic_energy_per_mass(int dim, double c0_squared, double rho0, double mu,
                                              double rho, const double *S)
 {
     double u = c0_squared * (log(rho / rho0) + rho0 / rho - 1.0);

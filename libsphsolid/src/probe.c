@@ -24,8 +24,10 @@ static void probe_accumulate(const sph_sim *sim, size_t n, const double *x, size
             double d = point[i] - x[b * stride + i];
             if (sim->has_domain && sim->periodic[i]) {
                 const double L = sim->hi[i] - sim->lo[i];
-                if (d > 0.5 * L) d -= L;
-                else if (d < -0.5 * L) d += L;
+                if (d > 0.5 * L)
+                    d -= L;
+                else if (d < -0.5 * L)
+                    d += L;
             }
             r2 += d * d;
         }
@@ -62,7 +64,8 @@ static void probe_finish(const sph_sim *sim, const double *sums, double *values)
 sph_status probe_sample_point(sph_sim *sim, const probe *p, double *values)
 {
     double sums[3 + 6] = {0};
-    probe_accumulate(sim, sim->n, sim->x, (size_t)sim->dim, sim->rho, sim->S, sim->mass, sim->material_of, p->point, sums);
+    probe_accumulate(sim, sim->n, sim->x, (size_t)sim->dim, sim->rho, sim->S, sim->mass,
+                     sim->material_of, p->point, sums);
     probe_finish(sim, sums, values);
     if (sums[0] > 0.0 || sim->probe_outside_nan)
         return SPH_OK;
@@ -71,10 +74,11 @@ sph_status probe_sample_point(sph_sim *sim, const probe *p, double *values)
         snprintf(at, sizeof at, "(%g, %g, %g)", p->point[0], p->point[1], p->point[2]);
     else
         snprintf(at, sizeof at, "(%g, %g)", p->point[0], p->point[1]);
-    return sph_fail(sim, SPH_ERR_DOMAIN,
-                    "probe '%s' at %s m is outside every body: no particle within 2h = %g m at t = %g s "
-                    "(sph_set_probe_outside(SPH_PROBE_OUTSIDE_NAN) records NaN instead)",
-                    p->name, at, 2.0 * sim->h, sim->t);
+    return sph_fail(
+        sim, SPH_ERR_DOMAIN,
+        "probe '%s' at %s m is outside every body: no particle within 2h = %g m at t = %g s "
+        "(sph_set_probe_outside(SPH_PROBE_OUTSIDE_NAN) records NaN instead)",
+        p->name, at, 2.0 * sim->h, sim->t);
 }
 
 sph_status sph_set_probe_outside(sph_sim *sim, sph_probe_outside mode)
@@ -82,32 +86,40 @@ sph_status sph_set_probe_outside(sph_sim *sim, sph_probe_outside mode)
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (mode != SPH_PROBE_OUTSIDE_ERROR && mode != SPH_PROBE_OUTSIDE_NAN)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_set_probe_outside: mode=%d is not SPH_PROBE_OUTSIDE_ERROR (0) or SPH_PROBE_OUTSIDE_NAN (1)",
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "sph_set_probe_outside: mode=%d is not SPH_PROBE_OUTSIDE_ERROR (0) or "
+                        "SPH_PROBE_OUTSIDE_NAN (1)",
                         (int)mode);
     sim->probe_outside_nan = mode == SPH_PROBE_OUTSIDE_NAN;
     return sph_ok(sim);
 }
 
-sph_status sph_probe_accumulate(sph_sim *sim, const sph_particles *p,
-                                const double *point, double *sums)
+sph_status sph_probe_accumulate(sph_sim *sim, const sph_particles *p, const double *point,
+                                double *sums)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!p || !point || !sums)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: particles, point and sums must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "sph_probe_accumulate: particles, point and sums must not be NULL");
     if (sim->h <= 0.0)
-        return sph_fail(sim, SPH_ERR_STATE, "sph_probe_accumulate: the smoothing length is not set (sph_set_spacing)");
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "sph_probe_accumulate: the smoothing length is not set (sph_set_spacing)");
     if (p->n_local > 0 && (!p->x || !p->rho || !p->S || !p->mass || !p->material))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: a particle array is NULL");
     for (size_t b = 0; b < p->n_local; ++b)
         if (p->material[b] < 0 || p->material[b] >= sim->n_materials)
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: particle %zu has material %d, but %d materials are defined",
-                            b, p->material[b], sim->n_materials);
+            return sph_fail(
+                sim, SPH_ERR_ARGUMENT,
+                "sph_probe_accumulate: particle %zu has material %d, but %d materials are defined",
+                b, p->material[b], sim->n_materials);
     const size_t stride = p->stride ? p->stride : (size_t)sim->dim;
     if (stride < (size_t)sim->dim)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_probe_accumulate: stride=%zu is smaller than the dimension %d",
-                        stride, sim->dim);
-    probe_accumulate(sim, p->n_local, p->x, stride, p->rho, p->S, p->mass, p->material, point, sums);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "sph_probe_accumulate: stride=%zu is smaller than the dimension %d", stride,
+                        sim->dim);
+    probe_accumulate(sim, p->n_local, p->x, stride, p->rho, p->S, p->mass, p->material, point,
+                     sums);
     return SPH_OK;
 }
 
@@ -116,11 +128,13 @@ sph_status sph_probe_finish(sph_sim *sim, const double *sums, double *values)
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!sums || !values)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_probe_finish: sums and values must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "sph_probe_finish: sums and values must not be NULL");
     probe_finish(sim, sums, values);
     if (!(sums[0] > 0.0) && !sim->probe_outside_nan)
         return sph_fail(sim, SPH_ERR_DOMAIN,
-                        "the point is outside every body: no particle within 2h = %g m (SPH_PROBE_OUTSIDE_NAN records NaN instead)",
+                        "the point is outside every body: no particle within 2h = %g m "
+                        "(SPH_PROBE_OUTSIDE_NAN records NaN instead)",
                         2.0 * sim->h);
     return SPH_OK;
 }
@@ -136,12 +150,14 @@ sph_status sph_add_probe(sph_sim *sim, const char *name, const double *point, in
         return sph_fail(sim, SPH_ERR_ARGUMENT, "probe '%s': point is NULL", name);
     for (int i = 0; i < sim->dim; ++i)
         if (!isfinite(point[i]))
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "probe '%s': coordinate %c=%g is not finite", name, "xyz"[i], point[i]);
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "probe '%s': coordinate %c=%g is not finite",
+                            name, "xyz"[i], point[i]);
     for (int k = 0; k < sim->n_probes; ++k)
         if (strcmp(sim->probes[k].name, name) == 0)
             return sph_fail(sim, SPH_ERR_ARGUMENT, "probe name '%s' is already used", name);
     if (sim->out)
-        return sph_fail(sim, SPH_ERR_STATE, "probe '%s': add probes before opening the output file", name);
+        return sph_fail(sim, SPH_ERR_STATE, "probe '%s': add probes before opening the output file",
+                        name);
     probe *p = realloc(sim->probes, (size_t)(sim->n_probes + 1) * sizeof *p);
     if (!p)
         return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate a probe");
@@ -170,11 +186,13 @@ sph_status sph_probe_sample(sph_sim *sim, int id, double *values)
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (id < 0 || id >= sim->n_probes)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "probe=%d: %d probes are defined", id, sim->n_probes);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "probe=%d: %d probes are defined", id,
+                        sim->n_probes);
     if (!values)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "probe '%s': values is NULL", sim->probes[id].name);
     if (sim->n == 0 || sim->h <= 0.0)
-        return sph_fail(sim, SPH_ERR_STATE, "probe '%s': the simulation has no particles", sim->probes[id].name);
+        return sph_fail(sim, SPH_ERR_STATE, "probe '%s': the simulation has no particles",
+                        sim->probes[id].name);
     const sph_status st = probe_sample_point(sim, &sim->probes[id], values);
     return st ? st : sph_ok(sim);
 }

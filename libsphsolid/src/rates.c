@@ -51,37 +51,37 @@ enum { SUM_RHO, SUM_DV, SUM_L, SUM_M, SUM_U, N_SUMS };
 typedef struct sums {
     double *p[N_SUMS];
     size_t stride[N_SUMS];
-    int width[N_SUMS];          /* components; 0: not summed */
+    int width[N_SUMS]; /* components; 0: not summed */
     int offset[N_SUMS];
-    int record;                 /* doubles of all sums of one particle */
+    int record; /* doubles of all sums of one particle */
 } sums;
 
 typedef struct engine {
     int dim, ncomp, nsym, threads;
     size_t n_local, n_total;
     const double *x, *v, *rho, *S, *mass;
-    size_t xs;                  /* doubles between particles in x and v */
+    size_t xs; /* doubles between particles in x and v */
     const int *material_of;
     const material *materials;
     const size_t *offsets;
     const int *indices;
     const int *const *lists;
     const int *counts;
-    const double *pair_data;    /* nsym + 2 doubles: volume, sigma/rho^2, c0 */
-    const double *R;            /* nsym per particle, or NULL */
+    const double *pair_data; /* nsym + 2 doubles: volume, sigma/rho^2, c0 */
+    const double *R;         /* nsym per particle, or NULL */
     double h, inv_h, w_norm, f_norm;
     double box[3], half_box[3];
     int periodic_axis[3];
-    int periodic;               /* some axis is periodic */
+    int periodic; /* some axis is periodic */
     effects fx;
     double inv_W_dx;
     /* pair pass */
-    int full;                   /* full list: a pair with b < a is skipped */
-    int ghost_sums;             /* keep the terms of ghosts (b >= n_local) */
-    size_t chunk;               /* rows per chunk */
+    int full;       /* full list: a pair with b < a is skipped */
+    int ghost_sums; /* keep the terms of ghosts (b >= n_local) */
+    size_t chunk;   /* rows per chunk */
     long n_chunks;
     sums acc;
-    far_list *far;              /* one per chunk */
+    far_list *far; /* one per chunk */
     /* finish */
     double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
 } engine;
@@ -120,8 +120,7 @@ size_t rates_chunk_rows(int dim, size_t n)
     return c > least ? c : least;
 }
 
-static inline void neighbours_of(const engine *e, size_t a, const int **list,
-                                 int *count)
+static inline void neighbours_of(const engine *e, size_t a, const int **list, int *count)
 {
     if (e->offsets) {
         *list = e->indices + e->offsets[a];
@@ -133,8 +132,8 @@ static inline void neighbours_of(const engine *e, size_t a, const int **list,
 }
 
 /* r_ab = x_a - x_b, with the minimum image along periodic axes. */
-static inline double separation(const engine *e, const double *xa, size_t b,
-                                const int dim, const int periodic, double *r_ab)
+static inline double separation(const engine *e, const double *xa, size_t b, const int dim,
+                                const int periodic, double *r_ab)
 {
     const double *xb = e->x + b * e->xs;
     double r2 = 0.0;
@@ -189,9 +188,8 @@ static void far_append(far_list *f, int record, size_t b, const double *terms)
  * a-side into registers, the b-side into b's sums (or b's far record). */
 #define PAIR_BLOCK 32
 
-static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t dend,
-                                   far_list *far, const int dim, const int kernel,
-                                   const int split)
+static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t dend, far_list *far,
+                                   const int dim, const int kernel, const int split)
 {
     const int periodic = e->periodic;
     const int nsym = dim == 2 ? 3 : 6;
@@ -240,7 +238,7 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
         for (int kk = 0; kk < kn; ++kk) {
             const int b = list[k0 + kk];
             if (e->full && (size_t)b < a)
-                continue;           /* a full list: the pair is in b's row */
+                continue; /* a full list: the pair is in b's row */
             const int k = nk++;
             bidx[k] = b;
             double r_ab[3];
@@ -300,7 +298,8 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
             }
         else if (stress == 2)
             for (int k = 0; k < nk; ++k) {
-                const double fn = artificial_stress_factor(W[k], e->inv_W_dx, e->fx.stress_exponent);
+                const double fn =
+                    artificial_stress_factor(W[k], e->inv_W_dx, e->fx.stress_exponent);
                 for (int c = 0; c < nsym; ++c)
                     T[c][k] += RR[c][k] * fn;
             }
@@ -425,17 +424,16 @@ static ALWAYS_INLINE void chunk_rows(const engine *e, long c, const int dim, con
         row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split);
 }
 
-#define CHUNK_VARIANT(DIM, KERNEL, SPLIT)                                      \
+#define CHUNK_VARIANT(DIM, KERNEL, SPLIT)                                             \
     RATE_CLONES static void chunk_##DIM##_##KERNEL##_##SPLIT(const engine *e, long c) \
-    {                                                                          \
-        chunk_rows(e, c, DIM, KERNEL, SPLIT);                                  \
+    {                                                                                 \
+        chunk_rows(e, c, DIM, KERNEL, SPLIT);                                         \
     }
 /* generated from the kernel registry (kernel.h) */
-#define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP)                    \
-    CHUNK_VARIANT(2, ID, 0) CHUNK_VARIANT(3, ID, 0)                            \
-    CHUNK_VARIANT(2, ID, 1) CHUNK_VARIANT(3, ID, 1)
+#define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP) \
+    CHUNK_VARIANT(2, ID, 0) CHUNK_VARIANT(3, ID, 0) CHUNK_VARIANT(2, ID, 1) CHUNK_VARIANT(3, ID, 1)
 SPH_KERNELS(CHUNK_VARIANTS_OF_KERNEL)
-#define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT, STEP)                                 \
+#define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT, STEP) \
     [ID] = {{chunk_2_##ID##_0, chunk_3_##ID##_0}, {chunk_2_##ID##_1, chunk_3_##ID##_1}},
 /* [kernel][partial-sum buffer][dimension - 2] */
 static const chunk_fn chunk_variants[][2][2] = {SPH_KERNELS(CHUNK_ENTRY)};
@@ -565,11 +563,9 @@ static void pass_pair_data(const engine *e, double *pair_data, double *R)
         stress_over_rho2(dim, S, P, rho, pd + 1);
         pd[1 + nsym] = m->c0;
         if (R)
-            artificial_stress_tensor(dim, S, P, rho, e->fx.stress_epsilon,
-                                     R + (size_t)a * nsym);
+            artificial_stress_tensor(dim, S, P, rho, e->fx.stress_epsilon, R + (size_t)a * nsym);
     }
 }
-
 
 static sph_status grow_scratch(sph_sim *sim, size_t n)
 {
@@ -583,7 +579,8 @@ static sph_status grow_scratch(sph_sim *sim, size_t n)
     if (sim->fx.artificial_stress) {
         double *R = realloc(sim->stress_R, cap * (size_t)sim->nsym * sizeof(double));
         if (!R)
-            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate artificial stress for %zu particles", cap);
+            return sph_fail(sim, SPH_ERR_MEMORY,
+                            "cannot allocate artificial stress for %zu particles", cap);
         sim->stress_R = R;
     }
     sim->scratch_n = cap;
@@ -634,8 +631,9 @@ size_t rates_far_bytes(const sph_sim *sim)
 static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
 {
     if (sim->h <= 0.0)
-        return sph_fail(sim, SPH_ERR_STATE,
-                        "smoothing length is not set: add a body or call sph_set_smoothing_ratio after one");
+        return sph_fail(
+            sim, SPH_ERR_STATE,
+            "smoothing length is not set: add a body or call sph_set_smoothing_ratio after one");
     sph_status st = grow_scratch(sim, call->n_total);
     if (st)
         return st;
@@ -707,7 +705,8 @@ static sph_status pairs_run(sph_sim *sim, engine *e)
     pass_pairs(e, sim->kernel, n_sums);
     for (long c = 0; c < e->n_chunks; ++c)
         if (e->far[c].failed)
-            return sph_fail(sim, SPH_ERR_MEMORY, "cannot grow the list of pair terms of chunk %ld", c);
+            return sph_fail(sim, SPH_ERR_MEMORY, "cannot grow the list of pair terms of chunk %ld",
+                            c);
     return SPH_OK;
 }
 
@@ -773,17 +772,19 @@ static sph_status check_particles(sph_sim *sim, const char *fn, const sph_partic
                         p->n_local, p->n_total);
     *stride = p->stride ? p->stride : (size_t)sim->dim;
     if (*stride < (size_t)sim->dim)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: stride=%zu is smaller than the dimension %d", fn,
-                        *stride, sim->dim);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: stride=%zu is smaller than the dimension %d",
+                        fn, *stride, sim->dim);
     if (p->n_total > 0 && (!p->x || !p->v || !p->rho || !p->S || !p->mass || !p->material))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: a particle array (x, v, rho, S, mass, material) is NULL", fn);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "%s: a particle array (x, v, rho, S, mass, material) is NULL", fn);
     for (size_t i = 0; i < p->n_total; ++i) {
         if (p->material[i] < 0 || p->material[i] >= sim->n_materials)
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particle %zu has material %d, but %d materials are defined",
-                            fn, i, p->material[i], sim->n_materials);
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "%s: particle %zu has material %d, but %d materials are defined", fn, i,
+                            p->material[i], sim->n_materials);
         if (!(p->rho[i] > 0.0))
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particle %zu has density rho=%g (must be > 0)", fn, i,
-                            p->rho[i]);
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "%s: particle %zu has density rho=%g (must be > 0)", fn, i, p->rho[i]);
     }
     return SPH_OK;
 }
@@ -792,7 +793,8 @@ static sph_status check_neighbours(sph_sim *sim, const char *fn, const sph_parti
                                    const sph_neighbours *nb)
 {
     if (!((nb->offsets && nb->indices) || (nb->lists && nb->counts)) && p->n_local > 0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: give neighbours as offsets+indices or lists+counts", fn);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "%s: give neighbours as offsets+indices or lists+counts", fn);
     return SPH_OK;
 }
 
@@ -800,30 +802,42 @@ static sph_status check_rates(sph_sim *sim, const char *fn, const sph_particles 
                               const sph_rates *rates)
 {
     if (p->n_local > 0 && (!rates->dv_dt || !rates->drho_dt || !rates->dS_dt))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: a rate array (dv_dt, drho_dt, dS_dt) is NULL", fn);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: a rate array (dv_dt, drho_dt, dS_dt) is NULL",
+                        fn);
     if (sim->fx.xsph && !rates->dx_dt && p->n_local > 0)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: effect xsph is on but rates->dx_dt is NULL", fn);
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: effect xsph is on but rates->dx_dt is NULL",
+                        fn);
     return SPH_OK;
 }
 
-sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p,
-                              const sph_neighbours *nb, sph_rates *rates)
+sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p, const sph_neighbours *nb,
+                              sph_rates *rates)
 {
     static const char fn[] = "sph_rates_evaluate";
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!p || !nb || !rates)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particles, neighbours and rates must not be NULL", fn);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "%s: particles, neighbours and rates must not be NULL", fn);
     size_t stride;
     sph_status st;
     if ((st = check_particles(sim, fn, p, &stride)) || (st = check_neighbours(sim, fn, p, nb)) ||
         (st = check_rates(sim, fn, p, rates)))
         return st;
-    const rate_call call = {.n_local = p->n_local, .n_total = p->n_total,
-                            .x = p->x, .v = p->v, .rho = p->rho, .S = p->S, .mass = p->mass,
-                            .stride = stride, .material = p->material, .neighbours = nb,
-                            .dv_dt = rates->dv_dt, .drho_dt = rates->drho_dt,
-                            .dS_dt = rates->dS_dt, .dx_dt = rates->dx_dt};
+    const rate_call call = {.n_local = p->n_local,
+                            .n_total = p->n_total,
+                            .x = p->x,
+                            .v = p->v,
+                            .rho = p->rho,
+                            .S = p->S,
+                            .mass = p->mass,
+                            .stride = stride,
+                            .material = p->material,
+                            .neighbours = nb,
+                            .dv_dt = rates->dv_dt,
+                            .drho_dt = rates->drho_dt,
+                            .dS_dt = rates->dS_dt,
+                            .dx_dt = rates->dx_dt};
     st = rates_run(sim, &call);
     return st ? st : sph_ok(sim);
 }
@@ -850,11 +864,20 @@ sph_status sph_rates_pairs(sph_sim *sim, const sph_particles *p, const sph_neigh
     if ((st = check_particles(sim, fn, p, &stride)) || (st = check_neighbours(sim, fn, p, half)))
         return st;
     if (p->n_total > 0 && !partial)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: partial must hold n_total * sph_rates_partial_size() doubles", fn);
-    const rate_call call = {.n_local = p->n_local, .n_total = p->n_total,
-                            .x = p->x, .v = p->v, .rho = p->rho, .S = p->S, .mass = p->mass,
-                            .stride = stride, .material = p->material, .neighbours = half,
-                            .half = 1, .partial = partial};
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "%s: partial must hold n_total * sph_rates_partial_size() doubles", fn);
+    const rate_call call = {.n_local = p->n_local,
+                            .n_total = p->n_total,
+                            .x = p->x,
+                            .v = p->v,
+                            .rho = p->rho,
+                            .S = p->S,
+                            .mass = p->mass,
+                            .stride = stride,
+                            .material = p->material,
+                            .neighbours = half,
+                            .half = 1,
+                            .partial = partial};
     st = rates_run(sim, &call);
     return st ? st : sph_ok(sim);
 }
@@ -873,11 +896,20 @@ sph_status sph_rates_finish(sph_sim *sim, const sph_particles *p, const double *
         return st;
     if (p->n_local > 0 && !partial)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: partial is NULL", fn);
-    const rate_call call = {.n_local = p->n_local, .n_total = p->n_total,
-                            .x = p->x, .v = p->v, .rho = p->rho, .S = p->S, .mass = p->mass,
-                            .stride = stride, .material = p->material,
-                            .dv_dt = rates->dv_dt, .drho_dt = rates->drho_dt,
-                            .dS_dt = rates->dS_dt, .dx_dt = rates->dx_dt, .half = 1};
+    const rate_call call = {.n_local = p->n_local,
+                            .n_total = p->n_total,
+                            .x = p->x,
+                            .v = p->v,
+                            .rho = p->rho,
+                            .S = p->S,
+                            .mass = p->mass,
+                            .stride = stride,
+                            .material = p->material,
+                            .dv_dt = rates->dv_dt,
+                            .drho_dt = rates->drho_dt,
+                            .dS_dt = rates->dS_dt,
+                            .dx_dt = rates->dx_dt,
+                            .half = 1};
     st = finish_run(sim, &call, partial);
     return st ? st : sph_ok(sim);
 }

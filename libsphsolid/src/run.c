@@ -26,28 +26,35 @@ sph_status sim_prepare(sph_sim *sim)
     const size_t n = sim->n;
     const int dim = sim->dim, nc = sim->ncomp;
     const size_t saved_per = sim_integrator(sim)->saved_values(dim, nc, sim->fx.xsph);
-    double *saved = saved_per == sim->saved_per && sim->saved ? sim->saved
-                                                            : realloc(sim->saved, n * saved_per * sizeof(double));
+    double *saved = saved_per == sim->saved_per && sim->saved
+                        ? sim->saved
+                        : realloc(sim->saved, n * saved_per * sizeof(double));
     double *dv = realloc(sim->dv_dt, n * dim * sizeof(double));
     double *dr = realloc(sim->drho_dt, n * sizeof(double));
     double *dS = realloc(sim->dS_dt, n * nc * sizeof(double));
     double *xs = realloc(sim->x_saved, n * dim * sizeof(double));
-    if (xs) sim->x_saved = xs;
+    if (xs)
+        sim->x_saved = xs;
     if (saved) {
         sim->saved = saved;
         sim->saved_per = saved_per;
     }
-    if (dv) sim->dv_dt = dv;
-    if (dr) sim->drho_dt = dr;
-    if (dS) sim->dS_dt = dS;
+    if (dv)
+        sim->dv_dt = dv;
+    if (dr)
+        sim->drho_dt = dr;
+    if (dS)
+        sim->dS_dt = dS;
     if (!saved || !dv || !dr || !dS || !xs)
-        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate integrator storage for %zu particles", n);
+        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate integrator storage for %zu particles",
+                        n);
     if (sim->fx.xsph) {
         if (!sim->dx_dt)
             sim->carry_valid = 0;
         double *dx = realloc(sim->dx_dt, n * dim * sizeof(double));
         if (!dx)
-            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate XSPH velocities for %zu particles", n);
+            return sph_fail(sim, SPH_ERR_MEMORY,
+                            "cannot allocate XSPH velocities for %zu particles", n);
         sim->dx_dt = dx;
     } else {
         free(sim->dx_dt);
@@ -57,14 +64,16 @@ sph_status sim_prepare(sph_sim *sim)
         for (int i = 0; i < dim && sim->bodies[k].motion == SPH_MOTION_ROTATION; ++i)
             if (sim->has_domain && sim->periodic[i])
                 return sph_fail(sim, SPH_ERR_STATE,
-                                "body '%s' rotates (sph_set_rotation), which needs a domain without periodic axes (%c is periodic)",
+                                "body '%s' rotates (sph_set_rotation), which needs a domain "
+                                "without periodic axes (%c is periodic)",
                                 sim->bodies[k].name, "xyz"[i]);
     sim->nl.skin = 0.25 * sim->h;
     const double rc = 2.0 * sim->h + sim->nl.skin;
     for (int i = 0; i < dim; ++i)
         if (sim->has_domain && sim->periodic[i] && sim->hi[i] - sim->lo[i] < 2.0 * rc)
             return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "periodic length along %c is %g m, shorter than twice the neighbour cutoff 2h + skin = %g m",
+                            "periodic length along %c is %g m, shorter than twice the neighbour "
+                            "cutoff 2h + skin = %g m",
                             "xyz"[i], sim->hi[i] - sim->lo[i], rc);
     if (!sim->nl.valid || sim->nl.n != n) {
         sph_status st = neighbour_build(sim);
@@ -87,12 +96,22 @@ sph_status sim_ensure_neighbours(sph_sim *sim, double extra)
 sph_status sim_evaluate(sph_sim *sim)
 {
     const sph_neighbours nb = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
-    const rate_call call = {.n_local = sim->n, .n_total = sim->n, .x = sim->x, .v = sim->v,
-                            .rho = sim->rho, .S = sim->S, .mass = sim->mass,
-                            .stride = (size_t)sim->dim, .material = sim->material_of,
-                            .neighbours = &nb, .periodic = 1, .dv_dt = sim->dv_dt,
-                            .drho_dt = sim->drho_dt, .dS_dt = sim->dS_dt,
-                            .dx_dt = sim->fx.xsph ? sim->dx_dt : NULL, .half = 1};
+    const rate_call call = {.n_local = sim->n,
+                            .n_total = sim->n,
+                            .x = sim->x,
+                            .v = sim->v,
+                            .rho = sim->rho,
+                            .S = sim->S,
+                            .mass = sim->mass,
+                            .stride = (size_t)sim->dim,
+                            .material = sim->material_of,
+                            .neighbours = &nb,
+                            .periodic = 1,
+                            .dv_dt = sim->dv_dt,
+                            .drho_dt = sim->drho_dt,
+                            .dS_dt = sim->dS_dt,
+                            .dx_dt = sim->fx.xsph ? sim->dx_dt : NULL,
+                            .half = 1};
     sph_status st = rates_run(sim, &call);
     if (st)
         return st;
@@ -134,9 +153,10 @@ static sph_status wrap_and_check_domain(sph_sim *sim)
                 sim->fail_body = sim->body_of[a];
                 sim->fail_quantity = "position";
                 return sph_fail(sim, SPH_ERR_DOMAIN,
-                                "step %ld (t = %.9g s): particle %zu of body '%s' left the domain along %c (%c=%g, domain [%g, %g])",
-                                sim->step, sim->t, a, sim->bodies[sim->body_of[a]].name,
-                                "xyz"[i], "xyz"[i], *xi, sim->lo[i], sim->hi[i]);
+                                "step %ld (t = %.9g s): particle %zu of body '%s' left the domain "
+                                "along %c (%c=%g, domain [%g, %g])",
+                                sim->step, sim->t, a, sim->bodies[sim->body_of[a]].name, "xyz"[i],
+                                "xyz"[i], *xi, sim->lo[i], sim->hi[i]);
             }
         }
     return SPH_OK;
@@ -209,10 +229,12 @@ sph_status sph_steps_until(sph_sim *sim, double t, long *whole, double *last)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_steps_until: last is NULL");
     if (!isfinite(t) || t < sim->t)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "until t=%g s: must be finite and not before the current time %g s", t, sim->t);
+                        "until t=%g s: must be finite and not before the current time %g s", t,
+                        sim->t);
     const double dt = sph_dt(sim);
     if (!(dt > 0.0))
-        return sph_fail(sim, SPH_ERR_STATE, "until t=%g s: the time step is not known yet (add a body)", t);
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "until t=%g s: the time step is not known yet (add a body)", t);
     steps_until(sim, t, dt, whole, last);
     return SPH_OK;
 }
@@ -239,12 +261,12 @@ static sph_status run_steps(sph_sim *sim, long steps, double t_end)
         if (shortened)
             sim->t = t_end;
         if (sim->progress && sim->progress_interval > 0 &&
-            sim->step % sim->progress_interval == 0 &&
-            sim->progress(sim, sim->progress_user)) {
+            sim->step % sim->progress_interval == 0 && sim->progress(sim, sim->progress_user)) {
             if (in->carries_rates)
                 carried_rates_set(sim);
-            return sph_fail(sim, SPH_ERR_STOPPED, "stopped by the progress callback at step %ld (t = %.9g s)",
-                            sim->step, sim->t);
+            return sph_fail(sim, SPH_ERR_STOPPED,
+                            "stopped by the progress callback at step %ld (t = %.9g s)", sim->step,
+                            sim->t);
         }
     }
     if (in->carries_rates && sim->rates_valid)
@@ -266,7 +288,9 @@ sph_status sph_run_until(sph_sim *sim, double t)
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!isfinite(t) || t < sim->t)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "until t=%g s: must be finite and not before the current time %g s", t, sim->t);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "until t=%g s: must be finite and not before the current time %g s", t,
+                        sim->t);
     return run_steps(sim, -1, t);
 }
 
@@ -282,15 +306,20 @@ sph_status sph_set_progress(sph_sim *sim, long interval, sph_progress_fn fn, voi
     return sph_ok(sim);
 }
 
-sph_status sph_failure(const sph_sim *sim, long *step, long *particle, int *body_id, const char **quantity)
+sph_status sph_failure(const sph_sim *sim, long *step, long *particle, int *body_id,
+                       const char **quantity)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (sim->failed != 1)
         return SPH_ERR_STATE;
-    if (step) *step = sim->fail_step;
-    if (particle) *particle = sim->fail_particle;
-    if (body_id) *body_id = sim->fail_body;
-    if (quantity) *quantity = sim->fail_quantity;
+    if (step)
+        *step = sim->fail_step;
+    if (particle)
+        *particle = sim->fail_particle;
+    if (body_id)
+        *body_id = sim->fail_body;
+    if (quantity)
+        *quantity = sim->fail_quantity;
     return SPH_OK;
 }

@@ -8,7 +8,7 @@
 #include "sphsolid.h"
 
 #define SPH_ERRMSG_SIZE 512
-#define SPH_NAME_SIZE 64
+#define SPH_NAME_SIZE   64
 
 typedef struct material {
     double K, mu, rho0;
@@ -19,16 +19,16 @@ typedef struct body {
     char name[SPH_NAME_SIZE];
     int material;
     sph_motion motion;
-    double vector[3];       /* velocity, applied force or angular velocity */
-    double centre[3];       /* centre of a prescribed rotation */
+    double vector[3]; /* velocity, applied force or angular velocity */
+    double centre[3]; /* centre of a prescribed rotation */
     size_t first, count;
     double spacing;
     double total_mass;
     double extent_lo[3], extent_hi[3]; /* bounding box of the particles as
                                           added: files record it so a reader
                                           can tell bodies of another shape */
-    double lo[3], hi[3];    /* extent of the body's lattice cells */
-    double step[3];         /* lattice step per axis (spacing if unknown) */
+    double lo[3], hi[3];               /* extent of the body's lattice cells */
+    double step[3];                    /* lattice step per axis (spacing if unknown) */
 } body;
 
 typedef struct probe {
@@ -39,10 +39,10 @@ typedef struct probe {
 /* Half neighbour list in CSR form: row a holds the particles b > a closer
  * than 2h + skin when built, sorted by index (each pair once). */
 typedef struct neighbour_list {
-    size_t *offsets;        /* n + 1 */
+    size_t *offsets; /* n + 1 */
     int *indices;
-    size_t capacity;        /* of indices */
-    size_t n;               /* particles when built */
+    size_t capacity; /* of indices */
+    size_t n;        /* particles when built */
     double skin;
     double displacement_bound; /* upper bound of any displacement since built */
     int valid;
@@ -67,8 +67,8 @@ struct sph_sim {
     /* model */
     int kernel;
     double h_over_dx;
-    double h;               /* 0 until the first body fixes it */
-    double dx_ref;          /* first body's spacing */
+    double h;      /* 0 until the first body fixes it */
+    double dx_ref; /* first body's spacing */
     material *materials;
     int n_materials;
     effects fx;
@@ -81,34 +81,34 @@ struct sph_sim {
     int n_bodies;
     probe *probes;
     int n_probes;
-    int probe_outside_nan;  /* sph_set_probe_outside */
+    int probe_outside_nan; /* sph_set_probe_outside */
     size_t n, capacity;
     double *x, *v, *rho, *S, *mass;
-    int *material_of;       /* per particle */
-    int *body_of;           /* per particle */
+    int *material_of; /* per particle */
+    int *body_of;     /* per particle */
 
     /* integration (integrator.h) */
-    const struct integrator *integ;     /* NULL: the default, Improved Euler */
+    const struct integrator *integ; /* NULL: the default, Improved Euler */
     double dt, t;
     int dt_set;
     long step;
-    double *saved;          /* the integrator's state at the start of a step */
-    size_t saved_per;       /* doubles per particle in saved */
-    double *x_saved;        /* positions at the start of the step, so that a
+    double *saved;    /* the integrator's state at the start of a step */
+    size_t saved_per; /* doubles per particle in saved */
+    double *x_saved;  /* positions at the start of the step, so that a
                                failed step can be undone */
     double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
     int rates_valid;
-    int carry_valid;        /* the rates carried by the integrator belong to */
+    int carry_valid;                /* the rates carried by the integrator belong to */
     unsigned long long carry_print; /* the state with this fingerprint */
     neighbour_list nl;
 
     /* scratch of the rate engine, sized to scratch_n particles */
     size_t scratch_n;
-    double *pair_data;      /* per particle: volume, then sigma/rho^2 */
-    double *stress_R;       /* artificial stress, when on */
-    double *sum_scratch;    /* pair sums without room in the rate arrays */
-    size_t sum_scratch_n;   /* doubles */
-    far_list *far;          /* one per chunk of the pair pass */
+    double *pair_data;    /* per particle: volume, then sigma/rho^2 */
+    double *stress_R;     /* artificial stress, when on */
+    double *sum_scratch;  /* pair sums without room in the rate arrays */
+    size_t sum_scratch_n; /* doubles */
+    far_list *far;        /* one per chunk of the pair pass */
     size_t n_far;
 
     /* watchdog: 0 switches a bound off */
@@ -144,13 +144,13 @@ void neighbour_free(neighbour_list *nl);
 typedef struct rate_call {
     size_t n_local, n_total;
     const double *x, *v, *rho, *S, *mass;
-    size_t stride;          /* of x and v */
+    size_t stride; /* of x and v */
     const int *material;
     const sph_neighbours *neighbours;
-    int periodic;           /* apply minimum image with sim's domain */
+    int periodic; /* apply minimum image with sim's domain */
     double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
-    int half;               /* the list holds each pair once (else full) */
-    double *partial;        /* if set: the pair pass only, its sums for all
+    int half;        /* the list holds each pair once (else full) */
+    double *partial; /* if set: the pair pass only, its sums for all
                                n_total particles written here (ghosts too) */
 } rate_call;
 
@@ -163,7 +163,8 @@ size_t rates_far_bytes(const sph_sim *sim);
 double sim_support(const sph_sim *sim);
 sph_status sim_prepare(sph_sim *sim);
 void sim_shrink_to_fit(sph_sim *sim);
-void rotation_velocity(int dim, const double *omega, const double *centre, const double *x, double *v);
+void rotation_velocity(int dim, const double *omega, const double *centre, const double *x,
+                       double *v);
 
 /* geometry.c */
 void body_extent_from_particles(sph_sim *sim, int id);

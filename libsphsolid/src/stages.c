@@ -10,15 +10,16 @@
 
 #include "integrator.h"
 
-sph_status sph_rigid_force_sum(sph_sim *sim, size_t n, const double *mass,
-                               const double *dv_dt, const unsigned char *member, double *sums)
+sph_status sph_rigid_force_sum(sph_sim *sim, size_t n, const double *mass, const double *dv_dt,
+                               const unsigned char *member, double *sums)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!sums)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_sum: sums is NULL");
     if (n > 0 && (!mass || !dv_dt))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_sum: mass and dv_dt must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "sph_rigid_force_sum: mass and dv_dt must not be NULL");
     const int dim = sim->dim;
     for (size_t a = 0; a < n; ++a) {
         if (member && !member[a])
@@ -30,8 +31,8 @@ sph_status sph_rigid_force_sum(sph_sim *sim, size_t n, const double *mass,
     return SPH_OK;
 }
 
-sph_status sph_rigid_force_apply(sph_sim *sim, size_t n, const double *applied,
-                                 const double *sums, const unsigned char *member, double *dv_dt)
+sph_status sph_rigid_force_apply(sph_sim *sim, size_t n, const double *applied, const double *sums,
+                                 const unsigned char *member, double *dv_dt)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
@@ -43,7 +44,8 @@ sph_status sph_rigid_force_apply(sph_sim *sim, size_t n, const double *applied,
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_apply: dv_dt must not be NULL");
     if (!(sums[0] > 0.0) || !isfinite(sums[0]))
         return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "sph_rigid_force_apply: total mass %g of the body must be finite and > 0", sums[0]);
+                        "sph_rigid_force_apply: total mass %g of the body must be finite and > 0",
+                        sums[0]);
     const int dim = sim->dim;
     double a_body[3] = {0.0, 0.0, 0.0};
     for (int i = 0; i < dim; ++i)
@@ -81,12 +83,13 @@ sph_status watchdog_report(sph_sim *sim, long a, int dim, const double *v_a, dou
     for (int i = 0; i < dim; ++i)
         v2 += v_a[i] * v_a[i];
     if (v2 > vmax2)
-        return sph_fail(sim, SPH_ERR_UNSTABLE,
-                        "particle %ld moves at %g m/s, more than %g times the P-wave speed %g m/s (watchdog)",
-                        a, sqrt(v2), sim->watch_speed, m->c_p);
+        return sph_fail(
+            sim, SPH_ERR_UNSTABLE,
+            "particle %ld moves at %g m/s, more than %g times the P-wave speed %g m/s (watchdog)",
+            a, sqrt(v2), sim->watch_speed, m->c_p);
     return sph_fail(sim, SPH_ERR_UNSTABLE,
-                    "particle %ld has density ratio rho/rho0 = %g outside [%g, %g] (watchdog)",
-                    a, rho_a / m->rho0, sim->watch_rho_min, sim->watch_rho_max);
+                    "particle %ld has density ratio rho/rho0 = %g outside [%g, %g] (watchdog)", a,
+                    rho_a / m->rho0, sim->watch_rho_min, sim->watch_rho_max);
 }
 
 sph_status sph_watchdog_check(sph_sim *sim, size_t n, const double *v, const double *rho,
@@ -99,15 +102,19 @@ sph_status sph_watchdog_check(sph_sim *sim, size_t n, const double *v, const dou
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: particle is NULL");
     *particle = -1;
     if (n > 0 && (!v || !rho || !material_of))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: v, rho and material must not be NULL");
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "sph_watchdog_check: v, rho and material must not be NULL");
     const int dim = sim->dim;
     for (size_t a = 0; a < n; ++a) {
         if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
-            return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: particle %zu has material %d, but %d materials are defined",
-                            a, material_of[a], sim->n_materials);
+            return sph_fail(
+                sim, SPH_ERR_ARGUMENT,
+                "sph_watchdog_check: particle %zu has material %d, but %d materials are defined", a,
+                material_of[a], sim->n_materials);
         const material *m = &sim->materials[material_of[a]];
         double vmax2, rho_lo, rho_hi;
-        watchdog_bounds(sim, m, integrate_motion ? integrate_motion[a] : 1, &vmax2, &rho_lo, &rho_hi);
+        watchdog_bounds(sim, m, integrate_motion ? integrate_motion[a] : 1, &vmax2, &rho_lo,
+                        &rho_hi);
         if (!watchdog_trips(dim, v + a * dim, rho[a], vmax2, rho_lo, rho_hi))
             continue;
         *particle = (long)a;
@@ -201,12 +208,12 @@ sph_status step_failure(sph_sim *sim, double dt, long first_bad, long first_wild
         sim->fail_particle = first_bad;
         sim->fail_body = sim->body_of[a];
         sim->fail_quantity = what;
-        return sph_fail(sim, SPH_ERR_NONFINITE,
-                        "step %ld (t = %.9g s): particle %ld of body '%s' has a %s %s",
-                        sim->fail_step, sim->t + dt, sim->fail_particle,
-                        sim->bodies[sim->fail_body].name,
-                        what[0] == 'd' && what[1] == 'e' && what[2] == 'n' ? "non-positive or non-finite" : "non-finite",
-                        what);
+        return sph_fail(
+            sim, SPH_ERR_NONFINITE, "step %ld (t = %.9g s): particle %ld of body '%s' has a %s %s",
+            sim->fail_step, sim->t + dt, sim->fail_particle, sim->bodies[sim->fail_body].name,
+            what[0] == 'd' && what[1] == 'e' && what[2] == 'n' ? "non-positive or non-finite"
+                                                               : "non-finite",
+            what);
     }
     const size_t a = (size_t)first_wild;
     const material *m = &sim->materials[sim->material_of[a]];
@@ -221,11 +228,14 @@ sph_status step_failure(sph_sim *sim, double dt, long first_bad, long first_wild
     sim->fail_quantity = speed ? "speed" : "density ratio";
     if (speed)
         return sph_fail(sim, SPH_ERR_UNSTABLE,
-                        "step %ld (t = %.9g s): particle %ld of body '%s' moves at %g m/s, more than %g times the P-wave speed %g m/s (watchdog; see sph_set_watchdog)",
-                        sim->fail_step, sim->t + dt, sim->fail_particle, sim->bodies[sim->fail_body].name,
-                        sqrt(v2), sim->watch_speed, m->c_p);
+                        "step %ld (t = %.9g s): particle %ld of body '%s' moves at %g m/s, more "
+                        "than %g times the P-wave speed %g m/s (watchdog; see sph_set_watchdog)",
+                        sim->fail_step, sim->t + dt, sim->fail_particle,
+                        sim->bodies[sim->fail_body].name, sqrt(v2), sim->watch_speed, m->c_p);
     return sph_fail(sim, SPH_ERR_UNSTABLE,
-                    "step %ld (t = %.9g s): particle %ld of body '%s' has density ratio rho/rho0 = %g outside [%g, %g] (watchdog; see sph_set_watchdog)",
-                    sim->fail_step, sim->t + dt, sim->fail_particle, sim->bodies[sim->fail_body].name,
-                    sim->rho[a] / m->rho0, sim->watch_rho_min, sim->watch_rho_max);
+                    "step %ld (t = %.9g s): particle %ld of body '%s' has density ratio rho/rho0 = "
+                    "%g outside [%g, %g] (watchdog; see sph_set_watchdog)",
+                    sim->fail_step, sim->t + dt, sim->fail_particle,
+                    sim->bodies[sim->fail_body].name, sim->rho[a] / m->rho0, sim->watch_rho_min,
+                    sim->watch_rho_max);
 }

@@ -33,7 +33,9 @@ double sph_stable_dt(const sph_sim *sim)
     if (!sim || sim->h <= 0.0)
         return 0.0;
     const double speed = signal_speed(sim);
-    return speed > 0.0 ? sim_integrator(sim)->stable_factor * sim->h * kernel_step_length(sim->kernel) / speed : 0.0;
+    return speed > 0.0 ? sim_integrator(sim)->stable_factor * sim->h *
+                             kernel_step_length(sim->kernel) / speed
+                       : 0.0;
 }
 
 double sph_default_dt(const sph_sim *sim)
@@ -49,7 +51,8 @@ double sph_default_dt(const sph_sim *sim)
             c0 = fmax(c0, sim->materials[m].c0);
     if (c0 <= 0.0)
         return 0.0;
-    const double dt = sim_integrator(sim)->default_factor * sim->h * kernel_step_length(sim->kernel) / c0;
+    const double dt =
+        sim_integrator(sim)->default_factor * sim->h * kernel_step_length(sim->kernel) / c0;
     const double stable = sph_stable_dt(sim);
     return dt < stable ? dt : stable;
 }
@@ -65,7 +68,8 @@ sph_status sph_set_dt(sph_sim *sim, double dt, int allow_unstable)
         return sph_fail(sim, SPH_ERR_STATE, "dt=%g: add bodies before setting the time step", dt);
     if (dt > stable && !allow_unstable)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "dt=%g s exceeds the stability limit %g h/(c_p + |v|max) = %g s of integrator '%s'; pass allow_unstable to force it",
+                        "dt=%g s exceeds the stability limit %g h/(c_p + |v|max) = %g s of "
+                        "integrator '%s'; pass allow_unstable to force it",
                         dt, sim_integrator(sim)->stable_factor, stable, sim_integrator(sim)->name);
     sim->dt = dt;
     sim->dt_set = 1;
@@ -94,4 +98,3 @@ sph_status sph_set_time(sph_sim *sim, double t, long step)
     sim->rates_valid = 0;
     return sph_ok(sim);
 }
-

@@ -31,9 +31,10 @@ sph_status state_check(sph_sim *sim)
         else if (!(sim->mass[a] > 0.0) || !isfinite(sim->mass[a]))
             what = "mass", value = sim->mass[a];
         if (what)
-            return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "particle %zu of body '%s' has %s %g before the run (must be finite and > 0)",
-                            a, sim->bodies[sim->body_of[a]].name, what, value);
+            return sph_fail(
+                sim, SPH_ERR_ARGUMENT,
+                "particle %zu of body '%s' has %s %g before the run (must be finite and > 0)", a,
+                sim->bodies[sim->body_of[a]].name, what, value);
     }
     return SPH_OK;
 }
@@ -44,17 +45,17 @@ sph_status state_check(sph_sim *sim)
 static double bytes_per_particle(const sph_sim *sim)
 {
     const double dim = sim->dim, nc = sim->ncomp, ns = sim->nsym;
-    const double doubles = (2 * dim + 1 + nc + 1)      /* x, v, rho, S, mass */
-                           + (2 * dim + 1 + nc)        /* saved state + xsph */
-                           + dim                       /* x_saved */
-                           + (2 * dim + 1 + nc)        /* rates */
-                           + (2 * ns + 2)              /* pair data (+ artificial stress) */
-                           + (dim == 3 ? 9 : 0);       /* pair sums of L (3D) */
-    const double r = 2.0 * 1.125 * sim->h_over_dx;     /* (2h + skin)/dx */
+    const double doubles = (2 * dim + 1 + nc + 1)  /* x, v, rho, S, mass */
+                           + (2 * dim + 1 + nc)    /* saved state + xsph */
+                           + dim                   /* x_saved */
+                           + (2 * dim + 1 + nc)    /* rates */
+                           + (2 * ns + 2)          /* pair data (+ artificial stress) */
+                           + (dim == 3 ? 9 : 0);   /* pair sums of L (3D) */
+    const double r = 2.0 * 1.125 * sim->h_over_dx; /* (2h + skin)/dx */
     const double neighbours = sim->dim == 2 ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
-    return doubles * sizeof(double) + 2 * sizeof(int) /* body, material */
+    return doubles * sizeof(double) + 2 * sizeof(int)        /* body, material */
            + 0.5 * neighbours * sizeof(int) + sizeof(size_t) /* half neighbour list */
-           + 3 * sizeof(size_t) + sizeof(int);         /* cell list build */
+           + 3 * sizeof(size_t) + sizeof(int);               /* cell list build */
 }
 
 /* Memory this process may still use: MemAvailable (Linux), else the free
@@ -119,10 +120,11 @@ sph_status memory_check(sph_sim *sim, double particles, const char *what)
     char need[32], have[32];
     human(needed, need, sizeof need);
     human(available, have, sizeof have);
-    return sph_fail(sim, SPH_ERR_MEMORY,
-                    "%s: %.4g particles (%zu already in the scene) need about %s for a run (%.0f bytes each), "
-                    "but %s are available (%s): use a coarser spacing or a machine with more memory",
-                    what, particles, sim->n, need, per, have, source);
+    return sph_fail(
+        sim, SPH_ERR_MEMORY,
+        "%s: %.4g particles (%zu already in the scene) need about %s for a run (%.0f bytes each), "
+        "but %s are available (%s): use a coarser spacing or a machine with more memory",
+        what, particles, sim->n, need, per, have, source);
 }
 
 sph_status sph_memory_check(sph_sim *sim, double particles)
@@ -130,7 +132,8 @@ sph_status sph_memory_check(sph_sim *sim, double particles)
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!(particles >= 0.0) || !isfinite(particles))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_memory_check: particles=%g must be finite and >= 0", particles);
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "sph_memory_check: particles=%g must be finite and >= 0", particles);
     const sph_status st = memory_check(sim, particles, "sph_memory_check");
     return st ? st : sph_ok(sim);
 }

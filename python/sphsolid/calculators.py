@@ -143,7 +143,7 @@ class Calculator(ABC):
     def step(self) -> int:
         """Steps taken."""
 
-    def sync(self) -> None:
+    def sync(self) -> None:  # noqa: B027 (optional hook, empty by default)
         """Nothing to do for backends that work on the scene's arrays."""
 
 

@@ -19,30 +19,29 @@
 #include "sphsolid.h"
 
 /* |actual - expected| <= tolerance, with a message naming the quantity. */
-#define assert_close(actual, expected, tolerance, what)                        \
-    do {                                                                       \
-        const double a_ = (actual), e_ = (expected), t_ = (tolerance);         \
-        if (!(fabs(a_ - e_) <= t_)) {                                          \
-            print_error("%s: got %.12g, expected %.12g (tolerance %.3g, off by %.3g)\n", \
-                        (what), a_, e_, t_, fabs(a_ - e_));                    \
-            fail();                                                            \
-        }                                                                      \
+#define assert_close(actual, expected, tolerance, what)                                          \
+    do {                                                                                         \
+        const double a_ = (actual), e_ = (expected), t_ = (tolerance);                           \
+        if (!(fabs(a_ - e_) <= t_)) {                                                            \
+            print_error("%s: got %.12g, expected %.12g (tolerance %.3g, off by %.3g)\n", (what), \
+                        a_, e_, t_, fabs(a_ - e_));                                              \
+            fail();                                                                              \
+        }                                                                                        \
     } while (0)
 
 /* A call that must succeed; on failure print the library's message. */
-#define check(sim, call)                                                       \
-    do {                                                                       \
-        sph_status st_ = (call);                                               \
-        if (st_ != SPH_OK) {                                                   \
-            print_error("%s failed: %s (%s)\n", #call, sph_errmsg(sim),        \
-                        sph_status_name(st_));                                 \
-            fail();                                                            \
-        }                                                                      \
+#define check(sim, call)                                                                       \
+    do {                                                                                       \
+        sph_status st_ = (call);                                                               \
+        if (st_ != SPH_OK) {                                                                   \
+            print_error("%s failed: %s (%s)\n", #call, sph_errmsg(sim), sph_status_name(st_)); \
+            fail();                                                                            \
+        }                                                                                      \
     } while (0)
 
 /* The paper's material. */
-#define PAPER_K 12.2e9
-#define PAPER_MU 2.67e9
+#define PAPER_K    12.2e9
+#define PAPER_MU   2.67e9
 #define PAPER_RHO0 2300.0
 
 static inline sph_sim *new_sim(int dim)
@@ -60,7 +59,8 @@ static inline sph_sim *free_block_2d(int nx, int ny, double dx)
     sph_sim *sim = new_sim(2);
     int mat, body;
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
-    const double lo[3] = {-0.5 * nx * dx, -0.5 * ny * dx, 0}, hi[3] = {0.5 * nx * dx, 0.5 * ny * dx, 0};
+    const double lo[3] = {-0.5 * nx * dx, -0.5 * ny * dx, 0},
+                 hi[3] = {0.5 * nx * dx, 0.5 * ny * dx, 0};
     check(sim, sph_add_block(sim, "block", mat, lo, hi, dx, &body));
     return sim;
 }

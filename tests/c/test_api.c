@@ -4,15 +4,14 @@
 #include "helpers.h"
 
 /* The call must fail with `status` and a message containing `needle`. */
-#define assert_refused(sim, call, status, needle)                              \
-    do {                                                                       \
-        const sph_status st_ = (call);                                         \
-        if (st_ != (status) || !strstr(sph_errmsg(sim), (needle))) {           \
-            print_error("%s: status %d (%s), message '%s'; expected %d and '%s'\n", \
-                        #call, st_, sph_status_name(st_), sph_errmsg(sim),     \
-                        (status), (needle));                                   \
-            fail();                                                            \
-        }                                                                      \
+#define assert_refused(sim, call, status, needle)                                               \
+    do {                                                                                        \
+        const sph_status st_ = (call);                                                          \
+        if (st_ != (status) || !strstr(sph_errmsg(sim), (needle))) {                            \
+            print_error("%s: status %d (%s), message '%s'; expected %d and '%s'\n", #call, st_, \
+                        sph_status_name(st_), sph_errmsg(sim), (status), (needle));             \
+            fail();                                                                             \
+        }                                                                                       \
     } while (0)
 
 static void bad_materials_are_refused(void **state)
@@ -20,9 +19,11 @@ static void bad_materials_are_refused(void **state)
     (void)state;
     sph_sim *sim = new_sim(2);
     int m;
-    assert_refused(sim, sph_add_material_K_mu(sim, -1e9, 1e9, 2300, &m), SPH_ERR_ARGUMENT, "K=-1e+09");
+    assert_refused(sim, sph_add_material_K_mu(sim, -1e9, 1e9, 2300, &m), SPH_ERR_ARGUMENT,
+                   "K=-1e+09");
     assert_refused(sim, sph_add_material_K_mu(sim, 0.0, 1e9, 2300, &m), SPH_ERR_ARGUMENT, "K=0");
-    assert_refused(sim, sph_add_material_K_mu(sim, 1e9, -2e9, 2300, &m), SPH_ERR_ARGUMENT, "mu=-2e+09");
+    assert_refused(sim, sph_add_material_K_mu(sim, 1e9, -2e9, 2300, &m), SPH_ERR_ARGUMENT,
+                   "mu=-2e+09");
     assert_refused(sim, sph_add_material_K_mu(sim, 1e9, 1e9, -5, &m), SPH_ERR_ARGUMENT, "rho0=-5");
     assert_refused(sim, sph_add_material_E_nu(sim, 1e9, 0.5, 2300, &m), SPH_ERR_ARGUMENT, "nu=0.5");
     assert_refused(sim, sph_add_material_E_nu(sim, 1e9, -1.0, 2300, &m), SPH_ERR_ARGUMENT, "nu=-1");
@@ -33,7 +34,8 @@ static void bad_materials_are_refused(void **state)
     assert_true(sph_default_dt(sim) == 0.0);
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &m));
     check(sim, sph_set_spacing(sim, 1e-3));
-    assert_close(sph_default_dt(sim), 0.5 * 1.2e-3 / sqrt(PAPER_K / PAPER_RHO0), 1e-18, "default dt without bodies");
+    assert_close(sph_default_dt(sim), 0.5 * 1.2e-3 / sqrt(PAPER_K / PAPER_RHO0), 1e-18,
+                 "default dt without bodies");
     /* a valid (E, nu) pair gives back nu by eq. (10) */
     check(sim, sph_add_material_E_nu(sim, 70e9, 0.33, 2700, &m));
     sph_material_info info;
@@ -50,29 +52,36 @@ static void bad_bodies_are_refused(void **state)
     int m, b;
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &m));
     const double lo[3] = {0, 0, 0}, hi[3] = {0.01, 0.01, 0};
-    assert_refused(sim, sph_add_block(sim, "a", m, lo, hi, -1e-3, &b), SPH_ERR_ARGUMENT, "dx=-0.001");
+    assert_refused(sim, sph_add_block(sim, "a", m, lo, hi, -1e-3, &b), SPH_ERR_ARGUMENT,
+                   "dx=-0.001");
     assert_refused(sim, sph_add_block(sim, "a", m, lo, hi, 0.0, &b), SPH_ERR_ARGUMENT, "dx=0");
-    assert_refused(sim, sph_add_block(sim, "a", 3, lo, hi, 1e-3, &b), SPH_ERR_ARGUMENT, "material=3");
-    assert_refused(sim, sph_add_particles(sim, "empty", m, 0, lo, NULL, 1e-3, &b), SPH_ERR_ARGUMENT, "empty");
+    assert_refused(sim, sph_add_block(sim, "a", 3, lo, hi, 1e-3, &b), SPH_ERR_ARGUMENT,
+                   "material=3");
+    assert_refused(sim, sph_add_particles(sim, "empty", m, 0, lo, NULL, 1e-3, &b), SPH_ERR_ARGUMENT,
+                   "empty");
     check(sim, sph_add_block(sim, "a", m, lo, hi, 1e-3, &b));
     /* a second block over the first */
     const double lo2[3] = {0.005, 0.005, 0}, hi2[3] = {0.015, 0.015, 0};
-    assert_refused(sim, sph_add_block(sim, "b", m, lo2, hi2, 1e-3, &b), SPH_ERR_ARGUMENT, "overlaps body 'a'");
-    assert_refused(sim, sph_add_block(sim, "a", m, lo2, hi2, 1e-3, &b), SPH_ERR_ARGUMENT, "'a' is already used");
+    assert_refused(sim, sph_add_block(sim, "b", m, lo2, hi2, 1e-3, &b), SPH_ERR_ARGUMENT,
+                   "overlaps body 'a'");
+    assert_refused(sim, sph_add_block(sim, "a", m, lo2, hi2, 1e-3, &b), SPH_ERR_ARGUMENT,
+                   "'a' is already used");
     assert_int_equal(sph_body_count(sim), 1);
     /* touching but not overlapping is fine */
     const double lo3[3] = {0.01, 0, 0}, hi3[3] = {0.02, 0.01, 0};
     check(sim, sph_add_block(sim, "b", m, lo3, hi3, 1e-3, &b));
     /* a domain that leaves particles out */
     const double dlo[3] = {0, 0, 0}, dhi[3] = {0.015, 0.01, 0};
-    assert_refused(sim, sph_set_domain(sim, dlo, dhi, NULL), SPH_ERR_ARGUMENT, "leaves out particle");
+    assert_refused(sim, sph_set_domain(sim, dlo, dhi, NULL), SPH_ERR_ARGUMENT,
+                   "leaves out particle");
     /* rotations: about z in 2D, finite, set by sph_set_rotation, not periodic */
     const double c[3] = {0.005, 0.005, 0}, about_x[3] = {3.0, 0, 0}, about_z[3] = {0, 0, 3.0};
     const double bad_c[3] = {NAN, 0, 0}, bad_w[3] = {0, 0, INFINITY};
     assert_refused(sim, sph_set_rotation(sim, b, c, about_x), SPH_ERR_ARGUMENT, "omega_x=3");
     assert_refused(sim, sph_set_rotation(sim, b, bad_c, about_z), SPH_ERR_ARGUMENT, "centre x=nan");
     assert_refused(sim, sph_set_rotation(sim, b, c, bad_w), SPH_ERR_ARGUMENT, "omega_z=inf");
-    assert_refused(sim, sph_set_motion(sim, b, SPH_MOTION_ROTATION, about_z), SPH_ERR_ARGUMENT, "sph_set_rotation");
+    assert_refused(sim, sph_set_motion(sim, b, SPH_MOTION_ROTATION, about_z), SPH_ERR_ARGUMENT,
+                   "sph_set_rotation");
     check(sim, sph_set_rotation(sim, b, c, about_z));
     assert_refused(sim, sph_set_body_velocity(sim, b, about_z), SPH_ERR_STATE, "prescribed motion");
     const double plo[3] = {-0.1, -0.1, 0}, phi[3] = {0.1, 0.1, 0};
@@ -91,17 +100,22 @@ static void bad_effects_and_time_steps_are_refused(void **state)
 {
     (void)state;
     sph_sim *sim = free_block_2d(10, 10, 1e-3);
-    assert_refused(sim, sph_effect(sim, "viscosity", "alpha=1"), SPH_ERR_ARGUMENT, "unknown effect 'viscosity'");
-    assert_refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 gamma=2"), SPH_ERR_ARGUMENT, "unknown parameter 'gamma'");
-    assert_refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=-1"), SPH_ERR_ARGUMENT, "alpha=-1");
-    assert_refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=x"), SPH_ERR_ARGUMENT, "alpha='x'");
+    assert_refused(sim, sph_effect(sim, "viscosity", "alpha=1"), SPH_ERR_ARGUMENT,
+                   "unknown effect 'viscosity'");
+    assert_refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 gamma=2"),
+                   SPH_ERR_ARGUMENT, "unknown parameter 'gamma'");
+    assert_refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=-1"), SPH_ERR_ARGUMENT,
+                   "alpha=-1");
+    assert_refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=x"), SPH_ERR_ARGUMENT,
+                   "alpha='x'");
     assert_refused(sim, sph_effect(sim, "damping", ""), SPH_ERR_ARGUMENT, "rate=");
     assert_int_equal(sph_effect_is_on(sim, "artificial_viscosity"), 0);
     assert_int_equal(sph_effect_is_on(sim, "nonsense"), -1);
     /* a step above the stability limit needs the override */
     const double limit = sph_stable_dt(sim);
     assert_true(limit > sph_default_dt(sim));
-    assert_refused(sim, sph_set_dt(sim, 1.5 * limit, 0), SPH_ERR_ARGUMENT, "exceeds the stability limit");
+    assert_refused(sim, sph_set_dt(sim, 1.5 * limit, 0), SPH_ERR_ARGUMENT,
+                   "exceeds the stability limit");
     check(sim, sph_set_dt(sim, 1.5 * limit, 1));
     assert_refused(sim, sph_set_dt(sim, -1e-7, 1), SPH_ERR_ARGUMENT, "dt=-1e-07");
     assert_refused(sim, sph_run(sim, -3), SPH_ERR_ARGUMENT, "steps=-3");
@@ -171,7 +185,8 @@ static void non_finite_value_stops_run_with_step_particle_and_quantity(void **st
         sph_destroy(sim);
     }
     sim = free_block_2d(4, 4, 1e-3);
-    assert_refused(sim, sph_set_watchdog(sim, 1.0, 1.5, 2.0), SPH_ERR_ARGUMENT, "min_density_ratio=1.5");
+    assert_refused(sim, sph_set_watchdog(sim, 1.0, 1.5, 2.0), SPH_ERR_ARGUMENT,
+                   "min_density_ratio=1.5");
     sph_destroy(sim);
 }
 
@@ -201,7 +216,7 @@ static void rigid_force_body_obeys_newton_in_parts(void **state)
     const unsigned char member[5] = {1, 1, 0, 1, 1};
     const double applied[2] = {10.0, -20.0};
     double sums[3] = {0.0, 0.0, 0.0};
-    check(sim, sph_rigid_force_sum(sim, 2, mass, dv, member, sums));           /* "rank 0" */
+    check(sim, sph_rigid_force_sum(sim, 2, mass, dv, member, sums));             /* "rank 0" */
     check(sim, sph_rigid_force_sum(sim, 3, mass + 2, dv + 4, member + 2, sums)); /* "rank 1" */
     assert_close(sums[0], 12.0, 0.0, "member mass");
     check(sim, sph_rigid_force_apply(sim, 2, applied, sums, member, dv));
@@ -295,9 +310,9 @@ static void failing_low_level_calls_leave_a_message(void **state)
     sph_rates r = {.dv_dt = dv, .drho_dt = &drho, .dS_dt = dS, .dx_dt = NULL};
     assert_refused(sim, sph_heun_predict(sim, 1, -1.0, x, v, &rho, S, &r, NULL, saved),
                    SPH_ERR_ARGUMENT, "dt=-1");
-    assert_refused(sim, sph_heun_correct_strided(sim, 1, 1e-7, x, v, 1, &rho, S, &r, NULL,
-                                                 &m, saved, NULL),
-                   SPH_ERR_ARGUMENT, "stride=1");
+    assert_refused(
+        sim, sph_heun_correct_strided(sim, 1, 1e-7, x, v, 1, &rho, S, &r, NULL, &m, saved, NULL),
+        SPH_ERR_ARGUMENT, "stride=1");
     const int bad_material = 5;
     assert_refused(sim, sph_derived_fields(sim, 1, &rho, S, &bad_material, NULL, NULL, NULL),
                    SPH_ERR_ARGUMENT, "material 5");
@@ -331,7 +346,8 @@ static void every_registered_effect_honours_its_ranges(void **state)
         for (int k = 0; k < info.parameter_count; ++k) {
             sph_effect_parameter p;
             check(NULL, sph_effect_parameter_get(e, k, &p));
-            const double ok = p.required ? (isfinite(p.max) ? p.max : p.min + 1.0) : p.default_value;
+            const double ok =
+                p.required ? (isfinite(p.max) ? p.max : p.min + 1.0) : p.default_value;
             snprintf(defaults + strlen(defaults), sizeof defaults - strlen(defaults), "%s=%.17g ",
                      p.key, ok);
         }

@@ -9,15 +9,15 @@
 #include "sim.h"
 
 /* status and message of a call that must be refused */
-#define refused(sim, call, status, text)                                                 \
-    do {                                                                                 \
-        strcpy((sim)->errmsg, "stale message");                                          \
-        const sph_status st_ = (call);                                                   \
-        if (st_ != (status) || !strstr(sph_errmsg(sim), (text))) {                       \
-            print_error("%s: status %d, message '%s'; expected %d and '%s'\n", #call,   \
-                        (int)st_, sph_errmsg(sim), (int)(status), (text));               \
-            fail();                                                                      \
-        }                                                                                \
+#define refused(sim, call, status, text)                                                        \
+    do {                                                                                        \
+        strcpy((sim)->errmsg, "stale message");                                                 \
+        const sph_status st_ = (call);                                                          \
+        if (st_ != (status) || !strstr(sph_errmsg(sim), (text))) {                              \
+            print_error("%s: status %d, message '%s'; expected %d and '%s'\n", #call, (int)st_, \
+                        sph_errmsg(sim), (int)(status), (text));                                \
+            fail();                                                                             \
+        }                                                                                       \
     } while (0)
 
 static sph_sim *block(void) { return free_block_2d(12, 12, 1e-3); }
@@ -29,7 +29,8 @@ static void material_overflowing_constants(void **state)
     (void)state;
     sph_sim *sim = new_sim(2);
     refused(sim, sph_add_material_K_mu(sim, 1e300, 1e300, 1000, NULL), SPH_ERR_ARGUMENT, "E=inf");
-    refused(sim, sph_add_material_K_mu(sim, 1e300, 1e300, 1000, NULL), SPH_ERR_ARGUMENT, "K=1e+300");
+    refused(sim, sph_add_material_K_mu(sim, 1e300, 1e300, 1000, NULL), SPH_ERR_ARGUMENT,
+            "K=1e+300");
     sph_destroy(sim);
 }
 
@@ -74,7 +75,8 @@ static void particles_infinite_volume(void **state)
     int mat;
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
     const double pos[4] = {0, 0, 1e-3, 0}, vol[2] = {1e-6, INFINITY};
-    refused(sim, sph_add_particles(sim, "b", mat, 2, pos, vol, 1e-3, NULL), SPH_ERR_ARGUMENT, "volume inf");
+    refused(sim, sph_add_particles(sim, "b", mat, 2, pos, vol, 1e-3, NULL), SPH_ERR_ARGUMENT,
+            "volume inf");
     sph_destroy(sim);
 }
 
@@ -85,7 +87,8 @@ static void particles_volume_overflowing_mass(void **state)
     int mat;
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
     const double pos[2] = {0, 0}, vol[1] = {1e306};
-    refused(sim, sph_add_particles(sim, "b", mat, 1, pos, vol, 1e-3, NULL), SPH_ERR_ARGUMENT, "volume 1e+306");
+    refused(sim, sph_add_particles(sim, "b", mat, 1, pos, vol, 1e-3, NULL), SPH_ERR_ARGUMENT,
+            "volume 1e+306");
     sph_destroy(sim);
 }
 
@@ -96,7 +99,8 @@ static void particles_negative_volume(void **state)
     int mat;
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
     const double pos[2] = {0, 0}, vol[1] = {-1.0};
-    refused(sim, sph_add_particles(sim, "b", mat, 1, pos, vol, 1e-3, NULL), SPH_ERR_ARGUMENT, "volume -1");
+    refused(sim, sph_add_particles(sim, "b", mat, 1, pos, vol, 1e-3, NULL), SPH_ERR_ARGUMENT,
+            "volume -1");
     sph_destroy(sim);
 }
 
@@ -107,7 +111,8 @@ static void particles_nan_position(void **state)
     int mat;
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
     const double pos[4] = {0, 0, NAN, 0};
-    refused(sim, sph_add_particles(sim, "b", mat, 2, pos, NULL, 1e-3, NULL), SPH_ERR_ARGUMENT, "particle 1");
+    refused(sim, sph_add_particles(sim, "b", mat, 2, pos, NULL, 1e-3, NULL), SPH_ERR_ARGUMENT,
+            "particle 1");
     sph_destroy(sim);
 }
 
@@ -131,7 +136,8 @@ static void block_that_cannot_fit_in_memory(void **state)
     int mat;
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
     const double lo[3] = {-0.043, 0, 0}, hi[3] = {0.043, 0.140, 0};
-    refused(sim, sph_add_block(sim, "specimen", mat, lo, hi, 3e-6, NULL), SPH_ERR_MEMORY, "are available");
+    refused(sim, sph_add_block(sim, "specimen", mat, lo, hi, 3e-6, NULL), SPH_ERR_MEMORY,
+            "are available");
     assert_non_null(strstr(sph_errmsg(sim), "need about"));
     assert_non_null(strstr(sph_errmsg(sim), "specimen"));
     assert_int_equal(sph_particle_count(sim), 0);
@@ -181,8 +187,10 @@ static void effect_nan_parameter(void **state)
 {
     (void)state;
     sph_sim *sim = block();
-    refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=nan"), SPH_ERR_ARGUMENT, "alpha='nan'");
-    refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=inf"), SPH_ERR_ARGUMENT, "alpha='inf'");
+    refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=nan"), SPH_ERR_ARGUMENT,
+            "alpha='nan'");
+    refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=inf"), SPH_ERR_ARGUMENT,
+            "alpha='inf'");
     sph_destroy(sim);
 }
 
@@ -190,7 +198,8 @@ static void effect_negative_viscosity(void **state)
 {
     (void)state;
     sph_sim *sim = block();
-    refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 beta=-1"), SPH_ERR_ARGUMENT, "beta=-1");
+    refused(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 beta=-1"), SPH_ERR_ARGUMENT,
+            "beta=-1");
     sph_destroy(sim);
 }
 
@@ -201,7 +210,8 @@ static void field_copy_to_null(void **state)
     (void)state;
     sph_sim *sim = block();
     refused(sim, sph_field_copy(sim, SPH_FIELD_PRESSURE, NULL), SPH_ERR_ARGUMENT, "out is NULL");
-    refused(sim, sph_field(sim, SPH_FIELD_DENSITY, NULL, NULL, NULL), SPH_ERR_ARGUMENT, "data is NULL");
+    refused(sim, sph_field(sim, SPH_FIELD_DENSITY, NULL, NULL, NULL), SPH_ERR_ARGUMENT,
+            "data is NULL");
     sph_destroy(sim);
 }
 
@@ -239,7 +249,8 @@ static void nan_position_before_a_run(void **state)
     (void)state;
     sph_sim *sim = block();
     field_ptr(sim, SPH_FIELD_POSITION)[2 * 9 + 1] = NAN;
-    refused(sim, sph_run(sim, 1), SPH_ERR_NONFINITE, "particle 9 (body 'block') has a non-finite position y=nan");
+    refused(sim, sph_run(sim, 1), SPH_ERR_NONFINITE,
+            "particle 9 (body 'block') has a non-finite position y=nan");
     sph_destroy(sim);
 }
 
@@ -255,7 +266,8 @@ static void far_apart_blocks_in_3d(void **state)
     int mat;
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
     const double lo[3] = {0, 0, 0}, hi[3] = {4e-3, 4e-3, 4e-3};
-    const double lo2[3] = {1.1e7, 1.1e7, 1.1e7}, hi2[3] = {1.1e7 + 4e-3, 1.1e7 + 4e-3, 1.1e7 + 4e-3};
+    const double lo2[3] = {1.1e7, 1.1e7, 1.1e7},
+                 hi2[3] = {1.1e7 + 4e-3, 1.1e7 + 4e-3, 1.1e7 + 4e-3};
     check(sim, sph_add_block(sim, "near", mat, lo, hi, 1e-3, NULL));
     check(sim, sph_add_block(sim, "far", mat, lo2, hi2, 1e-3, NULL));
     check(sim, sph_run(sim, 1));
@@ -304,7 +316,8 @@ static void probe_outside_every_body(void **state)
     int id;
     check(sim, sph_add_probe(sim, "far", p, &id));
     double values[SPH_PROBE_VALUES(2)];
-    refused(sim, sph_probe_sample(sim, id, values), SPH_ERR_DOMAIN, "probe 'far' at (1, 1) m is outside every body");
+    refused(sim, sph_probe_sample(sim, id, values), SPH_ERR_DOMAIN,
+            "probe 'far' at (1, 1) m is outside every body");
     assert_true(isnan(values[0]));
     sph_destroy(sim);
 }
@@ -340,7 +353,8 @@ static void probe_outside_during_output(void **state)
     sph_sim *sim = block();
     const double p[3] = {0.5, 0.5, 0};
     check(sim, sph_add_probe(sim, "away", p, NULL));
-    refused(sim, sph_output_open(sim, "test_bad_input_probe.h5", 1, 1), SPH_ERR_DOMAIN, "probe 'away'");
+    refused(sim, sph_output_open(sim, "test_bad_input_probe.h5", 1, 1), SPH_ERR_DOMAIN,
+            "probe 'away'");
     if (sim->out)
         sph_output_close(sim);
     sph_destroy(sim);
@@ -371,7 +385,8 @@ static void output_in_missing_directory(void **state)
 {
     (void)state;
     sph_sim *sim = block();
-    refused(sim, sph_output_open(sim, "no/such/dir/out.h5", 1, 0), SPH_ERR_IO, "no/such/dir/out.h5");
+    refused(sim, sph_output_open(sim, "no/such/dir/out.h5", 1, 0), SPH_ERR_IO,
+            "no/such/dir/out.h5");
     assert_null(sim->out);
     sph_destroy(sim);
 }
@@ -380,7 +395,8 @@ static void checkpoint_in_missing_directory(void **state)
 {
     (void)state;
     sph_sim *sim = block();
-    refused(sim, sph_checkpoint_write(sim, "no/such/dir/state.h5"), SPH_ERR_IO, "No such file or directory");
+    refused(sim, sph_checkpoint_write(sim, "no/such/dir/state.h5"), SPH_ERR_IO,
+            "No such file or directory");
     assert_non_null(strstr(sph_errmsg(sim), "no/such/dir/state.h5"));
     sph_destroy(sim);
 }
@@ -400,7 +416,8 @@ static void checkpoint_into_empty_simulation(void **state)
     sph_sim *sim = block();
     check(sim, sph_checkpoint_write(sim, "test_bad_input_ckpt.h5"));
     sph_sim *empty = new_sim(2);
-    refused(empty, sph_checkpoint_read(empty, "test_bad_input_ckpt.h5"), SPH_ERR_STATE, "no particles");
+    refused(empty, sph_checkpoint_read(empty, "test_bad_input_ckpt.h5"), SPH_ERR_STATE,
+            "no particles");
     sph_destroy(empty);
     sph_destroy(sim);
     remove("test_bad_input_ckpt.h5");

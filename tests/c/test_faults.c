@@ -73,7 +73,8 @@ static int same_file(const char *path, const char *data, long size)
 {
     char *now = NULL;
     long n = 0;
-    const int same = read_all(path, &now, &n) == 0 && n == size && memcmp(now, data, (size_t)n) == 0;
+    const int same =
+        read_all(path, &now, &n) == 0 && n == size && memcmp(now, data, (size_t)n) == 0;
     free(now);
     return same;
 }
@@ -282,7 +283,8 @@ static void checkpoint_on_a_full_disk(const char *dir, disk *d, int use_limit)
     unlimit(d);
     assert_int_equal(st, SPH_ERR_IO);
     assert_non_null(strstr(sph_errmsg(sim), path));
-    assert_true(strstr(sph_errmsg(sim), "No space left on device") || strstr(sph_errmsg(sim), "File too large"));
+    assert_true(strstr(sph_errmsg(sim), "No space left on device") ||
+                strstr(sph_errmsg(sim), "File too large"));
     assert_non_null(strstr(sph_errmsg(sim), "previous file is unchanged"));
     assert_non_null(strstr(sph_errmsg(sim), "(write '"));
     /* the previous checkpoint is byte for byte the same, no temporary

@@ -104,7 +104,8 @@ static void platens_sit_against_a_cylinder_at_least_one_support_thick(void **sta
             continue;
         int found = 0;
         for (size_t b = pl.first; b < pl.first + pl.count && !found; ++b)
-            found = fabs(x[3 * b] - x[3 * a]) < 1e-12 && fabs(x[3 * b + 2] - x[3 * a + 2]) < 1e-12 &&
+            found = fabs(x[3 * b] - x[3 * a]) < 1e-12 &&
+                    fabs(x[3 * b + 2] - x[3 * a + 2]) < 1e-12 &&
                     fabs(x[3 * b + 1] - plate_top) < 1e-12;
         assert_true(found);
     }
@@ -189,16 +190,20 @@ static void bad_geometry_is_refused_naming_the_value(void **state)
     int mat, body;
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
     const double base[3] = {0, 0, 0};
-    assert_int_equal(sph_add_cylinder(sim, "c", mat, base, 0.01, 0.02, 0.001, &body), SPH_ERR_STATE);
+    assert_int_equal(sph_add_cylinder(sim, "c", mat, base, 0.01, 0.02, 0.001, &body),
+                     SPH_ERR_STATE);
     assert_non_null(strstr(sph_errmsg(sim), "3D"));
     sph_destroy(sim);
     sim = new_sim(3);
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
-    assert_int_equal(sph_add_cylinder(sim, "c", mat, base, -0.01, 0.02, 0.001, &body), SPH_ERR_ARGUMENT);
+    assert_int_equal(sph_add_cylinder(sim, "c", mat, base, -0.01, 0.02, 0.001, &body),
+                     SPH_ERR_ARGUMENT);
     assert_non_null(strstr(sph_errmsg(sim), "radius=-0.01"));
-    assert_int_equal(sph_add_cylinder(sim, "c", mat, base, 0.01, 0.02, 0.05, &body), SPH_ERR_ARGUMENT);
+    assert_int_equal(sph_add_cylinder(sim, "c", mat, base, 0.01, 0.02, 0.05, &body),
+                     SPH_ERR_ARGUMENT);
     assert_non_null(strstr(sph_errmsg(sim), "dx=0.05"));
-    assert_int_equal(sph_add_prism(sim, "p", mat, base, 0.01, 0.0, 0.02, 0.001, &body), SPH_ERR_ARGUMENT);
+    assert_int_equal(sph_add_prism(sim, "p", mat, base, 0.01, 0.0, 0.02, 0.001, &body),
+                     SPH_ERR_ARGUMENT);
     assert_non_null(strstr(sph_errmsg(sim), "depth=0"));
     assert_int_equal(sph_body_count(sim), 0);
     sph_destroy(sim);

@@ -7,15 +7,14 @@
  */
 #include "helpers.h"
 
-#define assert_refused(sim, call, status, needle)                              \
-    do {                                                                       \
-        const sph_status st_ = (call);                                         \
-        if (st_ != (status) || !strstr(sph_errmsg(sim), (needle))) {           \
-            print_error("%s: status %d (%s), message '%s'; expected %d and '%s'\n", \
-                        #call, st_, sph_status_name(st_), sph_errmsg(sim),     \
-                        (status), (needle));                                   \
-            fail();                                                            \
-        }                                                                      \
+#define assert_refused(sim, call, status, needle)                                               \
+    do {                                                                                        \
+        const sph_status st_ = (call);                                                          \
+        if (st_ != (status) || !strstr(sph_errmsg(sim), (needle))) {                            \
+            print_error("%s: status %d (%s), message '%s'; expected %d and '%s'\n", #call, st_, \
+                        sph_status_name(st_), sph_errmsg(sim), (status), (needle));             \
+            fail();                                                                             \
+        }                                                                                       \
     } while (0)
 
 static void registry_selects_and_describes_integrators(void **state)
@@ -35,7 +34,7 @@ static void registry_selects_and_describes_integrators(void **state)
     check(sim, sph_integrator_info_get(sim, "leapfrog", &lf));
     assert_string_equal(ie.name, "improved_euler");
     assert_int_equal(ie.evaluations, 2);
-    assert_int_equal(ie.saved_values, 2 + 1 + 4);     /* v, rho, S in 2D */
+    assert_int_equal(ie.saved_values, 2 + 1 + 4); /* v, rho, S in 2D */
     assert_int_equal(lf.carries_rates, 1);
     check(sim, sph_effect(sim, "xsph", "epsilon=0.5"));
     check(sim, sph_integrator_info_get(sim, NULL, &ie));
@@ -44,12 +43,14 @@ static void registry_selects_and_describes_integrators(void **state)
     /* the stable and default steps are the integrator's */
     check(sim, sph_set_integrator(sim, "leapfrog"));
     assert_string_equal(sph_integrator_name(sim), "leapfrog");
-    assert_close(sph_stable_dt(sim), lf.stable_factor * stable_ie, 1e-15 * stable_ie, "leapfrog stable step");
-    assert_close(sph_default_dt(sim), lf.default_factor / ie.default_factor * default_ie, 1e-15 * default_ie,
-                 "leapfrog default step");
+    assert_close(sph_stable_dt(sim), lf.stable_factor * stable_ie, 1e-15 * stable_ie,
+                 "leapfrog stable step");
+    assert_close(sph_default_dt(sim), lf.default_factor / ie.default_factor * default_ie,
+                 1e-15 * default_ie, "leapfrog default step");
     /* a step set for the leapfrog above Improved Euler's limit blocks going back */
     check(sim, sph_set_dt(sim, 1.5 * stable_ie, 0));
-    assert_refused(sim, sph_set_integrator(sim, "improved_euler"), SPH_ERR_STATE, "exceeds its stability limit");
+    assert_refused(sim, sph_set_integrator(sim, "improved_euler"), SPH_ERR_STATE,
+                   "exceeds its stability limit");
     assert_string_equal(sph_integrator_name(sim), "leapfrog");
     sph_destroy(sim);
 }
@@ -91,7 +92,7 @@ static sph_sim *periodic_wave_box(int n, int m, double dx, double V, const char 
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
     check(sim, sph_add_block(sim, "box", mat, lo, hi, dx, &body));
     check(sim, sph_set_integrator(sim, integrator));
-    check(sim, sph_set_threads(sim, 1));   /* small: one thread is fastest */
+    check(sim, sph_set_threads(sim, 1)); /* small: one thread is fastest */
     double *x = field_ptr(sim, SPH_FIELD_POSITION), *v = field_ptr(sim, SPH_FIELD_VELOCITY);
     for (size_t a = 0; a < sph_particle_count(sim); ++a)
         v[2 * a] = V * sin(2.0 * M_PI * x[2 * a] / L);
@@ -140,8 +141,8 @@ static void leapfrog_is_second_order_in_time(void **state)
     }
     free(ref);
     const double order1 = log2(err[0] / err[1]), order2 = log2(err[1] / err[2]);
-    print_message("leapfrog velocity error vs dt/64: %.3g %.3g %.3g (orders %.2f %.2f)\n", err[0], err[1],
-                  err[2], order1, order2);
+    print_message("leapfrog velocity error vs dt/64: %.3g %.3g %.3g (orders %.2f %.2f)\n", err[0],
+                  err[1], err[2], order1, order2);
     assert_close(order1, 2.0, 0.2, "order of the leapfrog (dt vs dt/2)");
     assert_close(order2, 2.0, 0.2, "order of the leapfrog (dt/2 vs dt/4)");
 }
@@ -163,7 +164,8 @@ static void leapfrog_keeps_the_energy_of_an_undamped_vibration(void **state)
         check(sim, sph_run_until(sim, p * period));
         worst = fmax(worst, fabs(total_energy(sim) / E0 - 1.0));
     }
-    print_message("leapfrog: %ld steps, 100 periods, largest |E/E0 - 1| = %.3g\n", sph_step_count(sim), worst);
+    print_message("leapfrog: %ld steps, 100 periods, largest |E/E0 - 1| = %.3g\n",
+                  sph_step_count(sim), worst);
     assert_true(worst < 0.01);
     sph_destroy(sim);
 
@@ -280,12 +282,15 @@ static void leapfrog_moves_prescribed_bodies_exactly(void **state)
     }
     for (size_t p = 16; p < 32; ++p) { /* body b: on the arc */
         const double rx = x0[2 * p] - centre[0], ry = x0[2 * p + 1] - centre[1];
-        assert_close(x[2 * p], centre[0] + cos(angle) * rx - sin(angle) * ry, 1e-14, "rotating body x");
-        assert_close(x[2 * p + 1], centre[1] + sin(angle) * rx + cos(angle) * ry, 1e-14, "rotating body y");
+        assert_close(x[2 * p], centre[0] + cos(angle) * rx - sin(angle) * ry, 1e-14,
+                     "rotating body x");
+        assert_close(x[2 * p + 1], centre[1] + sin(angle) * rx + cos(angle) * ry, 1e-14,
+                     "rotating body y");
         assert_close(v[2 * p], -omega[2] * (x[2 * p + 1] - centre[1]), 1e-12, "rotating body vx");
     }
     for (size_t p = 32; p < 48; ++p) { /* body c: v = F/M t, y = F/(2M) t^2 */
-        assert_close(v[2 * p + 1], force[1] / mass * t, 1e-9 * force[1] / mass * t, "pushed body vy");
+        assert_close(v[2 * p + 1], force[1] / mass * t, 1e-9 * force[1] / mass * t,
+                     "pushed body vy");
         assert_close(x[2 * p + 1] - x0[2 * p + 1], 0.5 * force[1] / mass * t * t,
                      1e-9 * force[1] / mass * t * t, "pushed body y");
     }

@@ -90,7 +90,7 @@ static void leapfrog_checkpoint_resumes_bit_identically(void **state)
     check(straight, sph_checkpoint_write(straight, path));
     check(straight, sph_run(straight, 60));
 
-    sph_sim *resumed = paper(4e-3);   /* Improved Euler until the checkpoint says otherwise */
+    sph_sim *resumed = paper(4e-3); /* Improved Euler until the checkpoint says otherwise */
     check(resumed, sph_checkpoint_read(resumed, path));
     assert_string_equal(sph_integrator_name(resumed), "leapfrog");
     check(resumed, sph_run(resumed, 60));

@@ -31,7 +31,8 @@ static void kernels_integrate_to_one(void **state)
     for (int kernel = 0; sph_kernel_name((sph_kernel)kernel); ++kernel)
         for (int dim = 2; dim <= 3; ++dim)
             /* midpoint rule error is O(d^2) ~ 1e-5 (2D), 1e-3 (3D) */
-            assert_close(integral(kernel, dim, 1.3e-3), 1.0, dim == 2 ? 1e-4 : 2e-3, "kernel integral");
+            assert_close(integral(kernel, dim, 1.3e-3), 1.0, dim == 2 ? 1e-4 : 2e-3,
+                         "kernel integral");
 }
 
 /* The 1D cubic spline normalisation 2/3: integral over the line. */
@@ -55,7 +56,8 @@ static void gradient_matches_finite_differences(void **state)
         for (int dim = 2; dim <= 3; ++dim)
             for (double q = 0.05; q < kernel_support(kernel); q += 0.0731) {
                 /* dw/dq = q f(q) */
-                const double fd = (kernel_w(kernel, dim, q + e) - kernel_w(kernel, dim, q - e)) / (2 * e);
+                const double fd =
+                    (kernel_w(kernel, dim, q + e) - kernel_w(kernel, dim, q - e)) / (2 * e);
                 assert_close(q * kernel_f(kernel, dim, q), fd, 1e-6, "dw/dq");
             }
 }
@@ -150,7 +152,7 @@ static void public_kernel_names_and_values_agree(void **state)
             q[i] = i * dq;
         check(sim, sph_kernel_values(sim, N, q, w, dw));
         double integral = 0.0;
-        for (int i = 1; i < N; ++i)   /* trapezoid rule, O(dq^2) */
+        for (int i = 1; i < N; ++i) /* trapezoid rule, O(dq^2) */
             integral += 0.5 * dq * (w[i] * q[i] + w[i - 1] * q[i - 1]);
         assert_close(2.0 * M_PI * integral, 1.0, 1e-6, "2D integral of the public kernel");
         for (int i = 1; i + 1 < N; i += 97)

@@ -25,7 +25,7 @@ static void compare_with_brute_force(sph_sim *sim)
         for (size_t k = nl->offsets[a]; k < nl->offsets[a + 1]; ++k) {
             const int b = nl->indices[k];
             assert_true(b >= 0 && (size_t)b < sim->n && (size_t)b > a); /* half list */
-            assert_false(seen[b]); /* no duplicates */
+            assert_false(seen[b]);                                      /* no duplicates */
             seen[b] = 1;
             if (k > nl->offsets[a])
                 assert_true(nl->indices[k - 1] < b); /* sorted */

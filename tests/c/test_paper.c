@@ -49,7 +49,8 @@ static void wave_reaches_B_first_then_A_and_C_together(void **state)
         }
         t_prev = t;
     }
-    print_message("arrivals: A %.2f us, B %.2f us, C %.2f us\n", arrival[0] * 1e6, arrival[1] * 1e6, arrival[2] * 1e6);
+    print_message("arrivals: A %.2f us, B %.2f us, C %.2f us\n", arrival[0] * 1e6, arrival[1] * 1e6,
+                  arrival[2] * 1e6);
     for (int k = 0; k < 3; ++k)
         assert_false(isnan(arrival[k]));
     assert_true(arrival[1] < arrival[0]);

@@ -4,10 +4,7 @@
 #include "helpers.h"
 
 /* Plane-strain P-wave speed, derived from the moduli. */
-static double p_wave_speed(void)
-{
-    return sqrt((PAPER_K + 4.0 * PAPER_MU / 3.0) / PAPER_RHO0);
-}
+static double p_wave_speed(void) { return sqrt((PAPER_K + 4.0 * PAPER_MU / 3.0) / PAPER_RHO0); }
 
 /* A strip periodic along x of width 10 dx, a fixed plate of 3 layers below,
  * and on top either a piston of 3 layers moving down at `speed` or
@@ -153,10 +150,12 @@ static void rotate_block(int dim, int kernel_correction, const double axis[3], i
     for (int turn = 0; turn < turns; ++turn) {
         for (int part = 0; part < 4; ++part) {
             check(sim, sph_run(sim, steps_per_turn / 4));
-            const double *x = field_ptr(sim, SPH_FIELD_POSITION), *v = field_ptr(sim, SPH_FIELD_VELOCITY);
+            const double *x = field_ptr(sim, SPH_FIELD_POSITION),
+                         *v = field_ptr(sim, SPH_FIELD_VELOCITY);
             for (size_t a = 0; a < np; ++a) {
                 const double *xa = x + a * dim, *va = v + a * dim;
-                const double along = xa[0] * axis[0] + xa[1] * axis[1] + (dim == 3 ? xa[2] * axis[2] : 0.0);
+                const double along =
+                    xa[0] * axis[0] + xa[1] * axis[1] + (dim == 3 ? xa[2] * axis[2] : 0.0);
                 double d2 = 0.0;
                 for (int i = 0; i < dim; ++i)
                     d2 += (xa[i] - along * axis[i]) * (xa[i] - along * axis[i]);
@@ -198,7 +197,9 @@ static void prescribed_rotation_moves_on_arcs_and_builds_no_stress(void **state)
      * round-off (objectivity: the Jaumann rate turns a zero stress into
      * zero). */
     rotate_block(2, 1, z, 3, 2000, &vm, &rho);
-    print_message("2D, kernel correction, 3 turns: max vm / (2 mu omega t) = %.3g, |rho/rho0 - 1| = %.3g\n", vm, rho);
+    print_message(
+        "2D, kernel correction, 3 turns: max vm / (2 mu omega t) = %.3g, |rho/rho0 - 1| = %.3g\n",
+        vm, rho);
     assert_true(vm < 1e-12);
     assert_true(rho < 1e-12);
     rotate_block(3, 1, tilted, 1, 2000, &vm, &rho);

@@ -51,8 +51,14 @@ static rates_buf evaluate(sph_sim *sim)
     size_t *offsets;
     int *indices;
     full_list(sim, &offsets, &indices);
-    sph_particles p = {.n_local = n, .n_total = n, .x = sim->x, .v = sim->v, .rho = sim->rho,
-                       .S = sim->S, .mass = sim->mass, .material = sim->material_of};
+    sph_particles p = {.n_local = n,
+                       .n_total = n,
+                       .x = sim->x,
+                       .v = sim->v,
+                       .rho = sim->rho,
+                       .S = sim->S,
+                       .mass = sim->mass,
+                       .material = sim->material_of};
     sph_neighbours nb = {.offsets = offsets, .indices = indices};
     sph_rates out = {.dv_dt = r.dv, .drho_dt = r.drho, .dS_dt = r.dS};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &out));
@@ -223,7 +229,8 @@ static void perturb(sph_sim *sim, unsigned seed)
 static void momentum_of_isolated_body_is_conserved(void **state)
 {
     (void)state;
-    const char *effects[][2] = {{NULL, NULL}, {"artificial_viscosity", "alpha=1 beta=2"},
+    const char *effects[][2] = {{NULL, NULL},
+                                {"artificial_viscosity", "alpha=1 beta=2"},
                                 {"artificial_stress", "epsilon=0.3 n=4"},
                                 {"artificial_stress", "epsilon=0.3 n=2.5"}};
     for (int k = 0; k < 4; ++k) {
@@ -300,12 +307,20 @@ static void strided_entry_points_match_the_dense_ones(void **state)
             v3[3 * a + i] = sim->v[2 * a + i];
         }
     rates_buf dense = evaluate(sim);
-    double *dv = calloc(2 * n, sizeof *dv), *drho = calloc(n, sizeof *drho), *dS = calloc(4 * n, sizeof *dS);
+    double *dv = calloc(2 * n, sizeof *dv), *drho = calloc(n, sizeof *drho),
+           *dS = calloc(4 * n, sizeof *dS);
     size_t *offsets;
     int *indices;
     full_list(sim, &offsets, &indices);
-    sph_particles p = {.n_local = n, .n_total = n, .x = x3, .v = v3, .rho = sim->rho, .S = sim->S,
-                       .mass = sim->mass, .material = sim->material_of, .stride = 3};
+    sph_particles p = {.n_local = n,
+                       .n_total = n,
+                       .x = x3,
+                       .v = v3,
+                       .rho = sim->rho,
+                       .S = sim->S,
+                       .mass = sim->mass,
+                       .material = sim->material_of,
+                       .stride = 3};
     sph_neighbours nb = {.offsets = offsets, .indices = indices};
     sph_rates r3 = {dv, drho, dS, NULL};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &r3));
@@ -337,9 +352,9 @@ static void strided_entry_points_match_the_dense_ones(void **state)
     assert_int_equal(bad, -1);
     for (size_t a = 0; a < n; ++a) {
         for (int i = 0; i < 2; ++i) {
-            if (a == 0) {  /* left to the caller by the strided stages */
+            if (a == 0) { /* left to the caller by the strided stages */
                 assert_true(x3[i] == sim->x[i] && v3[i] == sim->v[i]);
-                assert_true(x2[i] != sim->x[i]);   /* the dense ones advance it */
+                assert_true(x2[i] != sim->x[i]); /* the dense ones advance it */
             } else {
                 assert_true(x3[3 * a + i] == x2[2 * a + i]);
                 assert_true(v3[3 * a + i] == v2[2 * a + i]);
@@ -352,7 +367,8 @@ static void strided_entry_points_match_the_dense_ones(void **state)
     check(sim, sph_heun_predict_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate, saved3));
     v3[3 * 7] = 5.0 * sqrt((PAPER_K + 4.0 * PAPER_MU / 3.0) / PAPER_RHO0);
     assert_int_equal(sph_heun_correct_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate,
-                                              sim->material_of, saved3, &bad), SPH_ERR_UNSTABLE);
+                                              sim->material_of, saved3, &bad),
+                     SPH_ERR_UNSTABLE);
     assert_int_equal(bad, 7);
     assert_non_null(strstr(sph_errmsg(sim), "particle 7"));
     /* the same test on dense arrays, on its own */
@@ -362,14 +378,29 @@ static void strided_entry_points_match_the_dense_ones(void **state)
     assert_int_equal(sph_watchdog_check(sim, n, v2, rho2, sim->material_of, integrate, &bad),
                      SPH_ERR_UNSTABLE);
     assert_int_equal(bad, 7);
-    v2[2 * 0 + 1] = v3[3 * 7];   /* a prescribed particle is not held to the speed */
+    v2[2 * 0 + 1] = v3[3 * 7]; /* a prescribed particle is not held to the speed */
     v2[2 * 7 + 1] = 0.0;
     check(sim, sph_watchdog_check(sim, n, v2, rho2, sim->material_of, integrate, &bad));
-    assert_int_equal(sph_heun_predict_strided(sim, n, dt, x3, v3, 1, rho3, S3, &rd, integrate, saved3),
-                     SPH_ERR_ARGUMENT);
+    assert_int_equal(
+        sph_heun_predict_strided(sim, n, dt, x3, v3, 1, rho3, S3, &rd, integrate, saved3),
+        SPH_ERR_ARGUMENT);
     assert_non_null(strstr(sph_errmsg(sim), "stride=1"));
-    free(x3); free(v3); free(dv); free(drho); free(dS); free(indices); free(offsets); free(integrate);
-    free(x2); free(v2); free(rho2); free(S2); free(rho3); free(S3); free(saved2); free(saved3);
+    free(x3);
+    free(v3);
+    free(dv);
+    free(drho);
+    free(dS);
+    free(indices);
+    free(offsets);
+    free(integrate);
+    free(x2);
+    free(v2);
+    free(rho2);
+    free(S2);
+    free(rho3);
+    free(S3);
+    free(saved2);
+    free(saved3);
     free_rates(dense);
     sph_destroy(sim);
 }
@@ -418,8 +449,14 @@ static void split_evaluation_over_two_processes(void **state)
     size_t *offsets;
     int *indices;
     full_list(sim, &offsets, &indices);
-    sph_particles all = {.n_local = n, .n_total = n, .x = sim->x, .v = sim->v, .rho = sim->rho,
-                         .S = sim->S, .mass = sim->mass, .material = sim->material_of};
+    sph_particles all = {.n_local = n,
+                         .n_total = n,
+                         .x = sim->x,
+                         .v = sim->v,
+                         .rho = sim->rho,
+                         .S = sim->S,
+                         .mass = sim->mass,
+                         .material = sim->material_of};
     sph_neighbours full = {.offsets = offsets, .indices = indices};
     sph_rates ref = {.dv_dt = dv, .drho_dt = drho, .dS_dt = dS, .dx_dt = u};
     check(sim, sph_rates_evaluate(sim, &all, &full, &ref));
@@ -464,9 +501,12 @@ static void split_evaluation_over_two_processes(void **state)
                 global[k][m++] = a;
         for (size_t l = 0; l < n; ++l)
             local_of[global[k][l]] = l;
-        px[k] = malloc(2 * n * sizeof(double)); pv[k] = malloc(2 * n * sizeof(double));
-        prho[k] = malloc(n * sizeof(double)); pS[k] = malloc(4 * n * sizeof(double));
-        pm[k] = malloc(n * sizeof(double)); pmat[k] = malloc(n * sizeof(int));
+        px[k] = malloc(2 * n * sizeof(double));
+        pv[k] = malloc(2 * n * sizeof(double));
+        prho[k] = malloc(n * sizeof(double));
+        pS[k] = malloc(4 * n * sizeof(double));
+        pm[k] = malloc(n * sizeof(double));
+        pmat[k] = malloc(n * sizeof(int));
         for (size_t l = 0; l < n; ++l) {
             const size_t a = global[k][l];
             memcpy(px[k] + 2 * l, sim->x + 2 * a, 2 * sizeof(double));
@@ -487,8 +527,14 @@ static void split_evaluation_over_two_processes(void **state)
             poff[k][l + 1] = e;
         }
         part[k] = calloc(n * P, sizeof(double));
-        sph_particles pk = {.n_local = nloc[k], .n_total = n, .x = px[k], .v = pv[k], .rho = prho[k],
-                            .S = pS[k], .mass = pm[k], .material = pmat[k]};
+        sph_particles pk = {.n_local = nloc[k],
+                            .n_total = n,
+                            .x = px[k],
+                            .v = pv[k],
+                            .rho = prho[k],
+                            .S = pS[k],
+                            .mass = pm[k],
+                            .material = pmat[k]};
         sph_neighbours hk = {.offsets = poff[k], .indices = pidx[k]};
         check(sim, sph_rates_pairs(sim, &pk, &hk, part[k]));
     }
@@ -506,8 +552,14 @@ static void split_evaluation_over_two_processes(void **state)
     for (int k = 0; k < 2; ++k) {
         double *rdv = malloc(2 * n * sizeof(double)), *rdrho = malloc(n * sizeof(double));
         double *rdS = malloc(4 * n * sizeof(double)), *ru = malloc(2 * n * sizeof(double));
-        sph_particles pk = {.n_local = nloc[k], .n_total = n, .x = px[k], .v = pv[k], .rho = prho[k],
-                            .S = pS[k], .mass = pm[k], .material = pmat[k]};
+        sph_particles pk = {.n_local = nloc[k],
+                            .n_total = n,
+                            .x = px[k],
+                            .v = pv[k],
+                            .rho = prho[k],
+                            .S = pS[k],
+                            .mass = pm[k],
+                            .material = pmat[k]};
         sph_rates rk = {.dv_dt = rdv, .drho_dt = rdrho, .dS_dt = rdS, .dx_dt = ru};
         check(sim, sph_rates_finish(sim, &pk, part[k], &rk));
         for (size_t l = 0; l < nloc[k]; ++l) {
@@ -517,7 +569,10 @@ static void split_evaluation_over_two_processes(void **state)
             memcpy(got_dS + 4 * a, rdS + 4 * l, 4 * sizeof(double));
             got_drho[a] = rdrho[l];
         }
-        free(rdv); free(rdrho); free(rdS); free(ru);
+        free(rdv);
+        free(rdrho);
+        free(rdS);
+        free(ru);
     }
     const double *want[4] = {dv, drho, dS, u}, *got[4] = {got_dv, got_drho, got_dS, got_u};
     const size_t len[4] = {2 * n, n, 4 * n, 2 * n};
@@ -530,16 +585,39 @@ static void split_evaluation_over_two_processes(void **state)
         }
         assert_true(scale > 0.0);
         if (diff > 1e-12 * scale)
-            print_error("%s: two processes differ by %g of the largest value\n", name[q], diff / scale);
+            print_error("%s: two processes differ by %g of the largest value\n", name[q],
+                        diff / scale);
         assert_true(diff <= 1e-12 * scale);
     }
     for (int k = 0; k < 2; ++k) {
-        free(global[k]); free(px[k]); free(pv[k]); free(prho[k]); free(pS[k]); free(pm[k]);
-        free(pmat[k]); free(poff[k]); free(pidx[k]); free(part[k]);
+        free(global[k]);
+        free(px[k]);
+        free(pv[k]);
+        free(prho[k]);
+        free(pS[k]);
+        free(pm[k]);
+        free(pmat[k]);
+        free(poff[k]);
+        free(pidx[k]);
+        free(part[k]);
     }
-    free(owner); free(local_of); free(got_dv); free(got_drho); free(got_dS); free(got_u);
-    free(dv); free(drho); free(dS); free(u); free(dv1); free(drho1); free(dS1); free(u1);
-    free(partial); free(offsets); free(indices);
+    free(owner);
+    free(local_of);
+    free(got_dv);
+    free(got_drho);
+    free(got_dS);
+    free(got_u);
+    free(dv);
+    free(drho);
+    free(dS);
+    free(u);
+    free(dv1);
+    free(drho1);
+    free(dS1);
+    free(u1);
+    free(partial);
+    free(offsets);
+    free(indices);
     sph_destroy(sim);
 }
 
@@ -559,7 +637,8 @@ static void energy_is_conserved_without_viscosity(void **state)
     double share_half, share_quarter;
     const double half = energy_drift(0.5, duration, &share_half);
     const double quarter = energy_drift(0.25, duration, &share_quarter);
-    print_message("energy drift over %.1f us: %.3g at dt/2, %.3g at dt/4\n", duration * 1e6, half, quarter);
+    print_message("energy drift over %.1f us: %.3g at dt/2, %.3g at dt/4\n", duration * 1e6, half,
+                  quarter);
     assert_true(quarter < 5e-4);
     assert_true(log2(half / quarter) > 2.5);
     /* the energy really moved between its kinetic and elastic forms */
@@ -596,15 +675,21 @@ static void xsph_velocity_of_one_moving_particle(void **state)
     sph_sim *sim = free_block_2d(9, 9, dx);
     check(sim, sph_effect(sim, "xsph", "epsilon=0.5"));
     check(sim, sph_run(sim, 0));
-    const size_t n = sim->n, mover = 40;   /* the centre of the 9 x 9 block */
+    const size_t n = sim->n, mover = 40; /* the centre of the 9 x 9 block */
     sim->v[2 * mover] = V;
     double *dv = calloc(2 * n, sizeof *dv), *drho = calloc(n, sizeof *drho);
     double *dS = calloc(4 * n, sizeof *dS), *u = calloc(2 * n, sizeof *u);
     size_t *offsets;
     int *indices;
     full_list(sim, &offsets, &indices);
-    sph_particles p = {.n_local = n, .n_total = n, .x = sim->x, .v = sim->v, .rho = sim->rho,
-                       .S = sim->S, .mass = sim->mass, .material = sim->material_of};
+    sph_particles p = {.n_local = n,
+                       .n_total = n,
+                       .x = sim->x,
+                       .v = sim->v,
+                       .rho = sim->rho,
+                       .S = sim->S,
+                       .mass = sim->mass,
+                       .material = sim->material_of};
     sph_neighbours nb = {.offsets = offsets, .indices = indices};
     sph_rates out = {.dv_dt = dv, .drho_dt = drho, .dS_dt = dS, .dx_dt = u};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &out));
@@ -616,7 +701,8 @@ static void xsph_velocity_of_one_moving_particle(void **state)
     for (size_t b = 0; b < n; ++b) {
         if (b == mover)
             continue;
-        const double r = hypot(sim->x[2 * b] - sim->x[2 * mover], sim->x[2 * b + 1] - sim->x[2 * mover + 1]);
+        const double r =
+            hypot(sim->x[2 * b] - sim->x[2 * mover], sim->x[2 * b + 1] - sim->x[2 * mover + 1]);
         const double W = norm * kernel_cubic_w(2, r / h);
         sum += volume * W;
         assert_close(u[2 * b], eps * volume * W * V, 1e-12 * V, "neighbour carried along");
@@ -625,7 +711,10 @@ static void xsph_velocity_of_one_moving_particle(void **state)
     assert_true(sum > 0.5);
     assert_close(u[2 * mover], V * (1.0 - eps * sum), 1e-12 * V, "moving particle slowed");
     assert_close(u[2 * mover + 1], 0.0, 1e-15, "moving particle, y");
-    free(dv); free(drho); free(dS); free(u);
+    free(dv);
+    free(drho);
+    free(dS);
+    free(u);
     sph_destroy(sim);
 }
 
@@ -680,7 +769,8 @@ static void velocity_gradient_exact_in_3d_with_correction(void **state)
         rates_buf r = evaluate(sim);
         for (size_t a = 0; a < sim->n; ++a)
             for (int c = 0; c < 6; ++c)
-                assert_close(r.dS[6 * a + c], expected[c], 1e-8 * PAPER_MU * 3.0, "3D corrected dS/dt");
+                assert_close(r.dS[6 * a + c], expected[c], 1e-8 * PAPER_MU * 3.0,
+                             "3D corrected dS/dt");
         free_rates(r);
         sph_destroy(sim);
     }

@@ -298,7 +298,7 @@ def test_timestep_above_the_stable_step_is_named_before_the_run(plugin, tmp_path
 
 
 def test_blow_up_names_atom_id_timestep_and_stable_step(lmp_factory):
-    message = fails_with(lmp_factory, BOX + GOOD_PAIR + [
+    fails_with(lmp_factory, BOX + GOOD_PAIR + [
         "velocity all create 1.0 4928459 dist gaussian", "fix heun all sphsolid/heun",
         "timestep 1e-5", "run 2000"], "atom", "timestep 1e-05 s, stable step")
 

@@ -6,9 +6,7 @@ accepted.  Files that fail mid-write keep what was written before
 from __future__ import annotations
 
 import os
-import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import h5py

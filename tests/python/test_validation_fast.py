@@ -7,7 +7,6 @@ import math
 
 import numpy as np
 
-import sphsolid
 from sphsolid import ImprovedEuler, Probes, Scene, build, scenes
 from validation import study
 
