@@ -342,30 +342,38 @@ static void every_registered_effect_honours_its_ranges(void **state)
         assert_non_null(strstr(sph_effect_names(), info.name));
         names_length += strlen(info.name) + 1;
         assert_true(strlen(info.description) > 10);
-        char defaults[256] = "";
+        /* every parameter at an accepted value, and the same without key k */
+        char defaults[256] = "", others[8][256];
+        for (int k = 0; k < info.parameter_count && k < 8; ++k)
+            others[k][0] = '\0';
         for (int k = 0; k < info.parameter_count; ++k) {
             sph_effect_parameter p;
             check(NULL, sph_effect_parameter_get(e, k, &p));
             const double ok =
                 p.required ? (isfinite(p.max) ? p.max : p.min + 1.0) : p.default_value;
-            snprintf(defaults + strlen(defaults), sizeof defaults - strlen(defaults), "%s=%.17g ",
-                     p.key, ok);
+            char word[64];
+            snprintf(word, sizeof word, "%s=%.17g ", p.key, ok);
+            strcat(defaults, word);
+            for (int j = 0; j < info.parameter_count && j < 8; ++j)
+                if (j != k)
+                    strcat(others[j], word);
         }
+        assert_true(info.parameter_count <= 8);
         for (int k = 0; k < info.parameter_count; ++k) {
             sph_effect_parameter p;
             check(NULL, sph_effect_parameter_get(e, k, &p));
             sph_sim *sim = new_sim(3);
-            char text[320], needle[64];
-            snprintf(needle, sizeof needle, "%s=", p.key);
+            char text[2400], needle[64];
             if (p.required)
-                assert_refused(sim, sph_effect(sim, info.name, ""), SPH_ERR_ARGUMENT, needle);
+                assert_refused(sim, sph_effect(sim, info.name, others[k]), SPH_ERR_ARGUMENT, p.key);
             /* just outside each bound: the bound itself when open, a step past it when closed */
             const double outside[2] = {p.min_inclusive ? p.min - 1e-3 : p.min,
                                        p.max_inclusive ? p.max + 1e-3 : p.max};
             for (int side = 0; side < 2; ++side) {
                 if (!isfinite(outside[side]))
                     continue;
-                snprintf(text, sizeof text, "%s %s=%.17g", defaults, p.key, outside[side]);
+                snprintf(text, sizeof text, "%s %s=%.17g", others[k], p.key, outside[side]);
+                snprintf(needle, sizeof needle, "%s=%g must be", p.key, outside[side]);
                 assert_refused(sim, sph_effect(sim, info.name, text), SPH_ERR_ARGUMENT, needle);
                 assert_int_equal(sph_effect_is_on(sim, info.name), 0);
             }
