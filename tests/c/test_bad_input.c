@@ -23,10 +23,10 @@
 static sph_sim *block(void) { return free_block_2d(12, 12, 1e-3); }
 
 /* the file cases need a library built with HDF5 */
-#define needs_hdf5()                                                           \
-    do {                                                                       \
-        if (!strstr(sph_version(), "hdf5"))                                    \
-            skip();                                                            \
+#define needs_hdf5()                        \
+    do {                                    \
+        if (!strstr(sph_version(), "hdf5")) \
+            skip();                         \
     } while (0)
 
 /* ------------------------------------------------------------ materials */
