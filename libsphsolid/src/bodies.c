@@ -269,31 +269,9 @@ sph_status sph_add_block(sph_sim *sim, const char *name, int material_id, const 
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "block '%s': %zu particles is too many (at most 2^31)", name ? name : "",
                         n);
-    double *pos = malloc(n * (size_t)dim * sizeof *pos);
-    double *vol = malloc(n * sizeof *vol);
-    if (!pos || !vol) {
-        free(pos);
-        free(vol);
-        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu block particles", n);
-    }
-    const double volume = step[0] * step[1] * (dim == 3 ? step[2] : 1.0);
-    size_t k = 0;
-    for (long iz = 0; iz < count[2]; ++iz)
-        for (long iy = 0; iy < count[1]; ++iy)
-            for (long ix = 0; ix < count[0]; ++ix, ++k) {
-                pos[k * dim + 0] = lo[0] + (ix + 0.5) * step[0];
-                pos[k * dim + 1] = lo[1] + (iy + 0.5) * step[1];
-                if (dim == 3)
-                    pos[k * dim + 2] = lo[2] + (iz + 0.5) * step[2];
-                vol[k] = volume;
-            }
     int id;
-    st = sph_add_particles(sim, name, material_id, n, pos, vol, dx, &id);
-    free(pos);
-    free(vol);
-    if (st)
+    if ((st = lattice_add(sim, name, material_id, lo, hi, count, step, dx, "block", &id)))
         return st;
-    body_set_lattice(sim, id, lo, hi, step);
     if (body_id)
         *body_id = id;
     return SPH_OK;

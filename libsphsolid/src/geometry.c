@@ -26,6 +26,38 @@ void body_set_lattice(sph_sim *sim, int id, const double lo[3], const double hi[
     }
 }
 
+sph_status lattice_add(sph_sim *sim, const char *name, int material, const double lo[3],
+                       const double hi[3], const long count[3], const double step[3],
+                       double spacing, const char *what, int *id)
+{
+    const int dim = sim->dim;
+    const size_t n = (size_t)count[0] * (size_t)count[1] * (size_t)count[2];
+    double *pos = malloc(n * (size_t)dim * sizeof *pos), *vol = malloc(n * sizeof *vol);
+    if (!pos || !vol) {
+        free(pos);
+        free(vol);
+        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu %s particles", n, what);
+    }
+    const double volume = step[0] * step[1] * (dim == 3 ? step[2] : 1.0);
+    size_t k = 0;
+    for (long iz = 0; iz < count[2]; ++iz)
+        for (long iy = 0; iy < count[1]; ++iy)
+            for (long ix = 0; ix < count[0]; ++ix, ++k) {
+                pos[k * dim + 0] = lo[0] + (ix + 0.5) * step[0];
+                pos[k * dim + 1] = lo[1] + (iy + 0.5) * step[1];
+                if (dim == 3)
+                    pos[k * dim + 2] = lo[2] + (iz + 0.5) * step[2];
+                vol[k] = volume;
+            }
+    sph_status st = sph_add_particles(sim, name, material, n, pos, vol, spacing, id);
+    free(pos);
+    free(vol);
+    if (st)
+        return st;
+    body_set_lattice(sim, *id, lo, hi, step);
+    return SPH_OK;
+}
+
 void body_extent_from_particles(sph_sim *sim, int id)
 {
     body *b = &sim->bodies[id];
@@ -229,7 +261,6 @@ static sph_status add_platen(sph_sim *sim, const char *name, int material, int a
     const int dim = sim->dim;
     long count[3] = {1, 1, 1};
     double step[3] = {0.0, dy, 0.0};
-    size_t n = 1;
     for (int i = 0; i < dim; ++i) {
         if (i == 1)
             count[i] = layers;
@@ -239,32 +270,11 @@ static sph_status add_platen(sph_sim *sim, const char *name, int material, int a
                 count[i] = 1;
             step[i] = (hi[i] - lo[i]) / (double)count[i];
         }
-        n *= (size_t)count[i];
     }
-    double *pos = malloc(n * (size_t)dim * sizeof *pos), *vol = malloc(n * sizeof *vol);
-    if (!pos || !vol) {
-        free(pos);
-        free(vol);
-        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu %s particles", n, role);
-    }
-    const double volume = step[0] * step[1] * (dim == 3 ? step[2] : 1.0);
-    size_t k = 0;
-    for (long iz = 0; iz < count[2]; ++iz)
-        for (long iy = 0; iy < count[1]; ++iy)
-            for (long ix = 0; ix < count[0]; ++ix, ++k) {
-                pos[k * dim + 0] = lo[0] + (ix + 0.5) * step[0];
-                pos[k * dim + 1] = lo[1] + (iy + 0.5) * step[1];
-                if (dim == 3)
-                    pos[k * dim + 2] = lo[2] + (iz + 0.5) * step[2];
-                vol[k] = volume;
-            }
     int id;
-    sph_status st = sph_add_particles(sim, name, material, n, pos, vol, b->spacing, &id);
-    free(pos);
-    free(vol);
+    sph_status st = lattice_add(sim, name, material, lo, hi, count, step, b->spacing, role, &id);
     if (st)
         return st;
-    body_set_lattice(sim, id, lo, hi, step);
     if (platen_id)
         *platen_id = id;
     return sph_ok(sim);
@@ -273,7 +283,7 @@ static sph_status add_platen(sph_sim *sim, const char *name, int material, int a
 sph_status sph_add_plate(sph_sim *sim, const char *name, int material, int body, int layers,
                          int *plate)
 {
-    int id;
+    int id = -1;
     sph_status st = add_platen(sim, name, material, body, layers, -1, "plate", &id);
     if (st)
         return st;
@@ -290,7 +300,7 @@ sph_status sph_add_piston(sph_sim *sim, const char *name, int material, int body
     if (sim && !isfinite(speed))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "piston '%s': speed=%g m/s is not finite",
                         label(name), speed);
-    int id;
+    int id = -1;
     sph_status st = add_platen(sim, name, material, body, layers, +1, "piston", &id);
     if (st)
         return st;

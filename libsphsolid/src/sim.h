@@ -170,6 +170,12 @@ void rotation_velocity(int dim, const double *omega, const double *centre, const
 void body_extent_from_particles(sph_sim *sim, int id);
 void body_set_lattice(sph_sim *sim, int id, const double lo[3], const double hi[3],
                       const double step[3]);
+/* Add a body of count[0] x count[1] x count[2] (1 in 2D) particles at the centres of
+ * the cells of `step` from `lo`, each with its cell's volume, and record its
+ * lattice; `what` names the body's kind in a memory failure. */
+sph_status lattice_add(sph_sim *sim, const char *name, int material, const double lo[3],
+                       const double hi[3], const long count[3], const double step[3],
+                       double spacing, const char *what, int *id);
 
 /* effects.c */
 sph_status effects_set(sph_sim *sim, const char *name, const char *parameters);
