@@ -381,7 +381,7 @@ def _run_scene(args, scene, name: str) -> int:
             if h5 is not None else None)
     frames = []
     dyn.attach(probes, interval=args.probe_interval)
-    start = wallclock.perf_counter()
+    start, cpu_start = wallclock.perf_counter(), wallclock.process_time()
     interrupted = False
     try:
         for t in times + [args.until]:
@@ -403,6 +403,7 @@ def _run_scene(args, scene, name: str) -> int:
         if traj is not None:
             traj.close()
     wall = wallclock.perf_counter() - start
+    cpu = wallclock.process_time() - cpu_start
     print(f"{dyn.nsteps} steps to t = {dyn.time * 1e3:.6g} ms in {wall:.2f} s"
           f" ({len(scene) * dyn.nsteps / max(wall, 1e-9) / 1e6:.3g} M "
           "particle-steps/s)")
@@ -410,7 +411,11 @@ def _run_scene(args, scene, name: str) -> int:
     if planned is not None and planned.predicted_seconds:
         print(f"the plan predicted {planned.predicted_seconds:.3g} s for this"
               f" run: measured {wall:.3g} s "
-              f"({(wall / planned.predicted_seconds - 1) * 100:+.0f} %)")
+              f"({(wall / planned.predicted_seconds - 1) * 100:+.0f} %)"
+              + (f"; CPU predicted {planned.predicted_cpu_seconds:.3g} s, "
+                 f"measured {cpu:.3g} s ("
+                 f"{(cpu / planned.predicted_cpu_seconds - 1) * 100:+.0f} %)"
+                 if planned.predicted_cpu_seconds else ""))
     csv = args.out / f"{name}_probes.csv"
     estimate = _error_estimate(args, probes, planned) if not interrupted \
         else None
@@ -468,7 +473,10 @@ def _error_estimate(args, probes, planned):
     print("error estimate: shadow runs at 2dx and 4dx ...", flush=True)
     estimate.compute()
     worst = max(estimate.relative(n) for n in probes.names)
-    print(f"error estimate: observed order {estimate.order['von_mises']:.2f}"
+    print(f"error estimate: observed order "
+          f"{estimate.observed_order['von_mises']:.2f} (used "
+          f"{estimate.order['von_mises']:.2f}, Fs "
+          f"{estimate.safety['von_mises']:g})"
           f", largest band {worst * 100:.2f} % of the peak (von Mises); "
           f"shadow runs {estimate.shadow_seconds:.2f} s "
           f"({estimate.cost_fraction * 100:.0f} % of the particle-steps)")

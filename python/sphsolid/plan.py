@@ -27,27 +27,32 @@ How (orchestration only; every run is the C library's):
    ``ladder`` (coarse; 3 or more), to ``until`` (or a shorter
    ``calibration_until`` when the user knows that is sound).
 4. **Error model** per setting (:class:`ErrorModel`): the probe series are
-   smoothed (Gaussian, 1 µs) and put on one grid; the limit dx -> 0 is
-   fitted by least squares with one observed order for the whole series
-   (the Eça-Hoekstra approach: with three or more grids and noisy data a
-   least-squares fit is steadier than Richardson's exact three-grid
-   solve); each level's error against that limit gives a power law
-   ``E(dx) = C dx^q`` fitted in log-log by least squares. Predictions carry
-   the GCI safety factor (Roache: 1.25 when the observed order is
-   consistent, 3 otherwise), because the request must be met, not just
+   smoothed (Gaussian, 1 µs) and put on one grid; the norms of the
+   differences between consecutive levels are fitted by least squares to
+   ``C (dx_i^q - dx_{i+1}^q)`` over every level (Eça & Hoekstra's
+   least-squares order, written on differences: no extrapolated limit
+   series, which for a sharpening front is itself 10-16 % off the exact
+   one on the strip), giving ``E(dx) = C dx^q``. Predictions carry the
+   safety factor of Eça & Hoekstra (1.25 for an order in [0.5, 2.1] with
+   a good fit, 3 otherwise), because the request must be met, not just
    met on average. Self-convergence cannot see a bias that does not go
    away with dx (the lattice moment at fixed h/dx, a dissipation floor):
-   the **floor** of a setting is the distance of its limit from the median
-   limit of all settings, added to the prediction.
-5. **Cost model** per setting (:class:`CostModel`): seconds per step
-   against particles, fitted on the ladder's own timings at the requested
-   thread count, then checked by timing a few steps at the chosen spacing
-   (cache effects make large scenes dearer per particle).
+   where two settings differ by more than their own predicted errors
+   explain, the difference is a **floor** added to the prediction
+   (:func:`consistency_floors`).
+5. **Cost model** per setting (:class:`CostModel`): process CPU seconds
+   per step against particles, fitted on the ladder's own runs at the
+   requested thread count (CPU time, because wall time on a loaded
+   machine is mostly the load), with the wall/CPU ratio of the same runs
+   for the wall-time prediction; then checked by timing a few steps at
+   the chosen spacing (cache effects make large scenes dearer per
+   particle). Settings are ranked by predicted CPU seconds.
 6. The cheapest setting whose predicted upper error is within the request
    and whose predicted time is within ``max_seconds`` is returned.
 
-The planner never extrapolates more than ``max_refinement`` (default 4)
-times below the finest ladder spacing: beyond that it says so.
+The planner never extrapolates more than ``max_refinement`` (default 2)
+times below the finest calibrated spacing: it calibrates finer levels for
+the most promising settings (within ``calibration_seconds``) or says so.
 """
 from __future__ import annotations
 
@@ -314,23 +319,32 @@ class LadderRun:
     times: np.ndarray = field(repr=False, default=None)
     series: dict = field(repr=False, default=None)
     failed: str | None = None
+    cpu: float = math.nan       # process CPU seconds stepping (all threads)
+    threads: int | None = None
 
     @property
     def seconds_per_step(self) -> float:
         return self.wall / max(self.steps, 1)
 
+    @property
+    def particle_steps(self) -> int:
+        return int(self.particles) * int(self.steps)
+
     def summary(self) -> dict:
         return {"setting": self.setting.label(), "dx": self.dx,
                 "particles": self.particles, "steps": self.steps,
-                "dt": self.dt, "wall": self.wall, "failed": self.failed}
+                "dt": self.dt, "wall": self.wall, "cpu": self.cpu,
+                "threads": self.threads, "failed": self.failed}
 
 
 def run_scene(scene, until: float, probes, quantity: str = "von_mises",
               integrator: str = DEFAULT_INTEGRATOR,
-              sample_every: float | None = None):
+              sample_every: float | None = None, clocks: dict | None = None):
     """Advance ``scene`` to ``until`` [s] sampling ``probes`` every
     ``sample_every`` [s] (default: 0.5 µs or 1/2000 of the run); returns
-    (times, {probe: values}, dynamics, wall seconds of stepping)."""
+    (times, {probe: values}, dynamics, wall seconds of stepping). The
+    process CPU seconds of the stepping go to ``clocks["cpu"]`` when
+    ``clocks`` is given."""
     sample = _observer(scene, probes, quantity)
     dyn = make_dynamics(scene, integrator, progress=False)
     every = sample_every or min(metrics.SMOOTHING / 2, until / 2000)
@@ -342,8 +356,12 @@ def run_scene(scene, until: float, probes, quantity: str = "von_mises",
         times.append(scene.time)
         values.append(sample())
     dyn.attach(record, interval=interval)
-    start = wallclock.perf_counter()
-    dyn.run(until=until)
+    start, cpu = wallclock.perf_counter(), wallclock.process_time()
+    try:
+        dyn.run(until=until)
+    finally:
+        if clocks is not None:
+            clocks["cpu"] = wallclock.process_time() - cpu
     wall = wallclock.perf_counter() - start
     if not times or times[-1] < scene.time:
         record()
@@ -355,15 +373,18 @@ def run_scene(scene, until: float, probes, quantity: str = "von_mises",
 def ladder_run(scene_factory, dx, setting, until, probes, quantity,
                threads) -> LadderRun:
     scene = build_scene(scene_factory, dx, setting, threads)
+    clocks = {}
     try:
         times, series, dyn, wall = run_scene(scene, until, probes, quantity,
-                                             setting.integrator)
+                                             setting.integrator,
+                                             clocks=clocks)
     except SimulationError as error:
         return LadderRun(setting, dx, len(scene), int(scene.step),
                          float(scene.calc.dt), math.nan, until,
-                         failed=str(error))
+                         failed=str(error), threads=threads)
     return LadderRun(setting, dx, len(scene), dyn.nsteps, dyn.dt, wall, until,
-                     times, series)
+                     times, series, cpu=clocks.get("cpu", math.nan),
+                     threads=threads)
 
 
 # ----------------------------------------------------------- error model
@@ -405,8 +426,10 @@ class ErrorModel:
 
     ``levels`` are (dx, estimated error C dx^order) of the ladder and
     ``differences`` the measured norms between consecutive levels;
-    ``safety`` is the GCI factor applied to the power law in
-    :meth:`upper`; ``floor`` a bias the settings' disagreement shows.
+    ``safety`` is the factor applied to the power law in :meth:`upper`;
+    ``floor`` a bias the settings' disagreement shows; ``spread`` the
+    largest deviation between any two calibrated levels (Eça &
+    Hoekstra's data range Delta_M).
     """
     order: float
     coefficient: float
@@ -417,54 +440,71 @@ class ErrorModel:
     differences: list
     finest: float
     max_refinement: float = 4.0
+    spread: float | None = None
+    anomalous: bool = False
+    observed_order: float | None = None
 
     @property
     def data_range(self) -> float:
-        """Sum of the differences between consecutive levels: a bound of
-        the largest difference between any two levels (Eça & Hoekstra's
-        data range Delta_M)."""
+        """Delta_M: the largest deviation between two calibrated levels
+        (when not measured, the sum of the consecutive differences, which
+        bounds it)."""
+        if self.spread is not None:
+            return float(self.spread)
         return float(sum(self.differences))
 
     @property
     def range_bound(self) -> bool:
-        """True when the observed order is below 0.5: the power law is no
-        guide and, at the calibrated spacings and below, the error is
-        bounded by 3 Delta_M instead (Eça & Hoekstra 2014)."""
-        return self.order < 0.5
+        """True when the differences follow no power law (Eça & Hoekstra's
+        anomalous data: even the fixed-order fits scatter by more than
+        :data:`ANOMALOUS_RESIDUAL`): at the calibrated spacings and below
+        the error is bounded by 3 Delta_M instead (Eça & Hoekstra 2014)."""
+        return self.anomalous
+
+    @property
+    def coarsest(self) -> float:
+        return max(dx for dx, _ in self.levels)
+
+    def power(self, dx: float) -> float:
+        """Central estimate of the error that refinement removes, at dx
+        (anomalous data: the data range, at every spacing)."""
+        if self.anomalous:
+            return self.data_range
+        return self.coefficient * dx ** self.order
 
     def predict(self, dx: float) -> float:
         """Central prediction of the error at ``dx``."""
-        power = self.coefficient * dx ** self.order
-        if self.range_bound and dx <= self.finest * (1 + 1e-9):
-            power = min(power, self.data_range)
-        return power + self.floor
+        return self.power(dx) + self.floor
 
     def upper(self, dx: float) -> float:
         """Conservative prediction: safety x power law + floor, or
         3 Delta_M + floor where that bound applies and is smaller."""
-        power = self.safety * self.coefficient * dx ** self.order
-        if self.range_bound and dx <= self.finest * (1 + 1e-9):
-            power = min(power, SAFETY_POOR * self.data_range)
-        return power + self.floor
+        if self.anomalous:
+            return SAFETY_POOR * self.data_range + self.floor
+        return self.safety * self.coefficient * dx ** self.order + self.floor
 
     def spacing_for(self, error: float) -> float | None:
         """Largest dx whose :meth:`upper` is within ``error`` (None if the
-        floor is already at or above it)."""
+        floor, or for anomalous data the bound 3 Delta_M, is already at or
+        above it; anomalous data give the coarsest calibrated spacing,
+        where the bound holds)."""
         room = error - self.floor
         if room <= 0:
             return None
-        dx = (room / (self.safety * self.coefficient)) ** (1.0 / self.order)
-        if self.range_bound and SAFETY_POOR * self.data_range <= room:
-            dx = max(dx, self.finest)
-        return dx
+        if self.anomalous:
+            return (self.coarsest if SAFETY_POOR * self.data_range <= room
+                    else None)
+        return (room / (self.safety * self.coefficient)) ** (1.0 / self.order)
 
     @property
     def smallest_dx(self) -> float:
         return self.finest / self.max_refinement
 
     def to_dict(self) -> dict:
-        return {"order": self.order, "coefficient": self.coefficient,
+        return {"order": self.order, "observed_order": self.observed_order,
+                "coefficient": self.coefficient,
                 "safety": self.safety, "floor": self.floor,
+                "anomalous": self.anomalous,
                 "data_range": self.data_range,
                 "range_bound": self.range_bound,
                 "log_residual": self.residual,
@@ -472,86 +512,123 @@ class ErrorModel:
                 "differences": list(self.differences)}
 
 
+#: Largest RMS log-residual of the order fit for the small safety factor:
+#: differences scattered by more than ~10 % about the power law are not
+#: in the asymptotic range.
+GOOD_RESIDUAL = 0.1
+#: RMS log-residual above which even the best fixed-order fit (order 1 or
+#: 2) does not describe the differences (a scatter of more than ~30 %):
+#: no convergence is observed, the data range bounds the error.
+ANOMALOUS_RESIDUAL = 0.25
+
+
 def fit_error_model(spacings: Sequence[float], differences: Sequence[float],
-                    floor: float = 0.0,
-                    max_refinement: float = 4.0) -> ErrorModel:
-    """:func:`fit_order` plus the GCI safety factor (Roache 1998; the
-    ranges of Eça & Hoekstra 2014). With four or more levels the order of
-    the finest three is used when it is lower than the fit over all
-    (slowing convergence is not averaged away). Safety 1.25 when the
-    observed order is in
-    [0.5, 2.1] and, with three or more differences, the log-residual is
-    below 0.1; 3 otherwise (an order outside the range or scattered data
-    make the power law a poor guide)."""
+                    floor: float = 0.0, max_refinement: float = 4.0,
+                    spread: float | None = None) -> ErrorModel:
+    """:func:`fit_order` over every level plus the safety factor of Eça &
+    Hoekstra (2014): 1.25 when the observed order is in [0.5, 2.1] and,
+    with three or more differences, the fit is good (RMS log-residual
+    below :data:`GOOD_RESIDUAL`); 3 otherwise (an order outside the range
+    or scattered data make the power law a poor guide). An observed order
+    below 0.5 is not extrapolated: the fixed-order fits (1 and 2) are
+    tried, the better one with Fs = 3; data that neither describes
+    (RMS log-residual above :data:`ANOMALOUS_RESIDUAL`) are anomalous and
+    the error of the calibrated levels is bounded by 3 Delta_M
+    (``spread``: the largest deviation between two levels; default the
+    sum of the differences, which bounds it).
+
+    The order is the least-squares fit over all levels: on the project's
+    scenes the order of the finest three levels alone swings with the
+    scatter of two differences (0.2-0.9 where the full ladder and the
+    exact solution agree on 0.6), so it is not used to lower the order."""
     h = np.asarray(spacings, float)
     q, c, resid = fit_order(h, differences)
-    if len(differences) >= 3:
-        # the finest three levels are the most asymptotic: if their own
-        # order is lower (convergence slowing down, e.g. towards a floor),
-        # it governs the extrapolation
-        q_local, c_local, _ = fit_order(h[-3:], differences[-2:])
-        if q_local < q:
-            q, c = q_local, c_local
-    good = 0.5 <= q <= 2.1 and (len(differences) < 3 or resid < 0.1)
+    observed = q
+    good = 0.5 <= q <= 2.1 and (len(differences) < 3
+                                or resid < GOOD_RESIDUAL)
+    anomalous = False
+    if q < 0.5:
+        # Eça & Hoekstra: an observed order below 0.5 is not extrapolated;
+        # the fits of fixed order 1 and 2 are tried instead (the one with
+        # the smaller residual), with Fs = 3. Data that neither describes
+        # are anomalous: the data range bounds the error.
+        q, c, resid = min((fit_order(h, differences, orders=[p])
+                           for p in (1.0, 2.0)), key=lambda f: f[2])
+        anomalous = resid > ANOMALOUS_RESIDUAL
     return ErrorModel(q, c, SAFETY_GOOD if good else SAFETY_POOR,
                       float(floor), resid,
                       [(float(d), float(c * d ** q)) for d in h],
                       [float(x) for x in differences], float(h.min()),
-                      max_refinement)
+                      max_refinement, spread, anomalous, float(observed))
 
 
 def consistency_floors(models: Sequence[ErrorModel], levels: Sequence[list],
                        norm: str = "max",
                        spacings: Sequence[float] | None = None) -> list[float]:
-    """Floors from the settings' disagreement in the limit.
+    """Floors from the settings' disagreement that their own error models
+    do not explain.
 
     A bias that refinement does not remove (the lattice moment at fixed
     h/dx, a dissipation floor) is invisible to each setting's own ladder,
-    but not to a comparison of settings: the difference of two settings at
-    the same dx, ``d(dx)``, falls to zero with refinement if they converge
-    to the same limit and to the distance between their limits if not.
-    ``d(dx) = b + c dx^q`` is fitted over the ladder by least squares
-    (q the smaller of the two orders, b >= 0); a setting's floor is the
-    lower median of its b over the other settings (so a setting that
-    disagrees with most others carries the bias, one that agrees with most
-    does not; with two settings both carry it). ``levels[i]`` holds setting i's
-    smoothed series {probe: array} at each of ``spacings`` (default the
-    spacings of the first model's levels)."""
+    but not to a comparison of settings: two settings a and b at the same
+    spacing differ by at most the sum of their errors, ``d_ab <= E_a +
+    E_b``. Where the measured difference at the finest common level
+    exceeds the sum of the two central predictions ``P_a + P_b``, part of
+    it is error that neither self-convergence sees: the pair's floor is
+    then that difference ``d_ab`` (the bias is about d_ab when the
+    convergent parts are small; at least d_ab - P_a - P_b). A difference
+    that is merely large, or that grows with refinement while both
+    settings still converge, is not a floor (e.g. h/dx 1.2 and 1.5
+    sharpen a front at different rates: on the strip they differ by 4-11
+    % while both converge to the exact front). A setting's floor is the
+    lower median of its pairs' floors (a setting that disagrees with most
+    others carries the bias, one that agrees with most does not; with two
+    settings both carry it). ``levels[i]`` holds setting i's smoothed
+    series {probe: array} at each of ``spacings`` (default the spacings of
+    the first model's levels)."""
     n = len(models)
     if n < 2:
         return [0.0] * n
     spacings = np.array(spacings if spacings is not None else
                         [dx for dx, _ in models[0].levels], float)
-    b = np.zeros((n, n))
+    finest = float(spacings[-1])
+    excess = np.zeros((n, n))
     for i, j in itertools.combinations(range(n), 2):
-        q = min(models[i].order, models[j].order)
-        d = np.array([max(metrics.deviation(a[p], c[p], norm,
-                                            metrics.scale_of(c[p], norm))
-                          for p in a) for a, c in zip(levels[i], levels[j])])
-        A = np.vstack([np.ones_like(spacings), spacings ** q]).T
-        (bias, slope), *_ = np.linalg.lstsq(A, d, rcond=None)
-        if slope < 0:       # growing apart with refinement: no power law
-            bias = float(d[-1])
-        b[i, j] = b[j, i] = float(np.clip(bias, 0.0, d.max()))
-    # lower median: with two others, the smaller (agreeing with one other
-    # setting clears a setting unless those two share the bias)
-    return [float(np.sort(np.delete(b[i], i))[(n - 2) // 2])
+        a, c = levels[i][-1], levels[j][-1]
+        d = max(metrics.deviation(a[p], c[p], norm,
+                                  metrics.scale_of(c[p], norm)) for p in a)
+        explained = models[i].power(finest) + models[j].power(finest)
+        if d > explained:
+            excess[i, j] = excess[j, i] = float(d)
+    return [float(np.sort(np.delete(excess[i], i))[(n - 2) // 2])
             for i in range(n)]
 
 
 # ------------------------------------------------------------ cost model
 @dataclass
 class CostModel:
-    """Seconds per step = a + b x particles, fitted on the ladder's timings
-    of one setting (at the requested threads); ``measured`` holds timings
-    of a few steps at spacings the plan considered."""
+    """Seconds per step = a + b x particles of one setting at one thread
+    count, fitted on its calibration runs' own measurements.
+
+    The fit is on **process CPU seconds** (all threads of the process):
+    on a machine shared with other jobs the wall time of a run depends on
+    the load, its CPU time much less. ``wall_per_cpu`` (the median wall /
+    CPU ratio of the same runs) turns it into wall time as the machine
+    behaved during the calibration (1 / threads on an idle machine with
+    perfect scaling; more under load or when threads wait). ``measured``
+    holds CPU seconds per step timed at spacings the plan considered. Runs
+    without a CPU time (a LAMMPS deck's ``Loop time``) are fitted on wall
+    time, with ``wall_per_cpu`` 1."""
     intercept: float
     per_particle: float
     threads: int | None
     measured: dict = field(default_factory=dict)
+    wall_per_cpu: float = 1.0
+    clock: str = "cpu"
 
     @classmethod
-    def fit(cls, particles, seconds_per_step, threads=None) -> "CostModel":
+    def fit(cls, particles, seconds_per_step, threads=None,
+            wall_per_cpu: float = 1.0, clock: str = "cpu") -> "CostModel":
         n = np.asarray(particles, float)
         t = np.asarray(seconds_per_step, float)
         if len(n) >= 2 and np.ptp(n) > 0:
@@ -560,9 +637,30 @@ class CostModel:
                 a, b = 0.0, float(np.sum(t * n) / np.sum(n * n))
         else:
             a, b = 0.0, float(t.mean() / n.mean())
-        return cls(float(a), float(b), threads)
+        return cls(float(a), float(b), threads, {}, float(wall_per_cpu),
+                   clock)
+
+    @classmethod
+    def from_runs(cls, runs, threads=None) -> "CostModel":
+        """The model of a setting from its calibration runs (CPU time when
+        every run has it, else wall time)."""
+        good = [r for r in runs if not r.failed and r.steps > 0]
+        cpu = [r.cpu for r in good]
+        if good and all(math.isfinite(c) and c > 0 for c in cpu):
+            ratio = float(np.median([r.wall / r.cpu for r in good]))
+            return cls.fit([r.particles for r in good],
+                           [r.cpu / r.steps for r in good], threads, ratio,
+                           "cpu")
+        return cls.fit([r.particles for r in good],
+                       [r.wall / r.steps for r in good], threads, 1.0, "wall")
+
+    @property
+    def particle_steps_per_second(self) -> float:
+        """Throughput of large scenes (1 / per-particle cost)."""
+        return 1.0 / self.per_particle if self.per_particle > 0 else math.inf
 
     def seconds_per_step(self, particles: int) -> float:
+        """CPU (or, for wall-clock models, wall) seconds per step."""
         if particles in self.measured:
             return self.measured[particles]
         base = self.intercept + self.per_particle * particles
@@ -573,26 +671,38 @@ class CostModel:
                                          + self.per_particle * n0)
         return base
 
-    def predict(self, particles: int, steps: int) -> float:
+    def predict_cpu(self, particles: int, steps: int) -> float:
+        """Predicted CPU seconds of a run (wall seconds for a wall-clock
+        model)."""
         return steps * self.seconds_per_step(particles)
 
+    def predict(self, particles: int, steps: int) -> float:
+        """Predicted wall seconds of a run, at the load of the
+        calibration."""
+        return self.predict_cpu(particles, steps) * self.wall_per_cpu
+
     def to_dict(self) -> dict:
-        return {"intercept_s": self.intercept,
+        return {"clock": self.clock, "intercept_s": self.intercept,
                 "per_particle_step_s": self.per_particle,
-                "threads": self.threads,
+                "particle_steps_per_s": self.particle_steps_per_second,
+                "threads": self.threads, "wall_per_cpu": self.wall_per_cpu,
                 "measured_s_per_step": {str(k): v for k, v in
                                         self.measured.items()}}
 
 
 def time_steps(scene_factory, dx, setting, threads, steps: int = 5,
-               warmup: int = 2) -> tuple[int, float, float]:
-    """(particles, dt, seconds per step) of a few steps at ``dx``."""
+               warmup: int = 2, clock: str = "cpu"
+               ) -> tuple[int, float, float]:
+    """(particles, dt, seconds per step) of a few steps at ``dx``: process
+    CPU seconds (``clock="cpu"``) or wall seconds (``"wall"``)."""
     scene = build_scene(scene_factory, dx, setting, threads)
     dyn = make_dynamics(scene, setting.integrator, progress=False)
     dyn.run(steps=warmup)
-    start = wallclock.perf_counter()
+    timer = (wallclock.process_time if clock == "cpu"
+             else wallclock.perf_counter)
+    start = timer()
     dyn.run(steps=steps)
-    return len(scene), dyn.dt, (wallclock.perf_counter() - start) / steps
+    return len(scene), dyn.dt, (timer() - start) / steps
 
 
 def _steps_to(scene_factory, dx, setting, until) -> tuple[int, float]:
@@ -883,6 +993,7 @@ class Candidate:
     particles: int | None = None
     steps: int | None = None
     seconds: float | None = None
+    cpu_seconds: float | None = None
     note: str = ""
 
     def to_dict(self) -> dict:
@@ -892,6 +1003,7 @@ class Candidate:
                 "cost_model": self.cost.to_dict() if self.cost else None,
                 "dx": self.dx, "particles": self.particles,
                 "steps": self.steps, "predicted_seconds": self.seconds,
+                "predicted_cpu_seconds": self.cpu_seconds,
                 "predicted_error": (self.model.predict(self.dx)
                                     if self.model and self.dx else None),
                 "error_upper": (self.model.upper(self.dx)
@@ -912,6 +1024,7 @@ class Plan:
     predicted_error: float | None = None
     error_upper: float | None = None
     predicted_seconds: float | None = None
+    predicted_cpu_seconds: float | None = None
     particles: int | None = None
     steps: int | None = None
     reason: str = ""
@@ -936,6 +1049,7 @@ class Plan:
                                       self.error_upper - self.predicted_error),
                 "error_upper": self.error_upper,
                 "predicted_seconds": self.predicted_seconds,
+                "predicted_cpu_seconds": self.predicted_cpu_seconds,
                 "particles": self.particles, "steps": self.steps,
                 "reason": self.reason,
                 "best_reachable_error": self.best_reachable_error,
@@ -965,6 +1079,7 @@ class Plan:
                    predicted_error=data.get("predicted_error"),
                    error_upper=data.get("error_upper"),
                    predicted_seconds=data.get("predicted_seconds"),
+                   predicted_cpu_seconds=data.get("predicted_cpu_seconds"),
                    particles=data.get("particles"), steps=data.get("steps"),
                    scene=data.get("scene", ""))
         plan.findings = [Finding(**f) for f in data.get("effects", [])]
@@ -1032,7 +1147,10 @@ class Plan:
                 f"({self.particles} particles, {self.steps} steps): predicted "
                 f"error {self.predicted_error * 100:.2f} % (at most "
                 f"{self.error_upper * 100:.2f} %), predicted wall time "
-                f"{self.predicted_seconds:.3g} s")
+                f"{self.predicted_seconds:.3g} s"
+                + (f" (CPU {self.predicted_cpu_seconds:.3g} s; wall at the "
+                   "load of the calibration)"
+                   if self.predicted_cpu_seconds else ""))
         else:
             lines.append(f"refused: {self.reason}")
         lines.append(f"calibration took {self.calibration_seconds:.1f} s")
@@ -1093,7 +1211,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
          ladder: Sequence[float] | None = None,
          window: tuple | None = None,
          candidates: Sequence | None = None, detect: bool = True,
-         max_refinement: float = 4.0, timing_checks: int = 3,
+         max_refinement: float = 2.0, timing_checks: int = 3,
          refinements: int = 3, refine_best: int = 2,
          calibration_seconds: float | None = None,
          cache: dict | None = None, options: dict | None = None,
@@ -1134,7 +1252,10 @@ def plan(scene_factory: Callable, error: float = 0.03,
         Run the effect detection (else the candidates' effects are used
         as given).
     max_refinement : float
-        How far below the finest ladder spacing predictions may go.
+        How far below the finest calibrated spacing predictions may go
+        (default 2: on the piston scene the self-convergence order of
+        three coarse levels, 0.85, over-predicts the order the error
+        keeps below them, about 0.5; a finer level shows it).
     timing_checks : int
         How many of the cheapest candidates get a timing of a few steps at
         their planned spacing.
@@ -1269,10 +1390,14 @@ def plan(scene_factory: Callable, error: float = 0.03,
     # the most promising settings while they need far extrapolation --
     def price(cand):
         cand.dx = cand.particles = cand.steps = cand.seconds = None
+        cand.cpu_seconds = None
         cand.note = ""
         dx = cand.model.spacing_for(error)
         if dx is None:
-            cand.note = f"floor {cand.model.floor * 100:.2f} % >= request"
+            cand.note = (f"no convergence on the ladder: error bounded by "
+                         f"3 x data range = {cand.model.upper(ladder[-1]) * 100:.2f} %"
+                         if cand.model.anomalous else
+                         f"floor {cand.model.floor * 100:.2f} % >= request")
             return None
         dx = float(f"{min(dx, ladder[0]):.3g}")
         while cand.model.upper(dx) > error:
@@ -1282,12 +1407,12 @@ def plan(scene_factory: Callable, error: float = 0.03,
             n, steps = _size_at(cand.runs, dx)
             cand.note = (f"needs dx {dx * 1e3:.3g} mm, below the finest "
                          f"calibrated spacing / {max_refinement:g}")
-            return dx, cand.cost.predict(n, steps)
+            return dx, cand.cost.predict_cpu(n, steps)
         n, steps = _steps_to(scene_factory, dx, cand.setting, until)
-        seconds = cand.cost.predict(n, steps)
-        cand.dx, cand.particles, cand.steps, cand.seconds = (dx, n, steps,
-                                                              seconds)
-        return dx, seconds
+        cand.dx, cand.particles, cand.steps = dx, n, steps
+        cand.seconds = cand.cost.predict(n, steps)
+        cand.cpu_seconds = cand.cost.predict_cpu(n, steps)
+        return dx, cand.cpu_seconds
 
     def fit_all():
         for cand in usable:
@@ -1325,16 +1450,19 @@ def plan(scene_factory: Callable, error: float = 0.03,
         needs = fit_all()
 
     # 4. timing of a few steps at the planned spacing ----------------
-    priced = sorted((c for c in usable if c.seconds is not None),
-                    key=lambda c: c.seconds)
+    # (the cheapest in CPU seconds: the measure that a loaded machine
+    # disturbs least)
+    priced = sorted((c for c in usable if c.cpu_seconds is not None),
+                    key=lambda c: c.cpu_seconds)
     for cand in priced[:max(0, timing_checks)]:
         say(f"timing a few steps of {cand.setting.label()} at dx = "
             f"{cand.dx * 1e3:.3g} mm ...")
         n, _, per_step = time_steps(scene_factory, cand.dx, cand.setting,
-                                    threads)
+                                    threads, clock=cand.cost.clock)
         cand.cost.measured[n] = per_step
         cand.seconds = cand.cost.predict(cand.particles, cand.steps)
-    priced.sort(key=lambda c: c.seconds)
+        cand.cpu_seconds = cand.cost.predict_cpu(cand.particles, cand.steps)
+    priced.sort(key=lambda c: c.cpu_seconds)
     affordable = [c for c in priced
                   if max_seconds is None or c.seconds <= max_seconds]
     result = Plan(request=request, feasible=bool(affordable),
@@ -1346,6 +1474,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
         result.predicted_error = best.model.predict(best.dx)
         result.error_upper = best.model.upper(best.dx)
         result.predicted_seconds = best.seconds
+        result.predicted_cpu_seconds = best.cpu_seconds
         result.particles, result.steps = best.particles, best.steps
     else:
         result.best_reachable_error, result.reason = _refusal(
@@ -1378,12 +1507,15 @@ def _fit_candidate(cand, norm, max_refinement, threads) -> None:
     spacings = [r.dx for r in cand.runs][-4:]
     levels = cand.smoothed[-4:]
     scales = {n: metrics.scale_of(s, norm) for n, s in levels[-1].items()}
-    diffs = [max(metrics.deviation(a[n], b[n], norm, scales[n]) for n in a)
-             for a, b in zip(levels, levels[1:])]
-    cand.model = fit_error_model(spacings, diffs, 0.0, max_refinement)
-    cand.cost = CostModel.fit([r.particles for r in cand.runs],
-                              [r.seconds_per_step for r in cand.runs],
-                              threads)
+
+    def distance(a, b):
+        return max(metrics.deviation(a[n], b[n], norm, scales[n]) for n in a)
+    diffs = [distance(a, b) for a, b in zip(levels, levels[1:])]
+    spread = max(distance(a, b) for a, b in
+                 itertools.combinations(levels, 2))
+    cand.model = fit_error_model(spacings, diffs, 0.0, max_refinement,
+                                 spread)
+    cand.cost = CostModel.from_runs(cand.runs, threads)
 
 
 def _default_dt(scene_factory, dx, integrator) -> float:
@@ -1505,18 +1637,25 @@ GRAVITY_SECTIONS = {"y35": 0.035, "y70": 0.070, "y105": 0.105}
 
 
 def gravity_sections(scene) -> dict:
-    """Mean sigma_yy [Pa] of the specimen's particle row nearest each of
+    """Mean sigma_yy [Pa] of the specimen's section at each height of
     :data:`GRAVITY_SECTIONS` (the section carries the weight above it:
-    exactly -rho0 g (H - y) at rest, whatever the base does)."""
+    exactly -rho0 g (H - y) at rest, whatever the base does): the mean of
+    each particle row, linearly interpolated in y between the two rows
+    that bracket the height. (The row nearest the height alone would add
+    the field's change over up to half a row spacing, an error that
+    jumps with round(H / dx) instead of converging.)"""
     part = scene.body_slice("specimen")
     y = scene.positions[part, 1]
     s_yy = scene.stress[part, 1]
-    out = {}
-    for name, height in GRAVITY_SECTIONS.items():
-        row = np.abs(y - height) <= np.min(np.abs(y - height)) + 1e-3 * (
-            scene.h or 1.0)
-        out[name] = float(s_yy[row].mean())
-    return out
+    tolerance = 1e-3 * (scene.h or 1.0)
+    order = np.argsort(y)
+    y, s_yy = y[order], s_yy[order]
+    starts = np.concatenate(([0], np.nonzero(np.diff(y) > tolerance)[0] + 1))
+    rows_y = np.add.reduceat(y, starts) / np.diff(np.append(starts, len(y)))
+    rows_s = (np.add.reduceat(s_yy, starts)
+              / np.diff(np.append(starts, len(y))))
+    return {name: float(np.interp(height, rows_y, rows_s))
+            for name, height in GRAVITY_SECTIONS.items()}
 
 
 @dataclass

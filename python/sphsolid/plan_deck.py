@@ -137,7 +137,7 @@ def run_deck(deck: Path, dx: float, until: float, probes, variable: str,
 def plan_deck(deck, error: float, until: float | None = None, probes=(),
               variable: str = "dx", time_variable: str = "t_end",
               norm: str = "max", threads=None, max_seconds=None,
-              ladder=None, choices=(), max_refinement: float = 4.0,
+              ladder=None, choices=(), max_refinement: float = 2.0,
               log=None) -> planner.Plan:
     """Plan a LAMMPS deck: see the module docstring. ``choices`` are
     ``NAME=V1,V2`` strings; ``ladder`` defaults to 3, 2 and 1.5 times the

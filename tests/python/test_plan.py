@@ -78,10 +78,31 @@ def test_error_model_without_convergence_is_bounded_by_the_data_range():
     # the error is bounded by 3 x the data range (Eca & Hoekstra 2014)
     spacings = [8e-3, 6e-3, 4e-3, 3e-3]
     model = planner.fit_error_model(spacings, [0.004, 0.005, 0.004])
-    assert model.order < 0.5 and model.safety == planner.SAFETY_POOR
+    assert model.observed_order < 0.5 and model.safety == planner.SAFETY_POOR
+    assert model.range_bound            # order 1 or 2 do not fit either
     assert model.upper(3e-3) == pytest.approx(3 * 0.013)
-    assert model.spacing_for(0.05) == pytest.approx(3e-3)
-    assert model.spacing_for(0.03) < 3e-3      # needs the power law
+    # the bound holds at every calibrated level: the coarsest is the cheapest
+    assert model.spacing_for(0.05) == pytest.approx(8e-3)
+    assert model.spacing_for(0.03) is None     # nothing to extrapolate
+    # a measured data range (largest deviation of two levels) replaces the
+    # sum of the differences
+    model = planner.fit_error_model(spacings, [0.004, 0.005, 0.004],
+                                    spread=0.006)
+    assert model.upper(3e-3) == pytest.approx(3 * 0.006)
+
+
+def test_error_model_below_order_half_falls_back_to_a_fixed_order():
+    # slowly converging differences (observed order 0.3) are not
+    # extrapolated at that order: the fixed-order fit that describes them
+    # better (order 1 here, within the scatter allowed) carries Fs = 3
+    # (Eca & Hoekstra 2014)
+    spacings = np.array([8e-3, 6e-3, 4e-3, 3e-3])
+    diffs = 0.05 * (spacings[:-1] ** 0.3 - spacings[1:] ** 0.3)
+    model = planner.fit_error_model(spacings, diffs)
+    assert model.observed_order == pytest.approx(0.3, abs=0.01)
+    assert model.order == 1.0 and model.safety == planner.SAFETY_POOR
+    assert not model.range_bound
+    assert model.upper(1e-3) == pytest.approx(3 * model.coefficient * 1e-3)
 
 
 def test_error_model_rejects_too_few_or_non_decreasing_levels():
