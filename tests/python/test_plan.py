@@ -133,6 +133,47 @@ def test_floor_is_the_limit_disagreement_of_the_odd_setting_out():
     assert planner.consistency_floors(models[:1], levels[:1]) == [0.0]
 
 
+def test_no_floor_where_settings_converge_to_one_limit_at_different_rates():
+    # two settings converging to the same limit, one fast and one slow,
+    # with errors of one shape that cancel at the coarsest level: their
+    # difference grows with refinement (the fast one leaves the slow one
+    # behind) and is large, but their own errors explain it: no floor
+    t = np.linspace(0, 1, 200)
+    limit = np.sin(2 * np.pi * t) + 2.0
+    spacings = [2e-3, 1.4e-3, 1e-3, 0.7e-3]
+    models, levels = [], []
+    for coefficient, order in ((0.6, 0.6), (0.6 * 2 ** -0.4, 1.0)):
+        series = [limit + coefficient * (dx * 1e3) ** order * np.cos(3 * t)
+                  for dx in spacings]
+        diffs = [metrics.deviation(a, b, scale=3.0)
+                 for a, b in zip(series, series[1:])]
+        models.append(planner.fit_error_model(spacings, diffs))
+        levels.append([{"A": s} for s in series])
+    d = [metrics.deviation(a["A"], b["A"]) for a, b in zip(*levels)]
+    assert d[0] < 1e-9 and np.all(np.diff(d) > 0) and d[-1] > 0.03
+    assert planner.consistency_floors(models, levels) == [0.0, 0.0]
+
+
+def test_cost_model_uses_process_cpu_time_and_the_wall_ratio():
+    # runs with CPU times: the model is fitted on them and the wall
+    # prediction carries the calibration's wall / CPU ratio (a loaded
+    # machine: wall = 2 x CPU)
+    setting = planner.Setting.make()
+    runs = [planner.LadderRun(setting, dx, n, 100, 1e-7, 2 * cpu, 1e-5,
+                              cpu=cpu)
+            for dx, n, cpu in ((3e-3, 1000, 0.11), (2e-3, 2000, 0.21),
+                               (1e-3, 8000, 0.81))]
+    model = planner.CostModel.from_runs(runs, threads=1)
+    assert model.clock == "cpu" and model.wall_per_cpu == pytest.approx(2)
+    assert model.per_particle == pytest.approx(1e-6, rel=1e-6)
+    assert model.predict_cpu(4000, 50) == pytest.approx(50 * 0.0041)
+    assert model.predict(4000, 50) == pytest.approx(2 * 50 * 0.0041)
+    # without CPU times (a LAMMPS deck's loop time): wall time
+    for run in runs:
+        run.cpu = math.nan
+    assert planner.CostModel.from_runs(runs).clock == "wall"
+
+
 # -------------------------------------------------------------- planner
 @pytest.fixture(scope="module")
 def strip_plan():
@@ -233,8 +274,11 @@ def test_error_estimate_band_covers_the_strip_error():
                                              probes[name]["sigma_yy"]))
         actual = metrics.deviation(run, metrics.smooth(grid, exact[name]))
         estimated = estimate.relative(name, "sigma_yy")
-        # the estimate bounds the error without being wildly pessimistic
-        assert actual <= estimated <= 4 * actual, (name, actual, estimated)
+        # the estimate bounds the error without being pessimistic: within
+        # the factor [1, 3] the honesty checks ask for
+        assert actual <= estimated <= 3 * actual, (name, actual, estimated)
+    assert estimate.safety["sigma_yy"] == 3.0
+    assert 1.0 <= estimate.order["sigma_yy"] <= 2.0
     # the strip is one lattice row per 8 dx: shadows at 2dx and 4dx have
     # 1/2 and 1/4 of the particles and of the steps (a 2D scene: 1/8, 1/64)
     assert estimate.cost_fraction == pytest.approx(1 / 4 + 1 / 16, rel=0.1)
