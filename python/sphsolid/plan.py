@@ -520,6 +520,9 @@ GOOD_RESIDUAL = 0.1
 #: 2) does not describe the differences (a scatter of more than ~30 %):
 #: no convergence is observed, the data range bounds the error.
 ANOMALOUS_RESIDUAL = 0.25
+#: Observed order below which the differences are taken not to shrink
+#: (less than 13 % per halving of dx): no convergence is observed.
+NO_CONVERGENCE = 0.2
 
 
 def fit_error_model(spacings: Sequence[float], differences: Sequence[float],
@@ -529,13 +532,14 @@ def fit_error_model(spacings: Sequence[float], differences: Sequence[float],
     Hoekstra (2014): 1.25 when the observed order is in [0.5, 2.1] and,
     with three or more differences, the fit is good (RMS log-residual
     below :data:`GOOD_RESIDUAL`); 3 otherwise (an order outside the range
-    or scattered data make the power law a poor guide). An observed order
-    below 0.5 is not extrapolated: the fixed-order fits (1 and 2) are
-    tried, the better one with Fs = 3; data that neither describes
-    (RMS log-residual above :data:`ANOMALOUS_RESIDUAL`) are anomalous and
-    the error of the calibrated levels is bounded by 3 Delta_M
-    (``spread``: the largest deviation between two levels; default the
-    sum of the differences, which bounds it).
+    or scattered data make the power law a poor guide; an order below 0.5
+    is kept, with Fs = 3). Differences that do not shrink (order below
+    :data:`NO_CONVERGENCE`), or that neither the free fit nor a fit of
+    fixed order 1 or 2 describes (RMS log-residual above
+    :data:`ANOMALOUS_RESIDUAL`) are anomalous and the error of the
+    calibrated levels is bounded by 3 Delta_M (``spread``: the largest
+    deviation between two levels; default the sum of the differences,
+    which bounds it).
 
     The order is the least-squares fit over all levels: on the project's
     scenes the order of the finest three levels alone swings with the
@@ -546,15 +550,18 @@ def fit_error_model(spacings: Sequence[float], differences: Sequence[float],
     observed = q
     good = 0.5 <= q <= 2.1 and (len(differences) < 3
                                 or resid < GOOD_RESIDUAL)
-    anomalous = False
-    if q < 0.5:
-        # Eça & Hoekstra: an observed order below 0.5 is not extrapolated;
-        # the fits of fixed order 1 and 2 are tried instead (the one with
-        # the smaller residual), with Fs = 3. Data that neither describes
-        # are anomalous: the data range bounds the error.
-        q, c, resid = min((fit_order(h, differences, orders=[p])
-                           for p in (1.0, 2.0)), key=lambda f: f[2])
-        anomalous = resid > ANOMALOUS_RESIDUAL
+    # data that neither the free fit nor a fixed order (1 or 2, Eça &
+    # Hoekstra's alternatives) describes are anomalous: the data range
+    # bounds the error. An order below 0.5 that the data do follow is kept
+    # (with Fs = 3): the project's fronts converge at 0.4-0.6 for real,
+    # and the order-1 fit Eça & Hoekstra use instead predicted a third of
+    # the strip's error two refinements down.
+    # Differences that do not shrink (order below NO_CONVERGENCE) show no
+    # convergence at all.
+    anomalous = q < NO_CONVERGENCE or (
+        len(differences) >= 3 and resid > ANOMALOUS_RESIDUAL
+        and min(fit_order(h, differences, orders=[p])[2]
+                for p in (1.0, 2.0)) > ANOMALOUS_RESIDUAL)
     return ErrorModel(q, c, SAFETY_GOOD if good else SAFETY_POOR,
                       float(floor), resid,
                       [(float(d), float(c * d ** q)) for d in h],
