@@ -188,6 +188,37 @@ SPH_API sph_status sph_add_plate(sph_sim *sim, const char *name, int material, i
 SPH_API sph_status sph_add_piston(sph_sim *sim, const char *name, int material, int body,
                                   int layers, double speed, int *piston);
 
+/* End placement.  By default (inset 0) a platen's face lies on the body's
+ * extent, as the continuum's loaded face: its nearest particle row is one
+ * lattice step dy from the body's extreme row, and the body's kernel-summed
+ * density drops to half exactly there.  The SPH platen, whose rows carry
+ * stress, is nevertheless softer than a rigid face on it: a body of length
+ * L between a plate and a piston answers quasi-statically as if it were
+ * longer by about one step (2 x 0.55 dy for the cubic spline at h/dy 1.2,
+ * 2 x 0.6 for cubic_o4 at 1.65), and waves reflect late by the same amount.
+ * sph_set_platen_inset(sim, s) makes sph_add_plate and sph_add_piston (and
+ * sph_build_paper_scene) called after it lay their platens s steps (s dy)
+ * closer to the body, s in (-1, 0.5); a negative s opens a gap.  The
+ * setting only moves particles when a platen is laid: 0 costs nothing.
+ *
+ * sph_static_platen_inset: for the handle's kernel and h and the lattice
+ * steps of `body`, the inset at which the quasi-static stiffness of the body
+ * between two platens is exact (M/L for a laterally uniform lattice of P-wave
+ * modulus M, up to the lattice gradient moment of the bulk), and the end
+ * offset (L_eff - L)/2 in steps left at that inset: 0 where such an inset
+ * exists in [-0.5, 0.49] (the first above 0 if several), else the inset
+ * of least offset and that offset (cubic spline at h/dy 1.5: 1.08 steps at
+ * 0.25, against 1.49 at 0).  It solves the static problem of one lattice
+ * column stack (each row a full layer, platen rows carrying stress, no
+ * kernel correction): the SPH strain of every row, the state that zeroes
+ * the force on the body's rows, the strain in the middle.  Either output
+ * may be NULL.  sph_platen_end_offset: the same problem's end offset
+ * (L_eff - L)/2 in steps at a given inset. */
+SPH_API sph_status sph_set_platen_inset(sph_sim *sim, double inset);
+SPH_API double sph_platen_inset(const sph_sim *sim);
+SPH_API sph_status sph_static_platen_inset(sph_sim *sim, int body, double *inset, double *offset);
+SPH_API sph_status sph_platen_end_offset(sph_sim *sim, int body, double inset, double *offset);
+
 /* Extent of a body's lattice cells [lo, hi] and its lattice step per axis
  * (blocks, prisms, cylinders and platens: exact; bodies from
  * sph_add_particles: particle extent plus half a spacing each side, step =

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "kernel.h"
 #include "sim.h"
 
 static const char *label(const char *name) { return name ? name : ""; }
@@ -250,12 +251,14 @@ static sph_status add_platen(sph_sim *sim, const char *name, int material, int a
         lo[i] = b->lo[i];
         hi[i] = b->hi[i];
     }
+    /* the face on the body's extent, moved towards the body by the inset */
+    const double inset = sim->platen_inset * dy;
     if (side < 0) {
-        hi[1] = b->lo[1];
-        lo[1] = b->lo[1] - layers * dy;
+        hi[1] = b->lo[1] + inset;
+        lo[1] = hi[1] - layers * dy;
     } else {
-        lo[1] = b->hi[1];
-        hi[1] = b->hi[1] + layers * dy;
+        lo[1] = b->hi[1] - inset;
+        hi[1] = lo[1] + layers * dy;
     }
     /* across y: the body's columns (its step); along y: `layers` of dy */
     const int dim = sim->dim;
@@ -310,4 +313,269 @@ sph_status sph_add_piston(sph_sim *sim, const char *name, int material, int body
     if (piston)
         *piston = id;
     return SPH_OK;
+}
+
+/* ------------------------------------------------------- end placement */
+
+sph_status sph_set_platen_inset(sph_sim *sim, double inset)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!(inset > -1.0 && inset < 0.5))
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "platen inset=%g lattice steps: must be in (-1, 0.5) (0.5 would put a "
+                        "platen row half a step from the body's, where sph_add_particles "
+                        "refuses overlap)",
+                        inset);
+    sim->platen_inset = inset;
+    return sph_ok(sim);
+}
+
+double sph_platen_inset(const sph_sim *sim) { return sim ? sim->platen_inset : 0.0; }
+
+/* The static problem of sph_static_platen_inset on one lattice column
+ * stack: rows y_r (specimen rows first), each row a full lattice layer.
+ * Returns in *ratio the stiffness L_eff / L of the specimen rows between
+ * a plate and a piston set in by `inset` steps (see the header). */
+enum { STATIC_ROWS_PER_SUPPORT = 8, STATIC_EXTRA_ROWS = 16 };
+
+/* d/dy_a of W summed over one lattice layer at height offset dy (the
+ * layer's columns at the lattice steps across y), times the layer's
+ * particle volume. */
+static double layer_gradient(const sph_sim *sim, const double step[3], double dy)
+{
+    const int dim = sim->dim;
+    const double h = sim->h, support = kernel_support(sim->kernel) * h;
+    const double sigma = kernel_sigma(sim->kernel, dim) / pow(h, dim + 2);
+    const double volume = step[0] * step[1] * (dim == 3 ? step[2] : 1.0);
+    const long kx = (long)ceil(support / step[0]) + 1;
+    const long kz = dim == 3 ? (long)ceil(support / step[2]) + 1 : 0;
+    double sum = 0.0;
+    for (long iz = -kz; iz <= kz; ++iz)
+        for (long ix = -kx; ix <= kx; ++ix) {
+            const double x = ix * step[0], z = dim == 3 ? iz * step[2] : 0.0;
+            const double r = sqrt(x * x + z * z + dy * dy);
+            if (r >= support)
+                continue;
+            sum += volume * sigma * kernel_f(sim->kernel, dim, r / h) * dy;
+        }
+    return sum;
+}
+
+static sph_status static_stiffness(sph_sim *sim, const double step[3], double inset, double *ratio)
+{
+    const double dy = step[1], support = kernel_support(sim->kernel) * sim->h;
+    const int reach = (int)ceil(support / dy); /* rows within the support */
+    const int p = reach + 1, n = STATIC_ROWS_PER_SUPPORT * reach + STATIC_EXTRA_ROWS;
+    const int rows = n + 2 * p;
+    const double length = n * dy;
+    double *y = malloc((size_t)rows * sizeof *y);
+    double *d = malloc((size_t)rows * (size_t)rows * sizeof *d); /* D(y_r - y_c) */
+    double *q = malloc((size_t)rows * (size_t)n * sizeof *q);    /* orthonormal columns */
+    double *g = malloc((size_t)rows * sizeof *g);
+    if (!y || !d || !q || !g) {
+        free(y);
+        free(d);
+        free(q);
+        free(g);
+        return sph_fail(sim, SPH_ERR_MEMORY, "static platen inset: out of memory");
+    }
+    /* specimen rows 0..n-1, plate rows n..n+p-1, piston rows n+p.. */
+    for (int j = 0; j < n; ++j)
+        y[j] = (j + 0.5) * dy;
+    for (int k = 0; k < p; ++k) {
+        y[n + k] = -(k + 0.5) * dy + inset * dy;
+        y[n + p + k] = length + (k + 0.5) * dy - inset * dy;
+    }
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < rows; ++c)
+            d[(size_t)r * rows + c] = layer_gradient(sim, step, y[r] - y[c]);
+    /* g_r = sum_c (u_c - u_r) D(y_r - y_c): the SPH strain of every row.
+     * The force on a specimen row is minus the derivative of the strain
+     * energy sum_r g_r^2 / 2 (constant modulus and volume), so the static
+     * state minimises |g|^2 over the specimen displacements: g is the
+     * residual of the least-squares problem G_s u_s = -G_p u_p, unique even
+     * where G_s has null vectors (the lattice's odd-even mode). */
+    int kept = 0;
+    for (int a = 0; a < n; ++a) { /* column a of G_s: unit displacement of row a */
+        double *col = q + (size_t)kept * rows;
+        double diag = 0.0;
+        for (int r = 0; r < rows; ++r) {
+            col[r] = r == a ? 0.0 : d[(size_t)r * rows + a];
+            diag -= r == a ? 0.0 : d[(size_t)a * rows + r];
+        }
+        col[a] = diag;
+        double norm0 = 0.0;
+        for (int r = 0; r < rows; ++r)
+            norm0 += col[r] * col[r];
+        for (int pass = 0; pass < 2; ++pass) /* Gram-Schmidt, twice */
+            for (int k = 0; k < kept; ++k) {
+                const double *qk = q + (size_t)k * rows;
+                double dot = 0.0;
+                for (int r = 0; r < rows; ++r)
+                    dot += qk[r] * col[r];
+                for (int r = 0; r < rows; ++r)
+                    col[r] -= dot * qk[r];
+            }
+        double norm = 0.0;
+        for (int r = 0; r < rows; ++r)
+            norm += col[r] * col[r];
+        if (norm <= 1e-20 * norm0)
+            continue; /* dependent on the columns kept */
+        norm = sqrt(norm);
+        for (int r = 0; r < rows; ++r)
+            col[r] /= norm;
+        ++kept;
+    }
+    /* b = G_p u_p with the plate at rest and the piston displaced by -1 */
+    for (int r = 0; r < rows; ++r) {
+        const double ur = r >= n + p ? -1.0 : 0.0;
+        double s = 0.0;
+        for (int c = 0; c < rows; ++c) {
+            const double uc = c >= n + p ? -1.0 : 0.0;
+            s += (uc - ur) * d[(size_t)r * rows + c];
+        }
+        g[r] = s;
+    }
+    for (int pass = 0; pass < 2; ++pass)
+        for (int k = 0; k < kept; ++k) {
+            const double *qk = q + (size_t)k * rows;
+            double dot = 0.0;
+            for (int r = 0; r < rows; ++r)
+                dot += qk[r] * g[r];
+            for (int r = 0; r < rows; ++r)
+                g[r] -= dot * qk[r];
+        }
+    /* the lattice gradient moment: g of u = y in the bulk */
+    double moment = 0.0;
+    for (int c = 0; c < rows; ++c)
+        moment += (y[c] - y[n / 2]) * d[(size_t)(n / 2) * rows + c];
+    /* the strain in the middle (mean of two rows: the odd-even mode cancels) */
+    const double strain = 0.5 * (g[n / 2 - 1] + g[n / 2]);
+    free(y);
+    free(d);
+    free(q);
+    free(g);
+    if (!(strain < 0.0) || !isfinite(strain) || !(moment > 0.0))
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "static platen inset: no compressive static state (strain %g, "
+                        "lattice moment %g)",
+                        strain, moment);
+    /* L_eff: the length whose continuum strain -1/L_eff, seen through the
+     * lattice moment, is the strain in the middle */
+    *ratio = moment / -strain / length;
+    return SPH_OK;
+}
+
+/* End offset (L_eff - L) / 2 in lattice steps at inset s. */
+static sph_status end_offset(sph_sim *sim, const double step[3], double s, double rows, double *e)
+{
+    double ratio;
+    sph_status st = static_stiffness(sim, step, s, &ratio);
+    if (!st)
+        *e = 0.5 * (ratio - 1.0) * rows;
+    return st;
+}
+
+static sph_status offset_setup(sph_sim *sim, int body_id, double step[3], double *rows)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (body_id < 0 || body_id >= sim->n_bodies)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "body=%d: %d bodies are defined", body_id,
+                        sim->n_bodies);
+    if (!(sim->h > 0.0))
+        return sph_fail(sim, SPH_ERR_STATE, "static platen inset: the smoothing length is not set");
+    const body *b = &sim->bodies[body_id];
+    for (int i = 0; i < 3; ++i)
+        step[i] = i < sim->dim && b->step[i] > 0.0 ? b->step[i] : b->spacing;
+    *rows = (double)(STATIC_ROWS_PER_SUPPORT *
+                         (int)ceil(kernel_support(sim->kernel) * sim->h / step[1]) +
+                     STATIC_EXTRA_ROWS);
+    return SPH_OK;
+}
+
+sph_status sph_platen_end_offset(sph_sim *sim, int body_id, double inset, double *offset)
+{
+    double step[3] = {0, 0, 0}, rows = 0.0, e = 0.0;
+    sph_status st = offset_setup(sim, body_id, step, &rows);
+    if (st)
+        return st;
+    if (!(inset > -1.0 && inset < 0.5))
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "platen inset=%g lattice steps: must be in (-1, 0.5)", inset);
+    if ((st = end_offset(sim, step, inset, rows, &e)))
+        return st;
+    if (offset)
+        *offset = e;
+    return sph_ok(sim);
+}
+
+sph_status sph_static_platen_inset(sph_sim *sim, int body_id, double *inset, double *offset)
+{
+    double step[3] = {0, 0, 0}, rows = 0.0;
+    sph_status st = offset_setup(sim, body_id, step, &rows);
+    if (st)
+        return st;
+    /* e(s) falls steeply from a gap (s < 0) to s = 0 and, for some kernels,
+     * has a minimum before s = 0.5 (the cubic spline at h/dy 1.2 touches
+     * zero there; at 1.5 it stays near one step): scan, take the first
+     * zero above 0 (else below), else the least |e| */
+    enum { SCAN = 199 };
+    const double first = -0.5, spacing = 0.005; /* to 0.49 */
+    double e[SCAN];
+    for (int i = 0; i < SCAN; ++i)
+        if ((st = end_offset(sim, step, first + i * spacing, rows, &e[i])))
+            return st;
+    const int zero = 100; /* first + zero * spacing = 0 */
+    int at = -1;
+    for (int i = zero; i + 1 < SCAN && at < 0; ++i)
+        if (e[i] > 0.0 && e[i + 1] <= 0.0)
+            at = i;
+    for (int i = zero - 1; i >= 0 && at < 0; --i)
+        if (e[i] > 0.0 && e[i + 1] <= 0.0)
+            at = i;
+    double lo, hi, best_s, best_e;
+    if (at >= 0) { /* bisect the sign change */
+        lo = first + at * spacing;
+        hi = lo + spacing;
+        for (int it = 0; it < 50 && hi - lo > 1e-12; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            double em;
+            if ((st = end_offset(sim, step, mid, rows, &em)))
+                return st;
+            if (em > 0.0)
+                lo = mid;
+            else
+                hi = mid;
+        }
+        best_s = 0.5 * (lo + hi);
+    } else { /* the least |e|: golden section around the best grid point */
+        int k = 0;
+        for (int i = 1; i < SCAN; ++i)
+            if (fabs(e[i]) < fabs(e[k]))
+                k = i;
+        lo = first + (k > 0 ? k - 1 : 0) * spacing;
+        hi = first + (k + 1 < SCAN ? k + 1 : k) * spacing;
+        const double g = 0.5 * (sqrt(5.0) - 1.0);
+        for (int it = 0; it < 60 && hi - lo > 1e-10; ++it) {
+            const double a = hi - g * (hi - lo), c = lo + g * (hi - lo);
+            double ea, ec;
+            if ((st = end_offset(sim, step, a, rows, &ea)) ||
+                (st = end_offset(sim, step, c, rows, &ec)))
+                return st;
+            if (fabs(ea) < fabs(ec))
+                hi = c;
+            else
+                lo = a;
+        }
+        best_s = 0.5 * (lo + hi);
+    }
+    if ((st = end_offset(sim, step, best_s, rows, &best_e)))
+        return st;
+    if (inset)
+        *inset = best_s;
+    if (offset)
+        *offset = best_e;
+    return sph_ok(sim);
 }

@@ -67,8 +67,10 @@ struct sph_sim {
     /* model */
     int kernel;
     double h_over_dx;
-    double h;      /* 0 until the first body fixes it */
-    double dx_ref; /* first body's spacing */
+    double h;            /* 0 until the first body fixes it */
+    double dx_ref;       /* first body's spacing */
+    double platen_inset; /* sph_set_platen_inset: platens laid this many
+                            lattice steps closer to their body (0: none) */
     material *materials;
     int n_materials;
     effects fx;

@@ -1,7 +1,8 @@
 """The ``sphsolid`` command: the paper's scenes and file inspection.
 
     sphsolid piston  [--dx 1mm] [--until 0.3ms] [--backend c|lammps]
-                     [--integrator improved_euler|leapfrog] [--out DIR]
+                     [--preset paper|waves] [--integrator improved_euler|leapfrog]
+                     [--kernel K] [--h-over-dx R] [--inset S|static] [--out DIR]
                      [--dim 3]   (3D: the 54 x 135 mm cylinder, default dx 2mm)
     sphsolid gravity [--dx 2mm] [--until 60ms] [--damping 2000] [--out DIR]
     sphsolid run SCENE.toml [--out DIR] [--until 1ms]   (a scene file)
@@ -77,6 +78,21 @@ def _whole(low: int):
 _MIN_ACROSS = 4   # particles across the specimen, at least
 
 
+def _inset(text: str):
+    """'static' or a number of lattice steps in (-1, 0.5)."""
+    if text.strip() == "static":
+        return "static"
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: a number of lattice steps or 'static'") from None
+    if not -1.0 < value < 0.5:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: must be in (-1, 0.5) lattice steps")
+    return value
+
+
 def _times(text: str) -> list[float]:
     return [positive(part) for part in text.split(",") if part.strip()]
 
@@ -96,21 +112,43 @@ def _common(parser, dx, until, frames):
                         help="time step (default: the integrator's, "
                              "0.5 h/c0 for improved_euler, h/c0 for "
                              "leapfrog)")
-    from ._lib import integrator_names
-    parser.add_argument("--integrator", default="improved_euler",
+    from ._lib import integrator_names, kernel_names
+    from .presets import PRESETS
+    parser.add_argument("--preset", choices=tuple(PRESETS), default="paper",
+                        help="named setting (kernel, h/dx, integrator, "
+                             "viscosity, platen inset): paper (default, "
+                             "Das & Cleary's scheme) or waves (cubic_o4, "
+                             "leapfrog, no viscosity, static inset; "
+                             "docs/validation.md); the options below "
+                             "override it")
+    parser.add_argument("--integrator", default=None,
                         choices=integrator_names(),
-                        help="time integrator of the library (default "
-                             "improved_euler, the paper's)")
+                        help="time integrator of the library (default: the "
+                             "preset's; paper: improved_euler)")
+    parser.add_argument("--kernel", default=None, choices=kernel_names(),
+                        help="smoothing kernel (default: the preset's)")
+    parser.add_argument("--h-over-dx", type=_finite(0.0, "must be finite "
+                        "and > 0"), default=None, dest="smoothing_ratio",
+                        metavar="RATIO",
+                        help="smoothing length over spacing (default: the "
+                             "preset's; paper: 1.2)")
+    parser.add_argument("--inset", type=_inset, default=None,
+                        help="plate and piston laid this many lattice steps"
+                             " closer to the specimen, in (-1, 0.5), or "
+                             "'static' (the inset that makes the "
+                             "quasi-static stiffness exact); default: the "
+                             "preset's (paper: 0)")
     parser.add_argument("--times", type=_times, default=None,
                         help="comma-separated times of the von Mises maps "
                              f"(default {frames} evenly to --until)")
     parser.add_argument("--probe-interval", type=_whole(1), default=10,
                         help="steps between probe samples (default 10)")
     parser.add_argument("--viscosity", type=_finite(0.0, "must be finite "
-                        "and >= 0 (0 switches it off)"), default=1.0,
+                        "and >= 0 (0 switches it off)"), default=None,
                         metavar="ALPHA",
                         help="Monaghan artificial viscosity alpha (beta=0);"
-                             " 0 switches it off (default 1)")
+                             " 0 switches it off (default: the preset's; "
+                             "paper: 1)")
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction,
                         default=None, help="progress bar (default: on a "
                         "terminal for long runs)")
@@ -558,8 +596,17 @@ def main(argv=None) -> int:
             return 0
         from . import scenes
         _check_spacing(args, scenes)
-        viscosity = ({"alpha": args.viscosity, "beta": 0.0}
+        from .presets import preset as _preset
+        chosen = _preset(args.preset)
+        viscosity = (chosen.viscosity if args.viscosity is None else
+                     {"alpha": args.viscosity, "beta": 0.0}
                      if args.viscosity > 0 else None)
+        setting = {"preset": args.preset, "viscosity": viscosity,
+                   "kernel": args.kernel,
+                   "smoothing_ratio": args.smoothing_ratio,
+                   "inset": args.inset}
+        if args.integrator is None:
+            args.integrator = chosen.integrator
         if getattr(args, "plan", None) is not None:
             args._frames = 4 if args.command == "piston" else 3
             scene = _planned_scene(args, args.command, argv)
@@ -568,16 +615,15 @@ def main(argv=None) -> int:
             if args._dx_default:
                 args.dx = 2e-3
             scene = scenes.uniaxial_cylinder(args.dx, velocity=args.speed,
-                                             viscosity=viscosity)
+                                             **setting)
         elif args.command == "piston":
             args._frames = 4
             scene = scenes.uniaxial_piston(args.dx, velocity=args.speed,
-                                           viscosity=viscosity)
+                                           **setting)
         else:
             args._frames = 3
             kwargs = {} if args.damping is None else {"damping": args.damping}
-            scene = scenes.gravity(args.dx, g=args.g, viscosity=viscosity,
-                                   **kwargs)
+            scene = scenes.gravity(args.dx, g=args.g, **setting, **kwargs)
         return _run_scene(args, scene, args.command)
     except (ValueError, OSError, MemoryError, SimulationError,
             UnsupportedError) as error:

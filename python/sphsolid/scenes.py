@@ -7,6 +7,7 @@ with damping so the static, height-graded stress is reached fast.
 """
 from __future__ import annotations
 
+from . import presets as _presets
 from .build import cylinder, layer_spacing, piston, plate, rectangle
 from .material import Material
 from .probes import PAPER_PROBES
@@ -45,29 +46,59 @@ def paper_material() -> Material:
     return Material(K=12.2e9, mu=2.67e9, rho0=2300.0, name="paper specimen")
 
 
-def _walled(specimen, effects: dict, layers: int | None, piston_speed=None) -> Scene:
+#: An argument not given (the preset's, or the paper's, value applies).
+_UNSET = object()
+
+
+def _setting(preset, viscosity, kernel, smoothing_ratio, inset):
+    """The preset's setting with the arguments given explicitly on top."""
+    chosen = _presets.preset(preset or "paper")
+    return (chosen,
+            chosen.viscosity if viscosity is _UNSET else viscosity,
+            chosen.kernel if kernel is None else kernel,
+            chosen.smoothing_ratio if smoothing_ratio is None
+            else smoothing_ratio,
+            chosen.inset if inset is None else inset)
+
+
+def _walled(specimen, effects: dict, layers: int | None, piston_speed=None,
+            kernel="cubic_spline", smoothing_ratio=None, inset=0.0,
+            dimension=2) -> Scene:
     """The specimen in a scene, on a fixed plate and (with a piston speed)
     under a piston moving down, as the library's sph_build_paper_scene
     lays them: walls on the specimen's lattice rows, ``layers`` rows thick
-    or, by default, the rows the library asks for one kernel support."""
-    scene = Scene(2, [specimen], effects=effects)
+    or, by default, the rows the library asks for one kernel support,
+    their faces ``inset`` lattice steps inside the specimen's extent."""
+    scene = Scene(dimension, [specimen], effects=effects, kernel=kernel,
+                  smoothing_ratio=smoothing_ratio)
     if layers is None:
         layers = scene.support_layers(layer_spacing(specimen))
-    scene.add(plate(under=specimen, layers=layers))
+    scene.add(plate(under=specimen, layers=layers, inset=inset))
     if piston_speed is not None:
-        scene.add(piston(over=specimen, layers=layers,
-                         velocity=(0.0, -piston_speed)))
+        v = (0.0, -piston_speed, 0.0)[:dimension]
+        scene.add(piston(over=specimen, layers=layers, velocity=v,
+                         inset=inset))
     return scene
+
+
+def _effects(viscosity) -> dict:
+    return {} if viscosity is None else {"artificial_viscosity":
+                                         dict(viscosity)}
 
 
 def uniaxial_piston(dx: float = 1e-3, velocity: float = PISTON_SPEED,
                     layers: int | None = None,
-                    viscosity: dict | None = WAVE_VISCOSITY,
-                    material: Material | None = None) -> Scene:
+                    viscosity=_UNSET,
+                    material: Material | None = None,
+                    preset: str | None = None, kernel: str | None = None,
+                    smoothing_ratio: float | None = None,
+                    inset=None) -> Scene:
     """The paper's uniaxial piston test in 2D plane strain.
 
-    With the defaults it is particle for particle the library's
-    ``sph_build_paper_scene`` (plus the artificial viscosity).
+    With the defaults (``preset="paper"``) it is particle for particle the
+    library's ``sph_build_paper_scene`` (plus the artificial viscosity).
+    The returned scene records its preset as ``scene.preset``;
+    ``presets.dynamics(scene)`` runs it with the preset's integrator.
 
     Parameters
     ----------
@@ -80,24 +111,36 @@ def uniaxial_piston(dx: float = 1e-3, velocity: float = PISTON_SPEED,
         Particle rows of piston and plate; default: one kernel support
         (``Scene.support_layers``; 3 at h = 1.2 dx).
     viscosity : dict or None
-        Artificial viscosity parameters (alpha, beta); None switches it off.
+        Artificial viscosity parameters (alpha, beta); None switches it off
+        (default: the preset's, alpha 1 for "paper").
     material : Material, optional
         Default :func:`paper_material`.
+    preset : {"paper", "waves"}, optional
+        Named setting (:mod:`sphsolid.presets`); default "paper".
+    kernel, smoothing_ratio, inset : optional
+        Override the preset's kernel, h/dx and platen inset (lattice steps
+        or "static", see :func:`sphsolid.build.plate`).
     """
+    chosen, viscosity, kernel, smoothing_ratio, inset = _setting(
+        preset, viscosity, kernel, smoothing_ratio, inset)
     material = material or paper_material()
     specimen = rectangle(SPECIMEN_X, SPECIMEN_Y, dx, material, "specimen")
-    effects = {}
-    if viscosity is not None:
-        effects["artificial_viscosity"] = dict(viscosity)
-    return _walled(specimen, effects, layers, piston_speed=velocity)
+    scene = _walled(specimen, _effects(viscosity), layers,
+                    piston_speed=velocity, kernel=kernel,
+                    smoothing_ratio=smoothing_ratio, inset=inset)
+    scene.preset = chosen
+    return scene
 
 
 def uniaxial_cylinder(dx: float = 2e-3, velocity: float = PISTON_SPEED,
                       layers: int | None = None,
-                      viscosity: dict | None = WAVE_VISCOSITY,
+                      viscosity=_UNSET,
                       material: Material | None = None,
                       diameter: float = CYLINDER_DIAMETER,
-                      length: float = CYLINDER_LENGTH) -> Scene:
+                      length: float = CYLINDER_LENGTH,
+                      preset: str | None = None, kernel: str | None = None,
+                      smoothing_ratio: float | None = None,
+                      inset=None) -> Scene:
     """The 3D uniaxial compression test of a laboratory cylinder.
 
     A cylinder of the paper's material, diameter 54 mm and length 135 mm,
@@ -120,23 +163,28 @@ def uniaxial_cylinder(dx: float = 2e-3, velocity: float = PISTON_SPEED,
         Default :func:`paper_material`.
     diameter, length : float
         [m].
+    preset, kernel, smoothing_ratio, inset : optional
+        As for :func:`uniaxial_piston`.
     """
+    chosen, viscosity, kernel, smoothing_ratio, inset = _setting(
+        preset, viscosity, kernel, smoothing_ratio, inset)
     material = material or paper_material()
     specimen = cylinder(diameter / 2, length, dx, material, name="specimen")
-    effects = {}
-    if viscosity is not None:
-        effects["artificial_viscosity"] = dict(viscosity)
-    return Scene(3, [specimen,
-                     plate(under=specimen, layers=layers),
-                     piston(over=specimen, layers=layers,
-                            velocity=(0.0, -velocity, 0.0))],
-                 effects=effects)
+    scene = Scene(3, [specimen], effects=_effects(viscosity), kernel=kernel,
+                  smoothing_ratio=smoothing_ratio)
+    scene.add(plate(under=specimen, layers=layers, inset=inset))
+    scene.add(piston(over=specimen, layers=layers,
+                     velocity=(0.0, -velocity, 0.0), inset=inset))
+    scene.preset = chosen
+    return scene
 
 
 def gravity(dx: float = 1e-3, g: float = 9.81,
             damping: float | None = GRAVITY_DAMPING, layers: int | None = None,
-            viscosity: dict | None = WAVE_VISCOSITY,
-            material: Material | None = None) -> Scene:
+            viscosity=_UNSET,
+            material: Material | None = None,
+            preset: str | None = None, kernel: str | None = None,
+            smoothing_ratio: float | None = None, inset=None) -> Scene:
     """The specimen resting on the fixed plate under gravity (no piston).
 
     Parameters
@@ -150,12 +198,18 @@ def gravity(dx: float = 1e-3, g: float = 9.81,
         none.
     layers : int, optional
         Particle rows of the plate; default: one kernel support.
+    preset, kernel, smoothing_ratio, inset : optional
+        As for :func:`uniaxial_piston`.
     """
+    chosen, viscosity, kernel, smoothing_ratio, inset = _setting(
+        preset, viscosity, kernel, smoothing_ratio, inset)
     material = material or paper_material()
     specimen = rectangle(SPECIMEN_X, SPECIMEN_Y, dx, material, "specimen")
     effects = {"gravity": {"gx": 0.0, "gy": -float(g)}}
-    if viscosity is not None:
-        effects["artificial_viscosity"] = dict(viscosity)
+    effects.update(_effects(viscosity))
     if damping is not None:
         effects["damping"] = {"rate": float(damping)}
-    return _walled(specimen, effects, layers)
+    scene = _walled(specimen, effects, layers, kernel=kernel,
+                    smoothing_ratio=smoothing_ratio, inset=inset)
+    scene.preset = chosen
+    return scene

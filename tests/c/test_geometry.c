@@ -209,6 +209,121 @@ static void bad_geometry_is_refused_naming_the_value(void **state)
     sph_destroy(sim);
 }
 
+/* Quasi-static stiffness of a laterally periodic strip (uniaxial strain)
+ * of `rows` lattice rows between a plate and a piston: the piston moves in
+ * by delta, stops, and damping brings the strip to rest.  Returns the
+ * stress sigma_yy in the middle over the continuum's -M delta / L,
+ * M = K + 4 mu / 3. */
+static double strip_static_stiffness(const char *kernel, double ratio, double inset, int rows)
+{
+    const double dx = 1e-3, L = rows * dx, half = 4 * dx;
+    sph_sim *sim = new_sim(2);
+    check(sim, sph_set_kernel_by_name(sim, kernel));
+    check(sim, sph_set_smoothing_ratio(sim, ratio));
+    check(sim, sph_set_integrator(sim, "leapfrog"));
+    const double dlo[3] = {-half, -0.02, 0}, dhi[3] = {half, L + 0.02, 0};
+    const int periodic[3] = {1, 0, 0};
+    check(sim, sph_set_domain(sim, dlo, dhi, periodic));
+    int mat, strip, plate, piston;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double lo[3] = {-half, 0, 0}, hi[3] = {half, L, 0};
+    check(sim, sph_add_block(sim, "strip", mat, lo, hi, dx, &strip));
+    check(sim, sph_set_platen_inset(sim, inset));
+    check(sim, sph_add_plate(sim, "plate", -1, strip, 0, &plate));
+    const double speed = 0.05;
+    check(sim, sph_add_piston(sim, "piston", -1, strip, 0, speed, &piston));
+    const double M = PAPER_K + 4.0 * PAPER_MU / 3.0, cp = sqrt(M / PAPER_RHO0);
+    const double t_load = L / cp;
+    check(sim, sph_run_until(sim, t_load));
+    const double delta = speed * sph_time(sim);
+    check(sim, sph_set_motion(sim, piston, SPH_MOTION_FIXED, NULL));
+    char rate[64];
+    snprintf(rate, sizeof rate, "rate=%.17g", M_PI * cp / L);
+    check(sim, sph_effect(sim, "damping", rate));
+    check(sim, sph_run_until(sim, t_load + 16.0 * L / (M_PI * cp)));
+    double *sigma = malloc(sph_particle_count(sim) * 4 * sizeof *sigma);
+    assert_non_null(sigma);
+    check(sim, sph_field_copy(sim, SPH_FIELD_STRESS, sigma));
+    const double *x = field_ptr(sim, SPH_FIELD_POSITION);
+    const double *v = field_ptr(sim, SPH_FIELD_VELOCITY);
+    sph_body_info info;
+    check(sim, sph_body_info_get(sim, strip, &info));
+    double sum = 0.0, vmax = 0.0;
+    int count = 0;
+    for (size_t a = info.first; a < info.first + info.count; ++a) {
+        vmax = fmax(vmax, fabs(v[2 * a + 1]));
+        if (fabs(x[2 * a + 1] - 0.5 * L) < 1.01 * dx) {
+            sum += sigma[4 * a + 1];
+            ++count;
+        }
+    }
+    assert_true(count > 0);
+    free(sigma);
+    assert_true(vmax < 1e-3 * speed); /* at rest */
+    sph_destroy(sim);
+    return sum / count / (-M * delta / L);
+}
+
+static void platen_inset_makes_the_static_stiffness_exact(void **state)
+{
+    (void)state;
+    /* cubic_o4 at h/dx 1.65: bulk lattice moment 1.0008 */
+    sph_sim *probe = new_sim(2);
+    int mat, body;
+    check(probe, sph_set_kernel_by_name(probe, "cubic_o4"));
+    check(probe, sph_set_smoothing_ratio(probe, 1.65));
+    check(probe, sph_add_material_K_mu(probe, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double lo[3] = {-0.003, 0, 0}, hi[3] = {0.003, 0.024, 0};
+    check(probe, sph_add_block(probe, "b", mat, lo, hi, 1e-3, &body));
+    double inset = -1.0, offset = 0.0;
+    check(probe, sph_static_platen_inset(probe, body, &inset, &offset));
+    assert_true(fabs(offset) < 1e-6); /* a zero exists for cubic_o4 */
+    check(probe, sph_platen_end_offset(probe, body, 0.0, &offset));
+    sph_destroy(probe);
+    assert_true(inset > 0.0 && inset < 0.5);
+    assert_true(offset > 0.3); /* the off setting is softer by 2 offset / rows */
+    for (int rows = 24; rows <= 40; rows += 16) {
+        const double off = strip_static_stiffness("cubic_o4", 1.65, 0.0, rows);
+        const double on = strip_static_stiffness("cubic_o4", 1.65, inset, rows);
+        /* L_eff = L + 2 offset dy: the off setting fails the tolerance */
+        assert_close(off, 1.0 / (1.0 + 2.0 * offset / rows), 0.003,
+                     "stiffness, platens on the extent");
+        assert_true(fabs(off - 1.0) > 0.02);
+        assert_close(on, 1.0, 0.003, "stiffness, platens at the static inset");
+    }
+}
+
+static void platen_inset_is_checked_and_moves_the_platens(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int mat, body, plate, piston;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double lo[3] = {0, 0, 0}, hi[3] = {0.01, 0.02, 0};
+    check(sim, sph_add_block(sim, "b", mat, lo, hi, 1e-3, &body));
+    assert_int_equal(sph_set_platen_inset(sim, 0.5), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "inset=0.5"));
+    assert_int_equal(sph_set_platen_inset(sim, -1.0), SPH_ERR_ARGUMENT);
+    assert_int_equal(sph_set_platen_inset(sim, NAN), SPH_ERR_ARGUMENT);
+    assert_true(sph_platen_inset(sim) == 0.0);
+    check(sim, sph_set_platen_inset(sim, 0.25));
+    check(sim, sph_add_plate(sim, "plate", -1, body, 0, &plate));
+    check(sim, sph_add_piston(sim, "piston", -1, body, 0, 1e-3, &piston));
+    double plo[3], phi[3];
+    check(sim, sph_body_extent(sim, plate, plo, phi, NULL));
+    assert_close(phi[1], 0.25e-3, 1e-15, "plate face");
+    check(sim, sph_body_extent(sim, piston, plo, phi, NULL));
+    assert_close(plo[1], 0.02 - 0.25e-3, 1e-15, "piston face");
+    const double *x = field_ptr(sim, SPH_FIELD_POSITION);
+    sph_body_info info;
+    check(sim, sph_body_info_get(sim, plate, &info));
+    double top = -1.0;
+    for (size_t a = info.first; a < info.first + info.count; ++a)
+        top = fmax(top, x[2 * a + 1]);
+    assert_close(top, -0.25e-3, 1e-15, "plate's nearest row");
+    sph_destroy(sim);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -218,6 +333,8 @@ int main(void)
         cmocka_unit_test(plate_sits_under_a_disc_in_2d),
         cmocka_unit_test(prism_is_a_block_standing_on_its_base),
         cmocka_unit_test(bad_geometry_is_refused_naming_the_value),
+        cmocka_unit_test(platen_inset_makes_the_static_stiffness_exact),
+        cmocka_unit_test(platen_inset_is_checked_and_moves_the_platens),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

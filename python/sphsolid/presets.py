@@ -1,0 +1,73 @@
+"""Named settings of the paper's scenes: the paper's own scheme and the
+most accurate one measured for wave problems (docs/validation.md, section
+"End placement and presets").
+
+    scene = scenes.uniaxial_piston(1e-3, preset="waves")
+    dyn = presets.dynamics(scene)          # the preset's integrator
+    dyn.run(until=0.3e-3)
+
+A preset fixes what the scene builders and the integrator leave open:
+kernel, h/dx, artificial viscosity, end placement of plate and piston and
+the integrator. It changes no physics; every choice is a library setting.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["Preset", "PRESETS", "preset", "dynamics"]
+
+
+@dataclass(frozen=True)
+class Preset:
+    """A named setting: kernel, h/dx, integrator, viscosity (None: off)
+    and platen inset (lattice steps, or "static")."""
+    name: str
+    kernel: str
+    smoothing_ratio: float
+    integrator: str
+    viscosity: dict | None
+    inset: float | str
+    description: str
+
+    def to_dict(self) -> dict:
+        return {"kernel": self.kernel, "smoothing_ratio": self.smoothing_ratio,
+                "integrator": self.integrator,
+                "viscosity": None if self.viscosity is None
+                else dict(self.viscosity), "inset": self.inset}
+
+
+PRESETS = {
+    "paper": Preset(
+        "paper", "cubic_spline", 1.2, "improved_euler",
+        {"alpha": 1.0, "beta": 0.0}, 0.0,
+        "Das & Cleary's scheme: cubic spline, h = 1.2 dx, Improved Euler at "
+        "0.5 h/c0, Monaghan viscosity alpha 1, platens on the specimen's "
+        "extent (the library's defaults)"),
+    "waves": Preset(
+        "waves", "cubic_o4", 1.65, "leapfrog", None, "static",
+        "fourth-order kernel cubic_o4 at h = 1.65 dx, leapfrog at its "
+        "default step h/(1.5 c0), no viscosity, plate and piston at the "
+        "static inset (0.227 steps): the most accurate per CPU second on "
+        "the piston test; not for rebounding impacts or tension without "
+        "artificial stress (docs/stability.md)"),
+}
+
+
+def preset(name) -> Preset:
+    """The preset of that name (a Preset passes through)."""
+    if isinstance(name, Preset):
+        return name
+    if name not in PRESETS:
+        raise ValueError(f"preset {name!r}: known presets are "
+                         f"{', '.join(PRESETS)}")
+    return PRESETS[name]
+
+
+def dynamics(scene, preset_name=None, **kwargs):
+    """A Dynamics object of the scene's preset integrator (the scene
+    builders record the preset as ``scene.preset``); ``kwargs`` go to it
+    (dt, progress, ...)."""
+    from .dynamics import dynamics_for
+    chosen = preset(preset_name if preset_name is not None
+                    else getattr(scene, "preset", None) or "paper")
+    return dynamics_for(chosen.integrator)(scene, **kwargs)
