@@ -29,28 +29,39 @@ def probe_points(length: float, diameter: float) -> dict:
     return points
 
 
-def run_file(out: Path, dx: float, until: float, corrected: bool = False) -> Path:
+def run_file(out: Path, dx: float, until: float, corrected: bool = False,
+             inset=0.0, integrator: str = "improved_euler") -> Path:
     tag = "_kc" if corrected else ""
+    if inset != 0.0:
+        tag += f"_inset{inset}" if isinstance(inset, str) else f"_inset{inset:g}"
+    if integrator != "improved_euler":
+        tag += f"_{integrator}"
     return Path(out) / f"cylinder_dx{dx * 1e3:g}mm_{until * 1e3:g}ms{tag}.npz"
 
 
 def run(dx: float, until: float, out: Path, every: int = 5,
-        threads: int = 1, log=print, corrected: bool = False) -> Path:
+        threads: int = 1, log=print, corrected: bool = False,
+        inset=0.0, integrator: str = "improved_euler") -> Path:
     """Run the cylinder at spacing dx to time `until`; returns the .npz.
-    ``corrected`` switches the kernel-gradient correction effect on."""
-    from sphsolid import ImprovedEuler, Probes, scenes
+    ``corrected`` switches the kernel-gradient correction effect on;
+    ``inset`` lays plate and piston that many lattice steps closer to the
+    specimen ("static": the library's static inset,
+    sph_static_platen_inset); ``integrator`` is a library integrator name."""
+    from sphsolid import Probes, scenes
     from sphsolid.calculators import CLibrary
+    from sphsolid.dynamics import dynamics_for
 
-    path = run_file(out, dx, until, corrected)
+    path = run_file(out, dx, until, corrected, inset, integrator)
     if path.exists():
         return path
-    scene = scenes.uniaxial_cylinder(dx)
+    scene = scenes.uniaxial_cylinder(dx, inset=inset)
+    inset_steps = scene.static_platen_inset()[0] if inset == "static" else float(inset)
     if corrected:
         scene.effect("kernel_correction")
     scene.calc = CLibrary(threads=threads)
     points = probe_points(scenes.CYLINDER_LENGTH, scenes.CYLINDER_DIAMETER)
     probes = Probes(scene, points)
-    dyn = ImprovedEuler(scene)
+    dyn = dynamics_for(integrator)(scene)
     dyn.attach(probes, interval=every)
     start = wallclock.perf_counter()
     log(f"cylinder dx = {dx * 1e3:g} mm: {len(scene)} particles, dt = "
@@ -70,7 +81,9 @@ def run(dx: float, until: float, out: Path, every: int = 5,
              meta=json.dumps({"dx": dx, "until": until, "particles": len(scene),
                               "counts": scene.body_counts(), "dt": dyn.dt,
                               "steps": dyn.nsteps, "wall_s": wall,
-                              "h": scene.h, "effects": scene.effects}))
+                              "h": scene.h, "effects": scene.effects,
+                              "inset": inset, "integrator": integrator,
+                              "inset_steps": inset_steps}))
     tmp.replace(path)
     log(f"  {dyn.nsteps} steps in {wall:.0f} s -> {path}")
     return path
@@ -84,9 +97,13 @@ def main(argv=None):
     parser.add_argument("--out", type=Path, default=Path("docs/validation/cylinder_3d"))
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--kernel-correction", action="store_true")
+    parser.add_argument("--inset", default="0",
+                        help="platen inset in lattice steps, or 'static'")
+    parser.add_argument("--integrator", default="improved_euler")
     args = parser.parse_args(argv)
+    inset = args.inset if args.inset == "static" else float(args.inset)
     run(args.dx, args.until, args.out, threads=args.threads,
-        corrected=args.kernel_correction)
+        corrected=args.kernel_correction, inset=inset, integrator=args.integrator)
 
 
 if __name__ == "__main__":

@@ -16,7 +16,7 @@ time. Lengths, times, velocities, pressures and forces take unit strings
 
     [[bodies]]
     name = "block"
-    shape = "block"              # block, rectangle, box, disc, ring, plate, piston
+    shape = "block"              # block, rectangle, box, disc, ring, cylinder, prism, plate, piston
     lo = ["-20mm", "0mm"]
     hi = ["20mm", "60mm"]
     dx = "2mm"
@@ -52,8 +52,12 @@ required unless given on the command line), ``dt``, ``integrator``
 Bodies: ``name``, ``shape`` and the builder's own arguments (``lo``/``hi``
 for ``block``; ``x``/``y`` for ``rectangle``; ``x``/``y``/``z`` for
 ``box``; ``center``/``radius`` for ``disc``; ``center``/``r_inner``/
-``r_outer`` for ``ring``; ``under`` or ``over`` (a body named before),
-``layers`` for ``plate`` and ``piston``), ``dx`` (not for a plate or
+``r_outer`` for ``ring``; ``radius``/``length`` and optional ``base``
+for ``cylinder`` (3D, axis along y); ``width``/``depth``/``height`` and
+optional ``base`` for ``prism`` (3D); ``under`` or ``over`` (a body named
+before) and optional ``layers`` and ``inset`` (lattice steps closer to
+the body, or ``"static"``: ``build.plate``) for ``plate`` and
+``piston``), ``dx`` (not for a plate or
 piston: it takes its body's lattice), ``material`` (a name from ``[materials]``, or an
 inline table of ``rho0`` and K/mu, E/nu or K/nu), ``velocity`` (initial,
 free bodies) and ``motion``: ``"free"``, ``"fixed"``, ``{velocity = [..]}``,
@@ -85,9 +89,14 @@ _SHAPES = {
     "box": {"x", "y", "z", "dx"},
     "disc": {"center", "radius", "dx"},
     "ring": {"center", "r_inner", "r_outer", "dx"},
-    "plate": {"under", "layers"},
-    "piston": {"over", "layers"},
+    "cylinder": {"radius", "length", "dx"},
+    "prism": {"width", "depth", "height", "dx"},
+    "plate": {"under"},
+    "piston": {"over"},
 }
+#: Keys a shape may give and need not.
+_OPTIONAL = {"cylinder": {"base"}, "prism": {"base"},
+             "plate": {"layers", "inset"}, "piston": {"layers", "inset"}}
 _COMMON = {"name", "shape", "material", "motion", "velocity"}
 
 
@@ -200,7 +209,8 @@ class SceneFile:
         if shape not in _SHAPES:
             raise SceneFileError(f"{where}: shape must be one of "
                                  f"{', '.join(sorted(_SHAPES))}, got {shape!r}")
-        _unknown(f"{where} ({shape})", spec, _SHAPES[shape] | _COMMON)
+        _unknown(f"{where} ({shape})", spec,
+                 _SHAPES[shape] | _OPTIONAL.get(shape, set()) | _COMMON)
         if "name" not in spec:
             raise SceneFileError(f"{where}: every body needs a name")
         name = spec["name"]
@@ -239,13 +249,15 @@ class SceneFile:
                 if "velocity" in kwargs:
                     raise SceneFileError(f"{where}: a {shape} moves by its "
                                          "motion, not an initial velocity")
-                if "layers" in spec:
-                    kwargs["layers"] = spec["layers"]
+                for key in ("layers", "inset"):
+                    if key in spec:
+                        kwargs[key] = spec[key]
                 builder = build.plate if shape == "plate" else build.piston
                 return builder(found[0], **kwargs)
             if "dx" not in kwargs:
                 raise SceneFileError(f"{where}: needs dx")
-            geometry = {key: spec[key] for key in _SHAPES[shape] - {"dx"}
+            geometry = {key: spec[key]
+                        for key in (_SHAPES[shape] | _OPTIONAL.get(shape, set())) - {"dx"}
                         if key in spec}
             missing = _SHAPES[shape] - {"dx"} - set(geometry)
             if missing:
