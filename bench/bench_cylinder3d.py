@@ -23,8 +23,14 @@ marginal peak RSS between the two spacings, (RSS_1mm - RSS_2mm) /
 (N_1mm - N_2mm), which removes the fixed cost of the interpreter and
 LAMMPS.  Medians over --repeats.
 
-    .venv/bin/python bench/bench_cylinder3d.py [--dxs 0.002 0.001] [--steps 20]
+    .venv/bin/python bench/bench_cylinder3d.py [--fine] [--dxs 0.002] [--steps 20]
         [--repeats 3] [--skip smd] [--json out.json]
+
+The default run times every case at 2 mm (a few minutes on a free
+machine) and reports the library's bytes per particle at 2 mm and 1 mm
+(sph_memory_parts, from a 2-step run at 1 mm); --fine also times every
+case at 1 mm and adds the marginal peak RSS between the spacings.  It
+prints the command it was run with.
 """
 from __future__ import annotations
 
@@ -75,6 +81,8 @@ def library_worker(library: Path, dx: float, steps: int) -> dict:
     lib.sph_smoothing_length.restype = c_double
     lib.sph_errmsg.argtypes = [c_void_p]
     lib.sph_errmsg.restype = c_char_p
+    lib.sph_memory_parts.argtypes = [c_void_p, POINTER(c_char_p), POINTER(ctypes.c_size_t),
+                                     c_int]
     sim = c_void_p()
 
     def check(status):
@@ -112,8 +120,11 @@ def library_worker(library: Path, dx: float, steps: int) -> dict:
     import numpy as np
     x = np.ctypeslib.as_array(data, shape=(n, 3)).copy()
     pairs = count_pairs(x, 2.0 * lib.sph_smoothing_length(sim))
+    names, sizes = (c_char_p * 16)(), (ctypes.c_size_t * 16)()
+    parts = lib.sph_memory_parts(sim, names, sizes, 16)
     return {"loop_seconds": loop, "loop_cpu_seconds": loop_cpu, "steps": steps,
-            "particles": n, "memory_bytes": int(lib.sph_memory_bytes(sim)), "pairs": pairs}
+            "particles": n, "memory_bytes": int(lib.sph_memory_bytes(sim)), "pairs": pairs,
+            "memory_parts": {names[k].decode(): int(sizes[k]) for k in range(parts)}}
 
 
 def count_pairs(x, cutoff: float) -> int:
@@ -174,7 +185,7 @@ LABELS = {"library": "library, 1 thread", "plugin-1": "plugin, 1 rank",
           "plugin-2": "plugin, mpirun -np 2", "smd": "smd/ulsph, 1 rank"}
 
 
-def report(summary: dict, pairs: dict, args) -> str:
+def report(summary: dict, pairs: dict, memory: dict, args) -> str:
     lines = [f"3D cylinder D = 54 mm, L = 135 mm, {args.steps} steps; medians of "
              f"{args.repeats} repeats; OMP_NUM_THREADS=1",
              f"{'dx [mm]':>7} {'case':<22}{'particles':>10}{'Mpart-steps/s/core':>20}"
@@ -209,12 +220,14 @@ def report(summary: dict, pairs: dict, args) -> str:
                          "   (target >= 1.8)")
         if smd and p1:
             lines.append(f"  {dx * 1e3:g} mm  smd/ulsph / plugin 1 rank     {smd / p1:6.3f}")
-    lines.append("bytes per particle:")
-    for dx in args.dxs:
-        s = summary.get((dx, "library"))
-        if s and "memory_bytes" in s:
-            lines.append(f"  {dx * 1e3:g} mm  library sph_memory_bytes / particles: "
-                         f"{s['memory_bytes'] / s['particles']:.0f}   (target <= 600)")
+    lines.append("bytes per particle (library, sph_memory_parts / particles, after the "
+                 "first steps):")
+    for dx in sorted(memory, reverse=True):
+        m = memory[dx]
+        n = m["particles"]
+        parts = ", ".join(f"{k} {v / n:.0f}" for k, v in m["memory_parts"].items())
+        lines.append(f"  {dx * 1e3:g} mm  {m['memory_bytes'] / n:.0f}   (target <= 600)   "
+                     f"[{parts}]")
     if len(args.dxs) >= 2:
         a, b = sorted(args.dxs)[-1], sorted(args.dxs)[0]
         for case in CASES:
@@ -230,7 +243,14 @@ def report(summary: dict, pairs: dict, args) -> str:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--dxs", type=float, nargs="+", default=[0.002, 0.001])
+    parser.add_argument("--dxs", type=float, nargs="+", default=[0.002],
+                        help="spacings timed side by side [m] (default 2 mm)")
+    parser.add_argument("--fine", action="store_true",
+                        help="also time every case at 1 mm (about 330,000 particles; "
+                        "some 10 minutes more on a free machine)")
+    parser.add_argument("--memory-dxs", type=float, nargs="+", default=[0.002, 0.001],
+                        help="spacings whose library memory per particle is reported "
+                        "(a 2-step library run where a spacing is not timed)")
     parser.add_argument("--steps", type=int, default=20)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--plugin", type=Path, default=None)
@@ -243,6 +263,11 @@ def main(argv=None) -> int:
     if args.worker:
         print(json.dumps(library_worker(args.library, args.dxs[0], args.steps)))
         return 0
+    if args.fine and 0.001 not in args.dxs:
+        args.dxs.append(0.001)
+    command = " ".join([Path(sys.executable).name, "bench/bench_cylinder3d.py"]
+                       + (argv if argv is not None else sys.argv[1:]))
+    print(f"command: {command}", flush=True)
     args.plugin = (args.plugin or common.default_plugin()).resolve()
     if args.library is None:
         args.library = args.plugin.parent.parent / "libsphsolid" / "libsphsolid.so"
@@ -275,13 +300,26 @@ def main(argv=None) -> int:
         summary[key] = s
     pairs = {dx: summary[(dx, "library")]["pairs"] for dx in args.dxs
              if (dx, "library") in summary}
-    text = report(summary, pairs, args)
+    memory = {dx: results[(dx, "library")][0] for dx in args.dxs
+              if results.get((dx, "library"))}
+    with tempfile.TemporaryDirectory(prefix="bench_cyl3d_mem_") as tmp:
+        for dx in args.memory_dxs:
+            if dx not in memory:
+                work = Path(tmp) / f"{dx}"
+                work.mkdir()
+                cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", "--library",
+                       str(args.library), "--dxs", repr(dx), "--steps", "2"]
+                common.run_process(cmd, work)
+                memory[dx] = json.loads((work / "stdout.txt").read_text().strip().splitlines()[-1])
+    text = report(summary, pairs, memory, args)
     print(text)
+    print(f"command: {command}")
     end_machine = common.machine()
     print(f"load average at the end: {', '.join(f'{x:.2f}' for x in end_machine['load_average'])}")
     if args.json:
         args.json.write_text(json.dumps({
-            "command": " ".join(["bench_cylinder3d.py"] + (argv or sys.argv[1:])),
+            "command": command,
+            "memory": {str(dx): m for dx, m in memory.items()},
             "machine_start": start_machine, "machine_end": end_machine,
             "summary": {f"{dx}/{case}": s for (dx, case), s in summary.items()},
             "results": {f"{dx}/{case}": r for (dx, case), r in results.items()}}, indent=2))
