@@ -47,6 +47,11 @@ OPTIONS = {
     # the integrator axis: the symplectic leapfrog at its default step h/c0
     "leapfrog (alpha 1)": {"integrator": "leapfrog"},
     "leapfrog, alpha 0.2": {"integrator": "leapfrog", "alpha": 0.2},
+    # end placement: plate and piston at the static inset (0.396 steps)
+    "static inset (alpha 1)": {"inset": "static"},
+    # the "waves" preset: cubic_o4 at h/dx 1.65, leapfrog, no viscosity,
+    # static inset (0.227 steps)
+    "waves preset": {"preset": "waves", "integrator": "leapfrog"},
 }
 
 
@@ -178,9 +183,13 @@ def fit_order(dxs, errors) -> float:
 
 # ------------------------------------------------------ paper piston
 def piston_scene(dx: float, ratio: float = 1.2, kernel: str = "cubic_spline",
-                 alpha: float = 1.0, threads: int = 1) -> Scene:
-    """The paper's piston scene with the options of the study."""
-    if ratio == 1.2 and kernel == "cubic_spline":
+                 alpha: float = 1.0, threads: int = 1, preset: str | None = None,
+                 inset=None) -> Scene:
+    """The paper's piston scene with the options of the study (``preset``
+    and ``inset``: scenes.uniaxial_piston's, the preset's viscosity)."""
+    if preset is not None or inset is not None:
+        scene = scenes.uniaxial_piston(dx, preset=preset, inset=inset)
+    elif ratio == 1.2 and kernel == "cubic_spline":
         scene = scenes.uniaxial_piston(dx, viscosity={"alpha": alpha,
                                                       "beta": 0.0})
     else:

@@ -47,7 +47,19 @@ def main(argv=None) -> int:
     parser.add_argument("--integrator", default=None,
                         help="library integrator of every case that does "
                              "not name its own (default improved_euler)")
+    parser.add_argument("--inset", type=float, default=None,
+                        help="platen inset of every plate and piston in "
+                             "lattice steps (default 0)")
+    parser.add_argument("--alpha", type=float, default=None,
+                        help="artificial viscosity alpha of the cases that "
+                             "use it (default 1)")
     args = parser.parse_args(argv)
+    if args.alpha is not None:
+        import stability_cases
+        stability_cases.VISCOSITY["alpha"] = args.alpha
+    if args.inset is not None:
+        import stability_cases
+        stability_cases.INSET = args.inset
     if args.integrator is not None:
         import stability_cases
         stability_cases.INTEGRATOR = args.integrator

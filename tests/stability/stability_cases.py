@@ -46,7 +46,11 @@ H_OVER_DX = (float(os.environ["SPHSOLID_STABILITY_H_OVER_DX"])
 KERNEL = os.environ.get("SPHSOLID_STABILITY_KERNEL") or None
 # integrator of every case that does not name its own (run.py --integrator)
 INTEGRATOR = os.environ.get("SPHSOLID_STABILITY_INTEGRATOR", "improved_euler")
-VISCOSITY = {"alpha": 1.0, "beta": 0.0}
+# platen inset of every plate and piston in lattice steps (run.py --inset)
+INSET = float(os.environ.get("SPHSOLID_STABILITY_INSET") or 0.0)
+# artificial viscosity alpha of the cases that use it (run.py --alpha)
+VISCOSITY = {"alpha": float(os.environ.get("SPHSOLID_STABILITY_ALPHA")
+                            or 1.0), "beta": 0.0}
 ARTIFICIAL_STRESS = {"epsilon": 0.3, "n": 4.0}
 
 
@@ -183,8 +187,9 @@ def tension(full: bool = False) -> list[Result]:
         effects = {"artificial_viscosity": VISCOSITY}
         if with_stress:
             effects["artificial_stress"] = ARTIFICIAL_STRESS
-        scene = Scene(2, [specimen, build.plate(under=specimen),
-                          build.piston(over=specimen, velocity=(0.0, speed))],
+        scene = Scene(2, [specimen, build.plate(under=specimen, inset=INSET),
+                          build.piston(over=specimen, velocity=(0.0, speed),
+                                       inset=INSET)],
                       effects=effects)
         dyn = dynamics(scene)
         start = time.time()
@@ -282,8 +287,9 @@ def fast_piston(full: bool = False) -> list[Result]:
         strip = build.rectangle((-width / 2, width / 2), (0.0, height), dx,
                                 rock, name="strip")
         effects = {"artificial_viscosity": VISCOSITY}
-        scene = Scene(2, [strip, build.plate(under=strip),
-                          build.piston(over=strip, velocity=(0.0, -speed))],
+        scene = Scene(2, [strip, build.plate(under=strip, inset=INSET),
+                          build.piston(over=strip, velocity=(0.0, -speed),
+                                       inset=INSET)],
                       effects=effects, domain=((-width / 2, -0.02),
                                                (width / 2, 0.15)),
                       periodic=(True, False))
@@ -567,8 +573,8 @@ def pressure_loading(full: bool = False, backend: str = "c") -> list[Result]:
                                sphsolid.scenes.SPECIMEN_Y, dx, rock)
     effects = {"artificial_viscosity": VISCOSITY,
                "damping": {"rate": 1e4}}
-    scene = Scene(2, [specimen, build.plate(under=specimen),
-                      build.piston(over=specimen,
+    scene = Scene(2, [specimen, build.plate(under=specimen, inset=INSET),
+                      build.piston(over=specimen, inset=INSET,
                                    motion=build.Pressure(pressure))],
                   effects=effects)
     dyn = dynamics(scene, backend=backend)
@@ -589,6 +595,7 @@ def pressure_loading(full: bool = False, backend: str = "c") -> list[Result]:
 # ---------------------------------------------- paper scene variants
 def _paper_piston(dx, material=None):
     return sphsolid.scenes.uniaxial_piston(dx=dx, viscosity=VISCOSITY,
+                                           inset=INSET,
                                            material=material)
 
 
@@ -665,7 +672,7 @@ def gravity_settling(full: bool = False) -> list[Result]:
     the static value, below 1e-4."""
     dx = 4e-3 if full else 8e-3
     until = 0.1
-    scene = sphsolid.scenes.gravity(dx=dx)
+    scene = sphsolid.scenes.gravity(dx=dx, inset=INSET)
     y_a = sphsolid.scenes.PAPER_PROBES["A"][1]
     probes = Probes(scene, {"A": sphsolid.scenes.PAPER_PROBES["A"]})
     dyn = dynamics(scene)
