@@ -5,6 +5,7 @@
 
 #include "fix_sphsolid_state.h"
 #include "pair_sphsolid.h"
+#include "sphsolid_args.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -33,13 +34,9 @@ ComputeSPHSolidProbe::ComputeSPHSolidProbe(LAMMPS *lmp, int narg, char **arg) :
                  arg[4 + dim]);
     narg -= 2;
   }
-  if (narg != 3 + dim)
-    error->all(FLERR,
-               "compute sphsolid/probe needs the point's {} coordinates in m, e.g. "
-               "'compute A all sphsolid/probe 0.0 0.07{}' [outside error|nan]; got {} values",
-               dim, dim == 3 ? " 0.0" : "", narg - 3);
-  point[0] = point[1] = point[2] = 0.0;
-  for (int d = 0; d < dim; d++) point[d] = utils::numeric(FLERR, arg[3 + d], false, lmp);
+  read_dim_vector(lmp, narg - 3, arg + 3, dim, "compute sphsolid/probe", "the point's",
+                  "coordinates in m", "compute A all sphsolid/probe 0.0 0.07",
+                  " [outside error|nan]", point);
 
   vector_flag = 1;
   size_vector = SPH_PROBE_VALUES(dim);

@@ -298,16 +298,21 @@ void PairSPHSolid::fail(sph_sim *s, sph_status status, const std::string &what, 
 
 /* ---------------------------------------------------------------------- */
 
-double PairSPHSolid::default_timestep(const char *integrator)
+double PairSPHSolid::handle_timestep(const char *integrator, double (*step_of)(const sph_sim *))
 {
   if (!allocated) return 0.0;
   for (int t = 1; t <= atom->ntypes; t++)
     if (!setflag[t][t]) return 0.0;
-  // a handle without bodies takes the default step from its materials
+  // a handle without bodies takes its steps from its materials
   sph_sim *s = build_handle(false);
-  const double dt = sph_set_integrator(s, integrator) == SPH_OK ? sph_default_dt(s) : 0.0;
+  const double dt = sph_set_integrator(s, integrator) == SPH_OK ? step_of(s) : 0.0;
   sph_destroy(s);
   return dt;
+}
+
+double PairSPHSolid::default_timestep(const char *integrator)
+{
+  return handle_timestep(integrator, sph_default_dt);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -437,13 +442,7 @@ void PairSPHSolid::check_deck()
 
 double PairSPHSolid::stable_timestep(const char *integrator)
 {
-  if (!allocated) return 0.0;
-  for (int t = 1; t <= atom->ntypes; t++)
-    if (!setflag[t][t]) return 0.0;
-  sph_sim *s = build_handle(false);
-  const double dt = sph_set_integrator(s, integrator) == SPH_OK ? sph_stable_dt(s) : 0.0;
-  sph_destroy(s);
-  return dt;
+  return handle_timestep(integrator, sph_stable_dt);
 }
 
 const char *PairSPHSolid::integrator_name()

@@ -103,6 +103,9 @@ class PairSPHSolid : public Pair {
 
  private:
   void check_deck();
+  /* step_of (sph_default_dt, sph_stable_dt) of a handle without bodies with
+   * `integrator`; 0 before every type has its pair_coeff */
+  double handle_timestep(const char *integrator, double (*step_of)(const sph_sim *));
   int dim;
   double spacing;        // nominal particle spacing dx [m]
   double h_over_dx;      // smoothing length / spacing

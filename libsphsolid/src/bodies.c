@@ -403,28 +403,26 @@ int sph_body_count(const sph_sim *sim) { return sim ? sim->n_bodies : 0; }
 
 sph_status sph_body_info_get(sph_sim *sim, int id, sph_body_info *info)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!info)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_body_info_get: info is NULL");
+    sph_status st = sph_need(sim, info, "sph_body_info_get", "info");
+    if (st)
+        return st;
     if (check_body(sim, id))
         return SPH_ERR_ARGUMENT;
     const body *b = &sim->bodies[id];
-    info->name = b->name;
-    info->material = b->material;
-    info->motion = b->motion;
-    info->first = b->first;
-    info->count = b->count;
-    info->spacing = b->spacing;
+    *info = (sph_body_info){.name = b->name,
+                            .material = b->material,
+                            .motion = b->motion,
+                            .first = b->first,
+                            .count = b->count,
+                            .spacing = b->spacing};
     return SPH_OK;
 }
 
 sph_status sph_body_find(sph_sim *sim, const char *name, int *id)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!id)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_body_find: id is NULL");
+    sph_status st = sph_need(sim, id, "sph_body_find", "id");
+    if (st)
+        return st;
     for (int i = 0; i < sim->n_bodies; ++i)
         if (name && strcmp(sim->bodies[i].name, name) == 0) {
             *id = i;

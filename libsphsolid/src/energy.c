@@ -12,23 +12,18 @@
 sph_status sph_energy_fields(sph_sim *sim, size_t n, const double *mass, const double *rho,
                              const double *S, const int *material_of, double *energy)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (n > 0 && (!mass || !rho || !S || !material_of || !energy))
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "sph_energy_fields: mass, rho, S, material and energy must not be NULL");
+    const void *const arrays[] = {mass, rho, S, material_of, energy};
+    sph_status st = caller_arrays(sim, "sph_energy_fields", n, material_of,
+                                  "mass, rho, S, material and energy", arrays, 5);
+    if (st)
+        return st;
     const int dim = sim->dim, nc = sim->ncomp;
     for (size_t a = 0; a < n; ++a) {
-        if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
-            return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "sph_energy_fields: particle %zu has material %d, but %d materials are "
-                            "defined",
-                            a, material_of[a], sim->n_materials);
+        const material *m = &sim->materials[material_of[a]];
         if (!(rho[a] > 0.0))
             return sph_fail(sim, SPH_ERR_ARGUMENT,
                             "sph_energy_fields: particle %zu has density %g (must be > 0)", a,
                             rho[a]);
-        const material *m = &sim->materials[material_of[a]];
         energy[a] = mass[a] * elastic_energy_per_mass(dim, m->c0_squared, m->rho0, m->mu, rho[a],
                                                       S + (size_t)a * nc);
     }
@@ -37,10 +32,9 @@ sph_status sph_energy_fields(sph_sim *sim, size_t n, const double *mass, const d
 
 sph_status sph_energy(sph_sim *sim, int all_bodies, sph_energy_info *info)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!info)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_energy: info is NULL");
+    sph_status st = sph_need(sim, info, "sph_energy", "info");
+    if (st)
+        return st;
     memset(info, 0, sizeof *info);
     const int dim = sim->dim;
     for (size_t a = 0; a < sim->n; ++a) {

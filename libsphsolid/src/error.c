@@ -15,6 +15,13 @@ sph_status sph_fail(sph_sim *sim, sph_status status, const char *fmt, ...)
     return status;
 }
 
+sph_status sph_need(sph_sim *sim, const void *p, const char *fn, const char *name)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    return p ? SPH_OK : sph_fail(sim, SPH_ERR_ARGUMENT, "%s: %s is NULL", fn, name);
+}
+
 sph_status sph_ok(sph_sim *sim)
 {
     if (sim)

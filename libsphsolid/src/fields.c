@@ -9,12 +9,26 @@
 
 /* ---------------------------------------------------------------- fields */
 
+/* Pressure (equation of state), Cauchy stress sigma = S - P I and von Mises
+ * stress of one particle, each written where its pointer is not NULL. */
+static void derived_at(const material *m, int dim, int nc, double rho, const double *S,
+                       double *pressure, double *stress, double *von_mises)
+{
+    const double P = eos_pressure(m->c0_squared, rho, m->rho0);
+    if (pressure)
+        *pressure = P;
+    if (stress)
+        for (int c = 0; c < nc; ++c)
+            stress[c] = S[c] - (c < 3 ? P : 0.0);
+    if (von_mises)
+        *von_mises = von_mises_stress(dim, S);
+}
+
 sph_status sph_field(sph_sim *sim, sph_field_id field, double **data, size_t *rows, size_t *cols)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!data)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_field: data is NULL");
+    sph_status st = sph_need(sim, data, "sph_field", "data");
+    if (st)
+        return st;
     size_t c = 1;
     double *p = NULL;
     switch (field) {
@@ -48,10 +62,9 @@ sph_status sph_field(sph_sim *sim, sph_field_id field, double **data, size_t *ro
 
 sph_status sph_field_copy(sph_sim *sim, sph_field_id field, double *out)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!out)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_field_copy: out is NULL");
+    sph_status st = sph_need(sim, out, "sph_field_copy", "out");
+    if (st)
+        return st;
     const int dim = sim->dim, nc = sim->ncomp;
     const size_t n = sim->n;
     switch (field) {
@@ -61,28 +74,18 @@ sph_status sph_field_copy(sph_sim *sim, sph_field_id field, double *out)
     case SPH_FIELD_DEVIATORIC_STRESS: memcpy(out, sim->S, n * nc * sizeof(double)); break;
     case SPH_FIELD_MASS: memcpy(out, sim->mass, n * sizeof(double)); break;
     case SPH_FIELD_PRESSURE:
-        for (size_t a = 0; a < n; ++a) {
-            const material *m = &sim->materials[sim->material_of[a]];
-            out[a] = eos_pressure(m->c0_squared, sim->rho[a], m->rho0);
-        }
-        break;
     case SPH_FIELD_VON_MISES:
-        for (size_t a = 0; a < n; ++a)
-            out[a] = von_mises_stress(dim, sim->S + a * nc);
-        break;
     case SPH_FIELD_STRESS:
-        for (size_t a = 0; a < n; ++a) {
-            const material *m = &sim->materials[sim->material_of[a]];
-            const double P = eos_pressure(m->c0_squared, sim->rho[a], m->rho0);
-            for (int c = 0; c < nc; ++c)
-                out[a * nc + c] = sim->S[a * nc + c] - (c < 3 ? P : 0.0);
-        }
+        for (size_t a = 0; a < n; ++a)
+            derived_at(&sim->materials[sim->material_of[a]], dim, nc, sim->rho[a], sim->S + a * nc,
+                       field == SPH_FIELD_PRESSURE ? out + a : NULL,
+                       field == SPH_FIELD_STRESS ? out + a * nc : NULL,
+                       field == SPH_FIELD_VON_MISES ? out + a : NULL);
         break;
     case SPH_FIELD_ACCELERATION:
         /* the integrator's rates of this state, else evaluated now */
         if (!(sim->rates_valid || carried_rates_valid(sim))) {
-            sph_status st = sim_prepare(sim);
-            if (st || (st = sim_evaluate(sim)))
+            if ((st = sim_prepare(sim)) || (st = sim_evaluate(sim)))
                 return st;
             sim->rates_valid = 1;
             sim->carry_valid = 0;
@@ -115,27 +118,16 @@ sph_status sph_derived_fields(sph_sim *sim, size_t n, const double *rho, const d
                               const int *material_of, double *pressure, double *stress,
                               double *von_mises)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (n > 0 && (!rho || !S || !material_of))
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "sph_derived_fields: rho, S and material must not be NULL");
+    const void *const arrays[] = {rho, S, material_of};
+    sph_status st =
+        caller_arrays(sim, "sph_derived_fields", n, material_of, "rho, S and material", arrays, 3);
+    if (st)
+        return st;
     const int dim = sim->dim, nc = sim->ncomp;
     for (size_t a = 0; a < n; ++a) {
-        if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
-            return sph_fail(
-                sim, SPH_ERR_ARGUMENT,
-                "sph_derived_fields: particle %zu has material %d, but %d materials are defined", a,
-                material_of[a], sim->n_materials);
         const material *m = &sim->materials[material_of[a]];
-        const double P = eos_pressure(m->c0_squared, rho[a], m->rho0);
-        if (pressure)
-            pressure[a] = P;
-        if (stress)
-            for (int c = 0; c < nc; ++c)
-                stress[a * nc + c] = S[a * nc + c] - (c < 3 ? P : 0.0);
-        if (von_mises)
-            von_mises[a] = von_mises_stress(dim, S + a * nc);
+        derived_at(m, dim, nc, rho[a], S + a * nc, pressure ? pressure + a : NULL,
+                   stress ? stress + a * nc : NULL, von_mises ? von_mises + a : NULL);
     }
     return SPH_OK;
 }

@@ -76,10 +76,9 @@ const char *sph_integrator_name(const sph_sim *sim)
 
 sph_status sph_integrator_info_get(sph_sim *sim, const char *name, sph_integrator_info *info)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!info)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_integrator_info_get: info is NULL");
+    sph_status st = sph_need(sim, info, "sph_integrator_info_get", "info");
+    if (st)
+        return st;
     const integrator *in = name ? integrator_find(name) : sim_integrator(sim);
     if (!in)
         return unknown(sim, name);

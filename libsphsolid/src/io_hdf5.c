@@ -124,6 +124,20 @@ static int fail_at(io *c, const char *what, int use_errno)
     return -1;
 }
 
+/* Records an allocation failure for `what` (`bytes` named when known). */
+static int fail_memory(io *c, const char *what, size_t bytes)
+{
+    if (!c->failed) {
+        c->failed = 1;
+        snprintf(c->what, sizeof c->what, "%s", what);
+        if (bytes)
+            snprintf(c->cause, sizeof c->cause, "out of memory (%zu bytes)", bytes);
+        else
+            snprintf(c->cause, sizeof c->cause, "out of memory");
+    }
+    return -1;
+}
+
 /* Checks one HDF5 call's result (negative: failure). */
 static int ok(io *c, long long result, const char *what)
 {
@@ -360,6 +374,20 @@ static hid_t file_access(io *c, int in_memory)
     return -1;
 }
 
+/* Creates (or truncates) `path` with the access properties of file_access;
+ * -1 with the cause in c on failure. */
+static hid_t file_create(io *c, const char *path, int in_memory)
+{
+    hid_t fapl = file_access(c, in_memory);
+    hid_t file = -1;
+    if (!c->failed) {
+        file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+        ok(c, file, "the file (create)");
+    }
+    close_id(fapl);
+    return file;
+}
+
 /* ------------------------------------------------------ scene records */
 
 static const char *motion_name(sph_motion m)
@@ -403,9 +431,7 @@ static int write_parameters(io *c, sph_sim *sim, hid_t file)
     {
         double *m = malloc((size_t)(sim->n_materials ? sim->n_materials : 1) * 3 * sizeof *m);
         if (!m) {
-            c->failed = 1;
-            snprintf(c->what, sizeof c->what, "materials");
-            snprintf(c->cause, sizeof c->cause, "out of memory");
+            fail_memory(c, "materials", 0);
         } else {
             for (int k = 0; k < sim->n_materials; ++k) {
                 m[3 * k] = sim->materials[k].K;
@@ -629,9 +655,7 @@ static int write_static(io *c, sph_sim *sim, hid_t file)
         char *names = calloc(size, 1);
         double *points = malloc((size_t)sim->n_probes * dim * sizeof *points);
         if (!names || !points) {
-            c->failed = 1;
-            snprintf(c->what, sizeof c->what, "observables/probes");
-            snprintf(c->cause, sizeof c->cause, "out of memory");
+            fail_memory(c, "observables/probes", 0);
         } else {
             for (int k = 0; k < sim->n_probes; ++k) {
                 if (k)
@@ -701,13 +725,7 @@ sph_status sph_output_open(sph_sim *sim, const char *path, long snapshot_interva
     quiet q;
     quiet_begin(&q);
     io c = {0};
-    hid_t fapl = file_access(&c, 0);
-    hid_t file = -1;
-    if (!c.failed) {
-        file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
-        ok(&c, file, "the file (create)");
-    }
-    close_id(fapl);
+    hid_t file = file_create(&c, path, 0);
     if (c.failed) {
         quiet_end(&q);
         free(o);
@@ -866,14 +884,13 @@ static int read_attr_doubles(hid_t obj, const char *name, double *v, size_t size
     return err;
 }
 
-/* Opens a libsphsolid file of the given content and this format version;
- * fails naming the path and what is wrong. */
-static hid_t open_checked(sph_sim *sim, const char *path, const char *content)
+/* Opens a libsphsolid file of the given content and this format version
+ * into *file (-1 on failure); fails naming the path and what is wrong. */
+static sph_status open_checked(sph_sim *sim, const char *path, const char *content, hid_t *file)
 {
-    if (!path || !*path) {
-        sph_fail(sim, SPH_ERR_ARGUMENT, "file path is empty");
-        return -2;
-    }
+    *file = -1;
+    if (!path || !*path)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "file path is empty");
     hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0) {
         io c = {0};
@@ -885,7 +902,7 @@ static hid_t open_checked(sph_sim *sim, const char *path, const char *content)
             fclose(probe);
             sph_fail(sim, SPH_ERR_IO, "cannot open '%s' as an HDF5 file: %s", path, c.cause);
         }
-        return -1;
+        return SPH_ERR_IO;
     }
     long version = 0;
     char kind[32] = "";
@@ -902,47 +919,47 @@ static hid_t open_checked(sph_sim *sim, const char *path, const char *content)
             sph_fail(sim, SPH_ERR_IO,
                      "'%s' is not a libsphsolid file (no sphsolid_format attribute)", path);
         H5Fclose(f);
-        return -1;
+        return SPH_ERR_IO;
     }
     if (version != SPH_FILE_FORMAT) {
         sph_fail(sim, SPH_ERR_IO,
                  "'%s' has libsphsolid file format %ld; this library reads format %ld", path,
                  version, SPH_FILE_FORMAT);
         H5Fclose(f);
-        return -1;
+        return SPH_ERR_IO;
     }
     read_attr_string(f, "sphsolid_content", kind, sizeof kind);
     if (strcmp(kind, content) != 0) {
         sph_fail(sim, SPH_ERR_IO, "'%s' is a libsphsolid %s file, not %s %s file", path,
                  kind[0] ? kind : "(unknown)", content[0] == 'o' ? "an" : "a", content);
         H5Fclose(f);
-        return -1;
+        return SPH_ERR_IO;
     }
-    return f;
+    *file = f;
+    return SPH_OK;
 }
 
 /* Compares the file's /parameters with the simulation; fails naming the
- * first difference. */
-static int scene_matches(sph_sim *sim, hid_t f, const char *path)
+ * first difference (SPH_ERR_ARGUMENT: another scene, SPH_ERR_IO: a record
+ * that cannot be read). */
+static sph_status scene_matches(sph_sim *sim, hid_t f, const char *path)
 {
     hid_t par = H5Gopen2(f, "parameters", H5P_DEFAULT);
-    if (par < 0) {
-        sph_fail(sim, SPH_ERR_IO, "'%s' has no /parameters group", path);
-        return 0;
-    }
-    int match = 0;
+    if (par < 0)
+        return sph_fail(sim, SPH_ERR_IO, "'%s' has no /parameters group", path);
+    sph_status st = SPH_OK;
     long dim = 0, nb = 0;
     H5G_info_t info;
     hid_t bodies = -1, mat = -1;
     double *materials = NULL;
     if (read_attr_long(par, "dimension", &dim)) {
-        sph_fail(sim, SPH_ERR_IO, "'%s': /parameters lacks its dimension", path);
+        st = sph_fail(sim, SPH_ERR_IO, "'%s': /parameters lacks its dimension", path);
         goto done;
     }
     if (dim != sim->dim) {
-        sph_fail(sim, SPH_ERR_ARGUMENT,
-                 "'%s' does not match this simulation: the file is %ldD, the simulation %dD", path,
-                 dim, sim->dim);
+        st = sph_fail(sim, SPH_ERR_ARGUMENT,
+                      "'%s' does not match this simulation: the file is %ldD, the simulation %dD",
+                      path, dim, sim->dim);
         goto done;
     }
     mat = H5Dopen2(par, "materials", H5P_DEFAULT);
@@ -950,11 +967,11 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
     const hssize_t mcount = msp >= 0 ? H5Sget_simple_extent_npoints(msp) : -1;
     close_id(msp);
     if (mcount < 0 || mcount % 3) {
-        sph_fail(sim, SPH_ERR_IO, "'%s': cannot read /parameters/materials", path);
+        st = sph_fail(sim, SPH_ERR_IO, "'%s': cannot read /parameters/materials", path);
         goto done;
     }
     if (mcount / 3 != sim->n_materials) {
-        sph_fail(
+        st = sph_fail(
             sim, SPH_ERR_ARGUMENT,
             "'%s' does not match this simulation: the file has %ld materials, the simulation %d",
             path, (long)(mcount / 3), sim->n_materials);
@@ -965,7 +982,8 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
         (mcount && H5Dread(mat, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, materials) < 0)) {
         io c = {0};
         fail_at(&c, "materials", 0);
-        sph_fail(sim, SPH_ERR_IO, "'%s': cannot read /parameters/materials: %s", path, c.cause);
+        st =
+            sph_fail(sim, SPH_ERR_IO, "'%s': cannot read /parameters/materials: %s", path, c.cause);
         goto done;
     }
     for (int k = 0; k < sim->n_materials; ++k) {
@@ -973,31 +991,33 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
         const char *names[3] = {"bulk modulus K", "shear modulus mu", "reference density rho0"};
         for (int j = 0; j < 3; ++j)
             if (materials[3 * k + j] != here[j]) {
-                sph_fail(sim, SPH_ERR_ARGUMENT,
-                         "'%s' does not match this simulation: material %d has %s = %.17g in the "
-                         "file, %.17g here",
-                         path, k, names[j], materials[3 * k + j], here[j]);
+                st = sph_fail(
+                    sim, SPH_ERR_ARGUMENT,
+                    "'%s' does not match this simulation: material %d has %s = %.17g in the "
+                    "file, %.17g here",
+                    path, k, names[j], materials[3 * k + j], here[j]);
                 goto done;
             }
     }
     bodies = H5Gopen2(par, "bodies", H5P_DEFAULT);
     if (bodies < 0 || H5Gget_info(bodies, &info) < 0) {
-        sph_fail(sim, SPH_ERR_IO, "'%s': cannot read /parameters/bodies", path);
+        st = sph_fail(sim, SPH_ERR_IO, "'%s': cannot read /parameters/bodies", path);
         goto done;
     }
     nb = (long)info.nlinks;
     if (nb != sim->n_bodies) {
-        sph_fail(sim, SPH_ERR_ARGUMENT,
-                 "'%s' does not match this simulation: the file has %ld bodies, the simulation %d",
-                 path, nb, sim->n_bodies);
+        st = sph_fail(
+            sim, SPH_ERR_ARGUMENT,
+            "'%s' does not match this simulation: the file has %ld bodies, the simulation %d", path,
+            nb, sim->n_bodies);
         goto done;
     }
     for (int k = 0; k < sim->n_bodies; ++k) {
         const body *b = &sim->bodies[k];
         if (H5Lexists(bodies, b->name, H5P_DEFAULT) <= 0) {
-            sph_fail(sim, SPH_ERR_ARGUMENT,
-                     "'%s' does not match this simulation: the file has no body '%s'", path,
-                     b->name);
+            st = sph_fail(sim, SPH_ERR_ARGUMENT,
+                          "'%s' does not match this simulation: the file has no body '%s'", path,
+                          b->name);
             goto done;
         }
         hid_t g = H5Gopen2(bodies, b->name, H5P_DEFAULT);
@@ -1014,24 +1034,26 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
                         read_attr_doubles(g, "extent_hi", hi, 3, &nhi);
         close_id(g);
         if (bad) {
-            sph_fail(sim, SPH_ERR_IO, "'%s': cannot read the record of body '%s'", path, b->name);
+            st = sph_fail(sim, SPH_ERR_IO, "'%s': cannot read the record of body '%s'", path,
+                          b->name);
             goto done;
         }
-#define DIFFERS(fmt, file_value, here_value)                                                    \
-    do {                                                                                        \
-        sph_fail(sim, SPH_ERR_ARGUMENT,                                                         \
-                 "'%s' does not match this simulation: body '%s' has " fmt " in the file, " fmt \
-                 " here",                                                                       \
-                 path, b->name, file_value, here_value);                                        \
-        goto done;                                                                              \
+#define DIFFERS(fmt, file_value, here_value)                                    \
+    do {                                                                        \
+        st = sph_fail(sim, SPH_ERR_ARGUMENT,                                    \
+                      "'%s' does not match this simulation: body '%s' has " fmt \
+                      " in the file, " fmt " here",                             \
+                      path, b->name, file_value, here_value);                   \
+        goto done;                                                              \
     } while (0)
         if (index != k)
             DIFFERS("index %ld", index, (long)k);
         if (first != (long)b->first || count != (long)b->count) {
-            sph_fail(sim, SPH_ERR_ARGUMENT,
-                     "'%s' does not match this simulation: body '%s' holds particles [%ld, %ld) in "
-                     "the file, [%zu, %zu) here",
-                     path, b->name, first, first + count, b->first, b->first + b->count);
+            st = sph_fail(
+                sim, SPH_ERR_ARGUMENT,
+                "'%s' does not match this simulation: body '%s' holds particles [%ld, %ld) in "
+                "the file, [%zu, %zu) here",
+                path, b->name, first, first + count, b->first, b->first + b->count);
             goto done;
         }
         if (material != b->material)
@@ -1044,22 +1066,22 @@ static int scene_matches(sph_sim *sim, hid_t f, const char *path)
             if ((long)nlo != dim || (long)nhi != dim)
                 break;
             if (lo[i] != b->extent_lo[i] || hi[i] != b->extent_hi[i]) {
-                sph_fail(sim, SPH_ERR_ARGUMENT,
-                         "'%s' does not match this simulation: body '%s' spans %c in [%.9g, %.9g] "
-                         "m in the file, [%.9g, %.9g] m here (another shape)",
-                         path, b->name, "xyz"[i], lo[i], hi[i], b->extent_lo[i], b->extent_hi[i]);
+                st = sph_fail(
+                    sim, SPH_ERR_ARGUMENT,
+                    "'%s' does not match this simulation: body '%s' spans %c in [%.9g, %.9g] "
+                    "m in the file, [%.9g, %.9g] m here (another shape)",
+                    path, b->name, "xyz"[i], lo[i], hi[i], b->extent_lo[i], b->extent_hi[i]);
                 goto done;
             }
         }
 #undef DIFFERS
     }
-    match = 1;
 done:
     free(materials);
     close_id(mat);
     close_id(bodies);
     H5Gclose(par);
-    return match;
+    return st;
 }
 
 /* Reads `expect` doubles of dataset `name` (or one frame of a series when
@@ -1155,6 +1177,43 @@ static void state_free(state_copy *s)
     free(s->dS);
 }
 
+/* Reads positions, velocities, density and deviatoric stress from the
+ * datasets `names` (in that order; frame `frame` of a series, or -1). */
+static int state_read(io *c, hid_t loc, const char *const names[4], long frame, const sph_sim *sim,
+                      state_copy *s)
+{
+    const size_t n = sim->n, dim = (size_t)sim->dim;
+    double *const to[4] = {s->x, s->v, s->rho, s->S};
+    const size_t count[4] = {n * dim, n * dim, n, n * (size_t)sim->ncomp};
+    for (int k = 0; k < 4 && !c->failed; ++k)
+        read_doubles(c, loc, names[k], frame, count[k], to[k]);
+    return c->failed ? -1 : 0;
+}
+
+/* Releases what a read holds (scratch, group, file, error handler). */
+static void read_release(const quiet *q, state_copy *s, hid_t group, hid_t file)
+{
+    state_free(s);
+    close_id(group);
+    close_id(file);
+    quiet_end(q);
+}
+
+/* Copies the state read into the simulation at (step, time); neighbour
+ * list and rates are rebuilt from it. */
+static void state_commit(sph_sim *sim, const state_copy *s, long step, double time)
+{
+    const size_t n = sim->n, dim = (size_t)sim->dim;
+    memcpy(sim->x, s->x, n * dim * sizeof(double));
+    memcpy(sim->v, s->v, n * dim * sizeof(double));
+    memcpy(sim->rho, s->rho, n * sizeof(double));
+    memcpy(sim->S, s->S, n * (size_t)sim->ncomp * sizeof(double));
+    sim->step = step;
+    sim->t = time;
+    sim->nl.valid = 0;
+    sim->rates_valid = 0;
+}
+
 /* Refuses values no run can produce (checksums catch damaged blocks; this
  * catches files edited or written by a broken program). */
 static int state_plausible(sph_sim *sim, const state_copy *s, const char *path, int with_mass)
@@ -1207,18 +1266,16 @@ static sph_status frame_count(sph_sim *sim, hid_t f, const char *path, long *fra
 
 sph_status sph_read_frame_count(sph_sim *sim, const char *path, long *frames)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!frames)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_read_frame_count: frames is NULL");
+    sph_status st = sph_need(sim, frames, "sph_read_frame_count", "frames");
+    if (st)
+        return st;
     quiet q;
     quiet_begin(&q);
-    hid_t f = open_checked(sim, path, "output");
-    sph_status st = f == -2 ? SPH_ERR_ARGUMENT
-                    : f < 0 ? SPH_ERR_IO
-                            : frame_count(sim, f, path, frames);
-    if (f >= 0)
-        H5Fclose(f);
+    hid_t f = -1;
+    st = open_checked(sim, path, "output", &f);
+    if (!st)
+        st = frame_count(sim, f, path, frames);
+    close_id(f);
     quiet_end(&q);
     return st ? st : sph_ok(sim);
 }
@@ -1238,11 +1295,9 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
     double time = 0.0;
     state_copy s = {0};
     hid_t all = -1;
-    hid_t f = open_checked(sim, path, "output");
-    if (f < 0) {
-        st = f == -2 ? SPH_ERR_ARGUMENT : SPH_ERR_IO;
+    hid_t f = -1;
+    if ((st = open_checked(sim, path, "output", &f)))
         goto done;
-    }
     if ((st = frame_count(sim, f, path, &frames)))
         goto done;
     const long asked = frame;
@@ -1253,26 +1308,18 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
                       frames);
         goto done;
     }
-    if (!scene_matches(sim, f, path)) {
-        st = sph_errmsg(sim)[0] && strstr(sph_errmsg(sim), "does not match") ? SPH_ERR_ARGUMENT
-                                                                             : SPH_ERR_IO;
+    if ((st = scene_matches(sim, f, path)))
         goto done;
-    }
     if (state_alloc(&s, sim)) {
         st = sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate scratch arrays to read '%s'", path);
         goto done;
     }
     all = H5Gopen2(f, "/particles/all", H5P_DEFAULT);
     io c = {0};
-    const size_t n = sim->n, dim = (size_t)sim->dim;
     if (ok(&c, all, "/particles/all")) {
-        read_doubles(&c, all, "position/value", frame, n * dim, s.x);
-        if (!c.failed)
-            read_doubles(&c, all, "velocity/value", frame, n * dim, s.v);
-        if (!c.failed)
-            read_doubles(&c, all, "density/value", frame, n, s.rho);
-        if (!c.failed)
-            read_doubles(&c, all, "deviatoric_stress/value", frame, n * (size_t)sim->ncomp, s.S);
+        static const char *const values[4] = {"position/value", "velocity/value", "density/value",
+                                              "deviatoric_stress/value"};
+        state_read(&c, all, values, frame, sim, &s);
         if (!c.failed)
             read_long_at(&c, all, "position/step", frame, &step);
         if (!c.failed) {
@@ -1306,22 +1353,10 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
         st = SPH_ERR_IO;
         goto done;
     }
-    /* commit */
-    memcpy(sim->x, s.x, n * dim * sizeof(double));
-    memcpy(sim->v, s.v, n * dim * sizeof(double));
-    memcpy(sim->rho, s.rho, n * sizeof(double));
-    memcpy(sim->S, s.S, n * (size_t)sim->ncomp * sizeof(double));
-    sim->step = step;
-    sim->t = time;
-    sim->nl.valid = 0;
-    sim->rates_valid = 0;
+    state_commit(sim, &s, step, time);
     st = sph_ok(sim);
 done:
-    state_free(&s);
-    close_id(all);
-    if (f >= 0)
-        H5Fclose(f);
-    quiet_end(&q);
+    read_release(&q, &s, all, f);
     return st;
 }
 
@@ -1436,13 +1471,7 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
      * and renamed: a failing disk never reaches HDF5, which would otherwise
      * be left with a file it cannot close. */
     io c = {0};
-    hid_t fapl = file_access(&c, 1);
-    hid_t f = -1;
-    if (!c.failed) {
-        f = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
-        ok(&c, f, "the file (create)");
-    }
-    close_id(fapl);
+    hid_t f = file_create(&c, tmp, 1);
     write_format(&c, f, "checkpoint");
     write_parameters(&c, sim, f);
     hid_t g = group_create(&c, f, "checkpoint");
@@ -1470,9 +1499,7 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
     if (!c.failed) {
         double *vectors = calloc((size_t)sim->n_bodies * 3 + 1, sizeof *vectors);
         if (!vectors) {
-            c.failed = 1;
-            snprintf(c.what, sizeof c.what, "motion_vectors");
-            snprintf(c.cause, sizeof c.cause, "out of memory");
+            fail_memory(&c, "motion_vectors", 0);
         } else {
             for (int k = 0; k < sim->n_bodies; ++k)
                 memcpy(vectors + 3 * k, sim->bodies[k].vector, 3 * sizeof(double));
@@ -1497,9 +1524,7 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
         ok(&c, size = H5Fget_file_image(f, NULL, 0), "the in-memory image")) {
         image = malloc((size_t)size);
         if (!image) {
-            c.failed = 1;
-            snprintf(c.what, sizeof c.what, "the in-memory image");
-            snprintf(c.cause, sizeof c.cause, "out of memory (%zd bytes)", size);
+            fail_memory(&c, "the in-memory image", (size_t)size);
         } else {
             ok(&c, H5Fget_file_image(f, image, (size_t)size), "the in-memory image");
         }
@@ -1538,11 +1563,9 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
     sph_status st = SPH_OK;
     state_copy s = {0};
     hid_t g = -1;
-    hid_t f = open_checked(sim, path, "checkpoint");
-    if (f < 0) {
-        st = f == -2 ? SPH_ERR_ARGUMENT : SPH_ERR_IO;
+    hid_t f = -1;
+    if ((st = open_checked(sim, path, "checkpoint", &f)))
         goto done;
-    }
     g = H5Gopen2(f, "checkpoint", H5P_DEFAULT);
     if (g < 0) {
         st = sph_fail(sim, SPH_ERR_IO, "'%s' has no /checkpoint group", path);
@@ -1577,10 +1600,8 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
                       path, n, nb, dim, sim->n, sim->n_bodies, sim->dim);
         goto done;
     }
-    if (!scene_matches(sim, f, path)) {
-        st = strstr(sph_errmsg(sim), "does not match") ? SPH_ERR_ARGUMENT : SPH_ERR_IO;
+    if ((st = scene_matches(sim, f, path)))
         goto done;
-    }
     {
         /* the checksummed copy of the clock decides */
         io cc = {0};
@@ -1610,13 +1631,8 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
     }
     io c = {0};
     const size_t nn = sim->n, d = (size_t)sim->dim;
-    read_doubles(&c, g, "position", -1, nn * d, s.x);
-    if (!c.failed)
-        read_doubles(&c, g, "velocity", -1, nn * d, s.v);
-    if (!c.failed)
-        read_doubles(&c, g, "density", -1, nn, s.rho);
-    if (!c.failed)
-        read_doubles(&c, g, "deviatoric_stress", -1, nn * (size_t)sim->ncomp, s.S);
+    static const char *const values[4] = {"position", "velocity", "density", "deviatoric_stress"};
+    state_read(&c, g, values, -1, sim, &s);
     if (!c.failed)
         read_doubles(&c, g, "mass", -1, nn, s.mass);
     if (!c.failed)
@@ -1673,21 +1689,14 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
         }
     }
     /* commit: nothing above changed the simulation */
-    memcpy(sim->x, s.x, nn * d * sizeof(double));
-    memcpy(sim->v, s.v, nn * d * sizeof(double));
-    memcpy(sim->rho, s.rho, nn * sizeof(double));
-    memcpy(sim->S, s.S, nn * (size_t)sim->ncomp * sizeof(double));
+    state_commit(sim, &s, step, t);
     memcpy(sim->mass, s.mass, nn * sizeof(double));
     for (int k = 0; k < sim->n_bodies; ++k) {
         memcpy(sim->bodies[k].vector, s.motion + 3 * k, 3 * sizeof(double));
         memcpy(sim->bodies[k].centre, s.motion + 3 * (nb + k), 3 * sizeof(double));
     }
-    sim->step = step;
-    sim->t = t;
     sim->dt = dt;
     sim->dt_set = (int)dt_set;
-    sim->nl.valid = 0;
-    sim->rates_valid = 0;
     sim->integ = in;
     sim->carry_valid = 0;
     if (with_rates) {
@@ -1698,11 +1707,7 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
     }
     st = sph_ok(sim);
 done:
-    state_free(&s);
-    close_id(g);
-    if (f >= 0)
-        H5Fclose(f);
-    quiet_end(&q);
+    read_release(&q, &s, g, f);
     return st;
 }
 

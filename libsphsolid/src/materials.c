@@ -80,12 +80,27 @@ sph_status sph_add_material_K_nu(sph_sim *sim, double K, double nu, double rho0,
               : add_material(sim, K, 3.0 * K * (1.0 - 2.0 * nu) / (2.0 * (1.0 + nu)), rho0, id);
 }
 
-sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
+sph_status caller_arrays(sph_sim *sim, const char *fn, size_t n, const int *material_of,
+                         const char *names, const void *const *arrays, int count)
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
-    if (!info)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_material_info_get: info is NULL");
+    for (int k = 0; k < count && n > 0; ++k)
+        if (!arrays[k])
+            return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: %s must not be NULL", fn, names);
+    for (size_t a = 0; a < n; ++a)
+        if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "%s: particle %zu has material %d, but %d materials are defined", fn, a,
+                            material_of[a], sim->n_materials);
+    return SPH_OK;
+}
+
+sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
+{
+    sph_status st = sph_need(sim, info, "sph_material_info_get", "info");
+    if (st)
+        return st;
     if (id < 0 || id >= sim->n_materials)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "material=%d: %d materials are defined", id,
                         sim->n_materials);

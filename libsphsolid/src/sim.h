@@ -137,6 +137,17 @@ sph_status sph_fail(sph_sim *sim, sph_status status, const char *fmt, ...)
 #endif
     ;
 sph_status sph_ok(sph_sim *sim);
+/* A public call's handle and one pointer it needs: SPH_ERR_ARGUMENT without
+ * a handle, "fn: name is NULL" without the pointer, else SPH_OK. */
+sph_status sph_need(sph_sim *sim, const void *p, const char *fn, const char *name);
+
+/* materials.c */
+/* The arrays of n particles a public call `fn` reads: SPH_ERR_ARGUMENT
+ * without a handle; when n > 0, a message naming `names` if one of the
+ * `count` arrays is NULL, then one naming the first particle whose index
+ * in material_of (one of the arrays) is not a defined material. */
+sph_status caller_arrays(sph_sim *sim, const char *fn, size_t n, const int *material_of,
+                         const char *names, const void *const *arrays, int count);
 
 /* neighbour.c */
 sph_status neighbour_build(sph_sim *sim);

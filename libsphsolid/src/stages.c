@@ -13,10 +13,9 @@
 sph_status sph_rigid_force_sum(sph_sim *sim, size_t n, const double *mass, const double *dv_dt,
                                const unsigned char *member, double *sums)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!sums)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_sum: sums is NULL");
+    sph_status st = sph_need(sim, sums, "sph_rigid_force_sum", "sums");
+    if (st)
+        return st;
     if (n > 0 && (!mass || !dv_dt))
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "sph_rigid_force_sum: mass and dv_dt must not be NULL");
@@ -34,12 +33,9 @@ sph_status sph_rigid_force_sum(sph_sim *sim, size_t n, const double *mass, const
 sph_status sph_rigid_force_apply(sph_sim *sim, size_t n, const double *applied, const double *sums,
                                  const unsigned char *member, double *dv_dt)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!applied)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_apply: applied is NULL");
-    if (!sums)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_apply: sums is NULL");
+    sph_status st = sph_need(sim, applied, "sph_rigid_force_apply", "applied");
+    if (st || (st = sph_need(sim, sums, "sph_rigid_force_apply", "sums")))
+        return st;
     if (n > 0 && !dv_dt)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_rigid_force_apply: dv_dt must not be NULL");
     if (!(sums[0] > 0.0) || !isfinite(sums[0]))
@@ -96,21 +92,16 @@ sph_status sph_watchdog_check(sph_sim *sim, size_t n, const double *v, const dou
                               const int *material_of, const unsigned char *integrate_motion,
                               long *particle)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!particle)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_watchdog_check: particle is NULL");
+    sph_status st = sph_need(sim, particle, "sph_watchdog_check", "particle");
+    if (st)
+        return st;
     *particle = -1;
-    if (n > 0 && (!v || !rho || !material_of))
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "sph_watchdog_check: v, rho and material must not be NULL");
+    const void *const arrays[] = {v, rho, material_of};
+    if ((st = caller_arrays(sim, "sph_watchdog_check", n, material_of, "v, rho and material",
+                            arrays, 3)))
+        return st;
     const int dim = sim->dim;
     for (size_t a = 0; a < n; ++a) {
-        if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
-            return sph_fail(
-                sim, SPH_ERR_ARGUMENT,
-                "sph_watchdog_check: particle %zu has material %d, but %d materials are defined", a,
-                material_of[a], sim->n_materials);
         const material *m = &sim->materials[material_of[a]];
         double vmax2, rho_lo, rho_hi;
         watchdog_bounds(sim, m, integrate_motion ? integrate_motion[a] : 1, &vmax2, &rho_lo,

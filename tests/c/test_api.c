@@ -425,6 +425,42 @@ static void run_until_lands_on_time_and_callback_can_stop(void **state)
     sph_destroy(sim);
 }
 
+/* Derived fields against their definitions: P = c0^2 (rho - rho0) with
+ * c0^2 = K / rho0, sigma = S - P I (zz included in plane strain) and the von
+ * Mises stress sqrt(3/2 S:S) of a pure-shear-plus-normal state; the copies
+ * of the handle's state and sph_derived_fields on caller arrays agree. */
+static void derived_fields_follow_the_equation_of_state(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(2, 1, 1e-3);
+    double *rho = field_ptr(sim, SPH_FIELD_DENSITY),
+           *S = field_ptr(sim, SPH_FIELD_DEVIATORIC_STRESS);
+    const double strain = 1e-3, s = 2e6, tau = 3e6;
+    rho[0] = PAPER_RHO0 * (1.0 + strain);
+    const double S0[4] = {s, -s, 0.0, tau};
+    memcpy(S, S0, sizeof S0);
+    const double P = PAPER_K * strain, vm = sqrt(1.5 * (2.0 * s * s + 2.0 * tau * tau));
+    const double sigma[4] = {s - P, -s - P, -P, tau};
+    double pressure[2], stress[8], von_mises[2], p2[2], st2[8], vm2[2];
+    check(sim, sph_field_copy(sim, SPH_FIELD_PRESSURE, pressure));
+    check(sim, sph_field_copy(sim, SPH_FIELD_STRESS, stress));
+    check(sim, sph_field_copy(sim, SPH_FIELD_VON_MISES, von_mises));
+    const int material[2] = {0, 0};
+    check(sim, sph_derived_fields(sim, 2, rho, S, material, p2, st2, vm2));
+    assert_close(pressure[0], P, 1e-9 * P, "pressure");
+    assert_close(pressure[1], 0.0, 1e-9 * P, "pressure at rho0");
+    assert_close(von_mises[0], vm, 1e-12 * vm, "von Mises");
+    for (int c = 0; c < 4; ++c) {
+        assert_close(stress[c], sigma[c], 1e-9 * P, "Cauchy stress");
+        assert_close(stress[4 + c], 0.0, 1e-9 * P, "Cauchy stress at rest");
+    }
+    for (int k = 0; k < 8; ++k)
+        assert_true(st2[k] == stress[k]);
+    for (int a = 0; a < 2; ++a)
+        assert_true(p2[a] == pressure[a] && vm2[a] == von_mises[a]);
+    sph_destroy(sim);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -439,6 +475,7 @@ int main(void)
         cmocka_unit_test(failing_low_level_calls_leave_a_message),
         cmocka_unit_test(every_registered_effect_honours_its_ranges),
         cmocka_unit_test(version_string_matches_the_header),
+        cmocka_unit_test(derived_fields_follow_the_equation_of_state),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -125,26 +125,27 @@ static void a_platen_thinner_than_the_support_is_refused(void **state)
     sph_destroy(sim);
 }
 
-/* A 2D disc given as points: the plate spans its width and touches it. */
+/* A 2D disc given as points (the cross-section of a one-layer 3D cylinder,
+ * x and z as the disc's x and y): the plate spans its width and touches it. */
 static void plate_sits_under_a_disc_in_2d(void **state)
 {
     (void)state;
-    sph_sim *sim = new_sim(2);
-    int mat, disc, plate;
-    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
-    const double R = 0.01, dx = 0.001;
+    const double R = 0.01, dx = 0.001, centre[3] = {0.0, 0.0, 0.0};
     const long n = lround(2 * R / dx);
-    double *pts = malloc((size_t)(n * n) * 2 * sizeof *pts);
-    size_t count = 0;
-    for (long k = 0; k < n; ++k)
-        for (long i = 0; i < n; ++i) {
-            const double px = -R + (i + 0.5) * dx, py = -R + (k + 0.5) * dx;
-            if (px * px + py * py < R * R) {
-                pts[2 * count] = px;
-                pts[2 * count + 1] = py;
-                ++count;
-            }
-        }
+    int mat, disc, plate;
+    sph_sim *cyl = new_sim(3);
+    check(cyl, sph_add_material_K_mu(cyl, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    check(cyl, sph_add_cylinder(cyl, "layer", mat, centre, R, dx, dx, &disc));
+    const size_t count = sph_particle_count(cyl);
+    const double *x3 = field_ptr(cyl, SPH_FIELD_POSITION);
+    double *pts = malloc(count * 2 * sizeof *pts);
+    for (size_t a = 0; a < count; ++a) {
+        pts[2 * a] = x3[3 * a];
+        pts[2 * a + 1] = x3[3 * a + 2];
+    }
+    sph_destroy(cyl);
+    sph_sim *sim = new_sim(2);
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
     check(sim, sph_add_particles(sim, "disc", mat, count, pts, NULL, dx, &disc));
     free(pts);
     check(sim, sph_add_plate(sim, "plate", -1, disc, 0, &plate));
