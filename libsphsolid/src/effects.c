@@ -219,7 +219,7 @@ typedef struct effect_def {
 static const effect_def registry[] = {SPH_EFFECTS(EFFECT_ROW)};
 #undef EFFECT_ROW
 #define N_EFFECTS      ((int)(sizeof registry / sizeof registry[0]))
-#define MAX_PARAMETERS 8
+#define MAX_PARAMETERS EFFECTS_MAX_PARAMETERS
 
 #define EFFECT_WORD(name, on, parameters, rule, text) " " #name
 const char *sph_effect_names(void) { return SPH_EFFECTS(EFFECT_WORD) + 1; }
@@ -396,6 +396,14 @@ int effects_is_on(const effects *fx, const char *name)
     const effect_def *e = find_effect(name);
     if (!e)
         return -1;
+    return *(const int *)((const char *)fx + e->switch_offset) != 0;
+}
+
+int effects_values(const effects *fx, int effect, double *values)
+{
+    const effect_def *e = &registry[effect];
+    for (int k = 0; k < e->n_parameters; ++k)
+        values[k] = *(const double *)((const char *)fx + e->parameters[k].offset);
     return *(const int *)((const char *)fx + e->switch_offset) != 0;
 }
 

@@ -195,6 +195,11 @@ sph_status effects_set(sph_sim *sim, const char *name, const char *parameters);
 sph_status effects_off(sph_sim *sim, const char *name);
 int effects_is_on(const effects *fx, const char *name);
 void effects_describe(const effects *fx, char *buf, size_t size);
+/* Whether effect `effect` (registry index, sph_effect_info_get) is on in
+ * fx; its parameters' values (in registry order, at most
+ * EFFECTS_MAX_PARAMETERS) into `values`. */
+#define EFFECTS_MAX_PARAMETERS 8
+int effects_values(const effects *fx, int effect, double *values);
 
 /* probe.c */
 sph_status probe_sample_point(sph_sim *sim, const probe *p, double *values);

@@ -589,6 +589,71 @@ static void checkpoint_of_another_scene_names_the_difference(void **state)
     remove(out);
 }
 
+/* The effects a checkpoint was written with, one attribute per parameter
+ * under /parameters/effects: a simulation with other effects is refused
+ * naming the effect and parameter; a file written before that group
+ * (only the effects text) is compared by its text. */
+static void checkpoint_with_other_effects_names_the_difference(void **state)
+{
+    (void)state;
+    const char *path = "test_faults_effects.h5";
+    sph_sim *sim = block(20, 30, PAPER_K);
+    check(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 beta=0"));
+    check(sim, sph_effect(sim, "gravity", "gy=-9.81"));
+    check(sim, sph_run(sim, 2));
+    check(sim, sph_checkpoint_write(sim, path));
+
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    double alpha = 0.0, gy = 0.0;
+    hid_t a = H5Aopen_by_name(f, "parameters/effects/artificial_viscosity", "alpha", H5P_DEFAULT,
+                              H5P_DEFAULT);
+    assert_true(a >= 0 && H5Aread(a, H5T_NATIVE_DOUBLE, &alpha) >= 0);
+    H5Aclose(a);
+    a = H5Aopen_by_name(f, "parameters/effects/gravity", "gy", H5P_DEFAULT, H5P_DEFAULT);
+    assert_true(a >= 0 && H5Aread(a, H5T_NATIVE_DOUBLE, &gy) >= 0);
+    H5Aclose(a);
+    assert_true(alpha == 1.0 && gy == -9.81);
+    assert_true(H5Lexists(f, "parameters/effects/xsph", H5P_DEFAULT) == 0);
+    H5Fclose(f);
+
+    static const char *const others[][3] = {
+        /* effect, its parameters (NULL: off), the words of the message */
+        {"artificial_viscosity", "alpha=0.5 beta=0", "alpha=1 in the file, alpha=0.5 here"},
+        {"artificial_viscosity", NULL, "artificial_viscosity is on in the file, off here"},
+        {"xsph", "epsilon=0.5", "xsph is off in the file, on here"},
+    };
+    for (int k = 0; k < 3; ++k) {
+        sph_sim *other = block(20, 30, PAPER_K);
+        check(other, sph_effect(other, "artificial_viscosity", "alpha=1 beta=0"));
+        check(other, sph_effect(other, "gravity", "gy=-9.81"));
+        if (others[k][1])
+            check(other, sph_effect(other, others[k][0], others[k][1]));
+        else
+            check(other, sph_effect_off(other, others[k][0]));
+        const double x0 = other->x[7];
+        assert_int_equal(sph_checkpoint_read(other, path), SPH_ERR_ARGUMENT);
+        assert_non_null(strstr(sph_errmsg(other), others[k][2]));
+        assert_true(other->x[7] == x0);
+        sph_destroy(other);
+    }
+    sph_sim *same = block(20, 30, PAPER_K);
+    check(same, sph_effect(same, "artificial_viscosity", "alpha=1 beta=0"));
+    check(same, sph_effect(same, "gravity", "gy=-9.81"));
+    check(same, sph_checkpoint_read(same, path));
+
+    /* a checkpoint from before the per-parameter record */
+    f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    assert_true(H5Ldelete(f, "parameters/effects", H5P_DEFAULT) >= 0);
+    H5Fclose(f);
+    check(same, sph_checkpoint_read(same, path));
+    check(same, sph_effect(same, "artificial_viscosity", "alpha=0.5 beta=0"));
+    assert_int_equal(sph_checkpoint_read(same, path), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(same), "effects 'artificial_viscosity alpha=1 beta=0;"));
+    sph_destroy(same);
+    sph_destroy(sim);
+    remove(path);
+}
+
 static void adding_a_body_while_output_is_open_is_refused(void **state)
 {
     (void)state;
@@ -702,6 +767,7 @@ int main(int argc, char **argv)
         cmocka_unit_test_teardown(truncated_and_foreign_files_are_refused, cleanup),
         cmocka_unit_test_teardown(old_and_newer_formats_are_refused, cleanup),
         cmocka_unit_test_teardown(checkpoint_of_another_scene_names_the_difference, cleanup),
+        cmocka_unit_test_teardown(checkpoint_with_other_effects_names_the_difference, cleanup),
         cmocka_unit_test_teardown(adding_a_body_while_output_is_open_is_refused, cleanup),
         cmocka_unit_test_teardown(long_checkpoint_path_touches_no_other_file, cleanup),
         cmocka_unit_test_teardown(host_hdf5_error_handler_is_kept, cleanup),
