@@ -362,6 +362,21 @@ static double layer_gradient(const sph_sim *sim, const double step[3], double dy
     return sum;
 }
 
+/* v minus its components along the `kept` orthonormal columns of q (rows
+ * values each): Gram-Schmidt, twice for round-off. */
+static void project_out(double *v, const double *q, int kept, int rows)
+{
+    for (int pass = 0; pass < 2; ++pass)
+        for (int k = 0; k < kept; ++k) {
+            const double *qk = q + (size_t)k * rows;
+            double dot = 0.0;
+            for (int r = 0; r < rows; ++r)
+                dot += qk[r] * v[r];
+            for (int r = 0; r < rows; ++r)
+                v[r] -= dot * qk[r];
+        }
+}
+
 static sph_status static_stiffness(sph_sim *sim, const double step[3], double inset, double *ratio)
 {
     const double dy = step[1], support = kernel_support(sim->kernel) * sim->h;
@@ -408,15 +423,7 @@ static sph_status static_stiffness(sph_sim *sim, const double step[3], double in
         double norm0 = 0.0;
         for (int r = 0; r < rows; ++r)
             norm0 += col[r] * col[r];
-        for (int pass = 0; pass < 2; ++pass) /* Gram-Schmidt, twice */
-            for (int k = 0; k < kept; ++k) {
-                const double *qk = q + (size_t)k * rows;
-                double dot = 0.0;
-                for (int r = 0; r < rows; ++r)
-                    dot += qk[r] * col[r];
-                for (int r = 0; r < rows; ++r)
-                    col[r] -= dot * qk[r];
-            }
+        project_out(col, q, kept, rows);
         double norm = 0.0;
         for (int r = 0; r < rows; ++r)
             norm += col[r] * col[r];
@@ -437,15 +444,7 @@ static sph_status static_stiffness(sph_sim *sim, const double step[3], double in
         }
         g[r] = s;
     }
-    for (int pass = 0; pass < 2; ++pass)
-        for (int k = 0; k < kept; ++k) {
-            const double *qk = q + (size_t)k * rows;
-            double dot = 0.0;
-            for (int r = 0; r < rows; ++r)
-                dot += qk[r] * g[r];
-            for (int r = 0; r < rows; ++r)
-                g[r] -= dot * qk[r];
-        }
+    project_out(g, q, kept, rows);
     /* the lattice gradient moment: g of u = y in the bulk */
     double moment = 0.0;
     for (int c = 0; c < rows; ++c)

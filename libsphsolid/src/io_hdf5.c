@@ -190,24 +190,20 @@ static int attr_double(io *c, hid_t obj, const char *name, const double *v, hsiz
     return c->failed ? -1 : 0;
 }
 
-static int attr_scalar(io *c, hid_t obj, const char *name, double v)
+/* A scalar attribute of a native type (H5T_NATIVE_LONG, _DOUBLE). */
+static int attr_scalar(io *c, hid_t obj, const char *name, hid_t type, const void *v)
 {
     hid_t space = H5Screate(H5S_SCALAR);
     if (!ok(c, space, name))
         return -1;
-    write_attr(c, obj, name, H5T_NATIVE_DOUBLE, space, &v);
+    write_attr(c, obj, name, type, space, v);
     H5Sclose(space);
     return c->failed ? -1 : 0;
 }
 
 static int attr_long(io *c, hid_t obj, const char *name, long v)
 {
-    hid_t space = H5Screate(H5S_SCALAR);
-    if (!ok(c, space, name))
-        return -1;
-    write_attr(c, obj, name, H5T_NATIVE_LONG, space, &v);
-    H5Sclose(space);
-    return c->failed ? -1 : 0;
+    return attr_scalar(c, obj, name, H5T_NATIVE_LONG, &v);
 }
 
 static int attr_string(io *c, hid_t obj, const char *name, const char *text)
@@ -433,7 +429,7 @@ static int write_effects(io *c, sph_sim *sim, hid_t par)
         for (int j = 0; j < e.parameter_count; ++j) {
             sph_effect_parameter p;
             if (!sph_effect_parameter_get(k, j, &p))
-                attr_scalar(c, g, p.key, values[j]);
+                attr_scalar(c, g, p.key, H5T_NATIVE_DOUBLE, &values[j]);
         }
         group_close(c, g, e.name);
     }
@@ -972,10 +968,76 @@ static sph_status open_checked(sph_sim *sim, const char *path, const char *conte
     return SPH_OK;
 }
 
-/* Compares the file's /parameters with the simulation; fails naming the
- * first difference (SPH_ERR_ARGUMENT: another scene, SPH_ERR_IO: a record
- * that cannot be read). */
-static sph_status scene_matches(sph_sim *sim, hid_t f, const char *path)
+/* Compares the effects a file was written with (/parameters/effects,
+ * or for files written before that group the /parameters `effects` text)
+ * with the simulation's: a run continues bit for bit only with the same
+ * effects.  Fails naming the first difference. */
+static sph_status effects_match(sph_sim *sim, hid_t par, const char *path)
+{
+    sph_status st = SPH_OK;
+    if (H5Lexists(par, "effects", H5P_DEFAULT) <= 0) {
+        char text[1024] = "", here[1024];
+        effects_describe(&sim->fx, here, sizeof here);
+        if (read_attr_string(par, "effects", text, sizeof text))
+            st = sph_fail(sim, SPH_ERR_IO, "'%s': /parameters records no effects", path);
+        else if (strcmp(text, here) != 0)
+            st = sph_fail(sim, SPH_ERR_ARGUMENT,
+                          "'%s' does not match this simulation: effects '%s' in the file, '%s' "
+                          "here",
+                          path, text, here);
+        return st;
+    }
+    hid_t all = H5Gopen2(par, "effects", H5P_DEFAULT);
+    H5G_info_t info;
+    if (all < 0 || H5Gget_info(all, &info) < 0) {
+        close_id(all);
+        return sph_fail(sim, SPH_ERR_IO, "'%s': cannot read /parameters/effects", path);
+    }
+    hsize_t known_on = 0;
+    for (int k = 0; k < sph_effect_count() && !st; ++k) {
+        sph_effect_info e;
+        double here[EFFECTS_MAX_PARAMETERS];
+        sph_effect_info_get(k, &e);
+        const int on_here = effects_values(&sim->fx, k, here);
+        const int on_file = H5Lexists(all, e.name, H5P_DEFAULT) > 0;
+        known_on += (hsize_t)on_file;
+        if (on_file != on_here) {
+            st = sph_fail(sim, SPH_ERR_ARGUMENT,
+                          "'%s' does not match this simulation: effect %s is %s in the file, %s "
+                          "here",
+                          path, e.name, on_file ? "on" : "off", on_here ? "on" : "off");
+            break;
+        }
+        hid_t g = on_file ? H5Gopen2(all, e.name, H5P_DEFAULT) : -1;
+        for (int j = 0; on_file && j < e.parameter_count && !st; ++j) {
+            sph_effect_parameter p;
+            sph_effect_parameter_get(k, j, &p);
+            double value = 0.0;
+            size_t count = 0;
+            if (g < 0 || read_attr_doubles(g, p.key, &value, 1, &count) || count != 1)
+                st = sph_fail(sim, SPH_ERR_IO, "'%s': cannot read /parameters/effects/%s/%s", path,
+                              e.name, p.key);
+            else if (value != here[j])
+                st = sph_fail(sim, SPH_ERR_ARGUMENT,
+                              "'%s' does not match this simulation: effect %s has %s=%.17g in the "
+                              "file, %s=%.17g here",
+                              path, e.name, p.key, value, p.key, here[j]);
+        }
+        close_id(g);
+    }
+    if (!st && info.nlinks != known_on)
+        st = sph_fail(sim, SPH_ERR_ARGUMENT,
+                      "'%s' was written with an effect this library does not know (known: %s)",
+                      path, sph_effect_names());
+    close_id(all);
+    return st;
+}
+
+/* Compares the file's /parameters with the simulation (with_effects: the
+ * effects too, effects_match); fails naming the first difference
+ * (SPH_ERR_ARGUMENT: another scene, SPH_ERR_IO: a record that cannot be
+ * read). */
+static sph_status scene_matches(sph_sim *sim, hid_t f, const char *path, int with_effects)
 {
     hid_t par = H5Gopen2(f, "parameters", H5P_DEFAULT);
     if (par < 0)
@@ -1109,81 +1171,12 @@ static sph_status scene_matches(sph_sim *sim, hid_t f, const char *path)
         }
 #undef DIFFERS
     }
+    if (with_effects)
+        st = effects_match(sim, par, path);
 done:
     free(materials);
     close_id(mat);
     close_id(bodies);
-    H5Gclose(par);
-    return st;
-}
-
-/* Compares the effects a checkpoint was written with (/parameters/effects,
- * or for files written before that group the /parameters `effects` text)
- * with the simulation's: a run continues bit for bit only with the same
- * effects.  Fails naming the first difference. */
-static sph_status effects_match(sph_sim *sim, hid_t f, const char *path)
-{
-    hid_t par = H5Gopen2(f, "parameters", H5P_DEFAULT);
-    if (par < 0)
-        return sph_fail(sim, SPH_ERR_IO, "'%s' has no /parameters group", path);
-    sph_status st = SPH_OK;
-    if (H5Lexists(par, "effects", H5P_DEFAULT) <= 0) {
-        char text[1024] = "", here[1024];
-        effects_describe(&sim->fx, here, sizeof here);
-        if (read_attr_string(par, "effects", text, sizeof text))
-            st = sph_fail(sim, SPH_ERR_IO, "'%s': /parameters records no effects", path);
-        else if (strcmp(text, here) != 0)
-            st = sph_fail(sim, SPH_ERR_ARGUMENT,
-                          "'%s' does not match this simulation: effects '%s' in the file, '%s' "
-                          "here",
-                          path, text, here);
-        H5Gclose(par);
-        return st;
-    }
-    hid_t all = H5Gopen2(par, "effects", H5P_DEFAULT);
-    H5G_info_t info;
-    if (all < 0 || H5Gget_info(all, &info) < 0) {
-        close_id(all);
-        H5Gclose(par);
-        return sph_fail(sim, SPH_ERR_IO, "'%s': cannot read /parameters/effects", path);
-    }
-    hsize_t known_on = 0;
-    for (int k = 0; k < sph_effect_count() && !st; ++k) {
-        sph_effect_info e;
-        double here[EFFECTS_MAX_PARAMETERS];
-        sph_effect_info_get(k, &e);
-        const int on_here = effects_values(&sim->fx, k, here);
-        const int on_file = H5Lexists(all, e.name, H5P_DEFAULT) > 0;
-        known_on += (hsize_t)on_file;
-        if (on_file != on_here) {
-            st = sph_fail(sim, SPH_ERR_ARGUMENT,
-                          "'%s' does not match this simulation: effect %s is %s in the file, %s "
-                          "here",
-                          path, e.name, on_file ? "on" : "off", on_here ? "on" : "off");
-            break;
-        }
-        hid_t g = on_file ? H5Gopen2(all, e.name, H5P_DEFAULT) : -1;
-        for (int j = 0; on_file && j < e.parameter_count && !st; ++j) {
-            sph_effect_parameter p;
-            sph_effect_parameter_get(k, j, &p);
-            double value = 0.0;
-            size_t count = 0;
-            if (g < 0 || read_attr_doubles(g, p.key, &value, 1, &count) || count != 1)
-                st = sph_fail(sim, SPH_ERR_IO, "'%s': cannot read /parameters/effects/%s/%s", path,
-                              e.name, p.key);
-            else if (value != here[j])
-                st = sph_fail(sim, SPH_ERR_ARGUMENT,
-                              "'%s' does not match this simulation: effect %s has %s=%.17g in the "
-                              "file, %s=%.17g here",
-                              path, e.name, p.key, value, p.key, here[j]);
-        }
-        close_id(g);
-    }
-    if (!st && info.nlinks != known_on)
-        st = sph_fail(sim, SPH_ERR_ARGUMENT,
-                      "'%s' was written with an effect this library does not know (known: %s)",
-                      path, sph_effect_names());
-    close_id(all);
     H5Gclose(par);
     return st;
 }
@@ -1412,7 +1405,7 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
                       frames);
         goto done;
     }
-    if ((st = scene_matches(sim, f, path)))
+    if ((st = scene_matches(sim, f, path, 0)))
         goto done;
     if (state_alloc(&s, sim)) {
         st = sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate scratch arrays to read '%s'", path);
@@ -1704,7 +1697,7 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
                       path, n, nb, dim, sim->n, sim->n_bodies, sim->dim);
         goto done;
     }
-    if ((st = scene_matches(sim, f, path)) || (st = effects_match(sim, f, path)))
+    if ((st = scene_matches(sim, f, path, 1)))
         goto done;
     {
         /* the checksummed copy of the clock decides */
