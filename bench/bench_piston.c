@@ -8,9 +8,12 @@
  *     wall second and per CPU second of the process (the second is less
  *     sensitive to other load on the machine), and pair interactions per
  *     second (pairs closer than the support 2h, each counted once, times
- *     the two rate evaluations of a step);
+ *     the rate evaluations' worth of pair work of a step: 2 for Improved
+ *     Euler, 1 for the leapfrog's continuity and momentum passes);
  * (b) time to solution: wall seconds to simulate 0.3 ms at dx = 2 mm and
  *     1 mm (artificial viscosity alpha = 1), 1 and 2 threads;
+ * (a) and (b) for each integrator (Improved Euler, the paper's default, and
+ * the leapfrog, each at its default step);
  * (c) bytes per particle held by the library, by part (sph_memory_parts),
  *     for the 2D paper scene and a 3D block.
  * Medians over the repeats, side by side; every figure comes from this one
@@ -76,11 +79,13 @@ static void print_memory(sph_sim *sim, const char *what)
         printf("    %-24s %7.1f bytes/particle\n", names[k], (double)bytes[k] / n);
 }
 
+static const char *integrator = "improved_euler";
+
 static sph_sim *scene(double dx, int threads)
 {
     sph_sim *sim = NULL;
     if (sph_create(2, &sim) || sph_set_threads(sim, threads) ||
-        sph_build_paper_scene(sim, dx, 1.5e-3, 0, NULL) ||
+        sph_set_integrator(sim, integrator) || sph_build_paper_scene(sim, dx, 1.5e-3, 0, NULL) ||
         sph_effect(sim, "artificial_viscosity", "alpha=1 beta=0")) {
         fprintf(stderr, "bench_piston: %s\n", sph_errmsg(sim));
         exit(1);
@@ -136,37 +141,52 @@ int main(int argc, char **argv)
     double *w = malloc((size_t)repeats * sizeof *w), *c = malloc((size_t)repeats * sizeof *c);
     double pairs = 0.0;
     size_t n = 0, bytes = 0;
-    printf("libsphsolid %s, paper piston scene, Improved Euler (2 rate evaluations/step), "
-           "artificial viscosity alpha = 1; medians of %d runs\n\n",
+    printf("libsphsolid %s, paper piston scene, artificial viscosity alpha = 1; medians of %d "
+           "runs\n",
            sph_version(), repeats);
-
+    static const char *const integrators[2] = {"improved_euler", "leapfrog"};
     const long steps = quick ? 50 : 200;
-    printf("(a) throughput, %ld steps at dx = 1 mm (wall; per CPU second of the process)\n", steps);
-    double rate[3] = {0, 0, 0};
-    for (int threads = 1; threads <= 2; ++threads) {
-        for (int r = 0; r < repeats; ++r)
-            w[r] = timed_run(1e-3, threads, steps, 0.0, &n, &bytes, &c[r], &pairs);
-        const double m = bench_median(w, repeats), mc = bench_median(c, repeats);
-        rate[threads] = (double)n * (double)steps / m;
-        printf("  %d thread%s: %.3f s, %.3g particle-steps/s, %.3g pair interactions/s; "
-               "CPU %.3f s: %.3g particle-steps/CPU-s, %.3g pair interactions/CPU-s\n",
-               threads, threads > 1 ? "s" : " ", m, rate[threads], 2.0 * pairs * (double)steps / m,
-               mc, (double)n * (double)steps / mc, 2.0 * pairs * (double)steps / mc);
-    }
-    printf(
-        "  (%zu particles, %.0f interacting pairs, %.2f per particle; 2 rate evaluations/step)\n",
-        n, pairs, pairs / (double)n);
-    printf("  speed-up on 2 threads: %.2fx\n\n", rate[2] / rate[1]);
-
-    printf("(b) time to solution, 0.3 ms of simulated time\n");
-    const double dxs[2] = {2e-3, 1e-3};
-    for (int k = 0; k < (quick ? 1 : 2); ++k)
+    for (int q = 0; q < 2; ++q) {
+        integrator = integrators[q];
+        sph_sim *probe = scene(1e-3, 1);
+        sph_integrator_info info;
+        if (sph_integrator_info_get(probe, NULL, &info)) {
+            fprintf(stderr, "bench_piston: %s\n", sph_errmsg(probe));
+            return 1;
+        }
+        printf("\n%s: step %.3g s at dx = 1 mm, %d evaluation%s' worth of pair work per step\n",
+               integrator, sph_dt(probe), info.evaluations, info.evaluations > 1 ? "s" : "");
+        sph_destroy(probe);
+        const double ev = info.evaluations;
+        printf("(a) throughput, %ld steps at dx = 1 mm (wall; per CPU second of the process)\n",
+               steps);
+        double rate[3] = {0, 0, 0};
         for (int threads = 1; threads <= 2; ++threads) {
             for (int r = 0; r < repeats; ++r)
-                w[r] = timed_run(dxs[k], threads, -1, 0.3e-3, &n, NULL, NULL, NULL);
-            printf("  dx = %g mm, %d thread%s: %.3f s (%zu particles)\n", dxs[k] * 1e3, threads,
-                   threads > 1 ? "s" : " ", bench_median(w, repeats), n);
+                w[r] = timed_run(1e-3, threads, steps, 0.0, &n, &bytes, &c[r], &pairs);
+            const double m = bench_median(w, repeats), mc = bench_median(c, repeats);
+            rate[threads] = (double)n * (double)steps / m;
+            printf("  %d thread%s: %.3f s, %.3g particle-steps/s, %.3g pair interactions/s; "
+                   "CPU %.3f s: %.3g particle-steps/CPU-s, %.3g pair interactions/CPU-s\n",
+                   threads, threads > 1 ? "s" : " ", m, rate[threads],
+                   ev * pairs * (double)steps / m, mc, (double)n * (double)steps / mc,
+                   ev * pairs * (double)steps / mc);
         }
+        printf("  (%zu particles, %.0f interacting pairs, %.2f per particle)\n", n, pairs,
+               pairs / (double)n);
+        printf("  speed-up on 2 threads: %.2fx\n", rate[2] / rate[1]);
+
+        printf("(b) time to solution, 0.3 ms of simulated time\n");
+        const double dxs[2] = {2e-3, 1e-3};
+        for (int k = 0; k < (quick ? 1 : 2); ++k)
+            for (int threads = 1; threads <= 2; ++threads) {
+                for (int r = 0; r < repeats; ++r)
+                    w[r] = timed_run(dxs[k], threads, -1, 0.3e-3, &n, NULL, NULL, NULL);
+                printf("  dx = %g mm, %d thread%s: %.3f s (%zu particles)\n", dxs[k] * 1e3, threads,
+                       threads > 1 ? "s" : " ", bench_median(w, repeats), n);
+            }
+    }
+    integrator = integrators[0];
 
     printf("\n(c) memory after one step\n");
     sph_sim *sim = scene(1e-3, 1);

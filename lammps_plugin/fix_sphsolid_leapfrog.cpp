@@ -2,8 +2,10 @@
  * fix_sphsolid_leapfrog.cpp - the library's leapfrog for pair sphsolid (see
  * the header).  The stages are sph_leapfrog_{begin,drift,end}_strided() on
  * LAMMPS's own x and v; this file hands them dv/dt (with the rigid bodies'
- * accelerations, from fix sphsolid/heun's pack()) and keeps the extra rate
- * evaluation of the half step in step with LAMMPS's communication.
+ * accelerations, from fix sphsolid/heun's pack()), runs the continuity pass
+ * of the half step in step with LAMMPS's communication, has pair sphsolid
+ * compute only the momentum pass, and keeps the half step's density and
+ * stress rates with the atoms (fix SPHSOLID/STATE) for the next predictor.
  */
 #include "fix_sphsolid_leapfrog.h"
 
@@ -15,6 +17,7 @@
 #include "update.h"
 
 #include <algorithm>
+#include <cmath>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -27,6 +30,13 @@ FixSPHSolidLeapfrog::FixSPHSolidLeapfrog(LAMMPS *lmp, int narg, char **arg) :
 int FixSPHSolidLeapfrog::setmask()
 {
   return INITIAL_INTEGRATE | FINAL_INTEGRATE;
+}
+
+void FixSPHSolidLeapfrog::init()
+{
+  FixSPHSolidHeun::init();
+  // the density and stress rates come from the half step (initial_integrate)
+  pair->set_compute_pass(SPH_RATES_MOMENTUM);
 }
 
 void FixSPHSolidLeapfrog::fail(sph_status status, long atom_index, const char *stage_name)
@@ -46,23 +56,53 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
     error->one(FLERR, "fix {}: the stored rates are for {} atoms, this rank owns {}", style,
                pair->rates_count(), nlocal);
   pack();    // dv/dt = f/m of every force, rigid bodies applied; which atoms integrate
-  sph_rates start = stage_rates();
-  stage.resize((size_t) std::max(nlocal, 1) * saved_values());
   FixSPHSolidState *state = pair->state();
+
+  // The predictor takes the density and stress rates of the last half step.
+  // Atoms without them (the first step, a new atom, a restart file written
+  // without them) take those of the current state: a continuity pass here,
+  // on every rank if any rank needs it (it communicates).
+  int missing = 0, any_missing = 0;
+  for (int i = 0; i < nlocal && !missing; i++) missing = std::isnan(state->carried_rho[i]);
+  MPI_Allreduce(&missing, &any_missing, 1, MPI_INT, MPI_MAX, world);
+  if (any_missing) {
+    pair->evaluate_rates(true, SPH_RATES_CONTINUITY);
+    keep_rates(true);
+  }
+  sph_rates start = stage_rates();
+  start.drho_dt = state->carried_rho;
+  start.dS_dt = state->carried_S_data();
+  stage.resize((size_t) std::max(nlocal, 1) * saved_values());
   double *x = atom->x[0], *v = atom->v[0];
   sph_status status =
       sph_leapfrog_begin_strided(pair->handle(), nlocal, update->dt, x, v, 3, state->rho,
                                  state->S_data(), &start, integrate_motion.data(), stage.data());
   if (status != SPH_OK) fail(status, -1, "kick");
 
-  // the rates at the half step: ghosts' x, v, rho and S in one exchange
-  pair->evaluate_rates(true);
+  // the density and stress rates at the half step (the continuity pass):
+  // ghosts' x, v, rho and S in one exchange
+  pair->evaluate_rates(true, SPH_RATES_CONTINUITY);
   const sph_rates half = stage_rates();
   long bad = -1;
   status = sph_leapfrog_drift_strided(pair->handle(), nlocal, update->dt, x, v, 3, state->rho,
                                       state->S_data(), &half, integrate_motion.data(), stage.data(),
                                       pair->atom_materials(), &bad);
   if (status != SPH_OK) fail(status, bad, "drift");
+  keep_rates(false);    // they predict the next half step
+}
+
+/* The pair's last density and stress rates into the atoms' carried ones
+ * (only_missing: for the atoms without). */
+void FixSPHSolidLeapfrog::keep_rates(bool only_missing)
+{
+  FixSPHSolidState *state = pair->state();
+  const int nlocal = atom->nlocal, ncomp = pair->stress_components();
+  const double *drho = pair->drho_dt(), *dS = pair->dS_dt();
+  for (int i = 0; i < nlocal; i++) {
+    if (only_missing && !std::isnan(state->carried_rho[i])) continue;
+    state->carried_rho[i] = drho[i];
+    for (int k = 0; k < ncomp; k++) state->carried_S[i][k] = dS[(size_t) i * ncomp + k];
+  }
 }
 
 void FixSPHSolidLeapfrog::final_integrate()

@@ -11,6 +11,7 @@
 #include "memory.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 using namespace LAMMPS_NS;
@@ -18,7 +19,8 @@ using namespace LAMMPS_NS;
 /* ---------------------------------------------------------------------- */
 
 FixSPHSolidState::FixSPHSolidState(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), rho(nullptr), S(nullptr), saved(nullptr), nmax_arrays(0)
+    Fix(lmp, narg, arg), rho(nullptr), S(nullptr), saved(nullptr), carried_rho(nullptr),
+    carried_S(nullptr), nmax_arrays(0)
 {
   if (narg != 3)
     error->all(FLERR, "fix SPHSOLID/STATE is created by pair sphsolid and takes no arguments");
@@ -47,7 +49,7 @@ FixSPHSolidState::FixSPHSolidState(LAMMPS *lmp, int narg, char **arg) :
   create_attribute = 1;
   comm_forward = 3 + 3 + 1 + ncomp;    // with positions and velocities
   forward_motion = false;
-  maxexchange = 1 + ncomp + nsaved;
+  maxexchange = 2 * (1 + ncomp) + nsaved;
 
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
@@ -64,6 +66,8 @@ FixSPHSolidState::~FixSPHSolidState()
   memory->destroy(rho);
   memory->destroy(S);
   memory->destroy(saved);
+  memory->destroy(carried_rho);
+  memory->destroy(carried_S);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -75,6 +79,8 @@ void FixSPHSolidState::grow_arrays(int nmax)
   memory->grow(rho, nmax, "sphsolid:rho");
   memory->grow(S, nmax, ncomp, "sphsolid:S");
   memory->grow(saved, nmax, nsaved, "sphsolid:saved");
+  memory->grow(carried_rho, nmax, "sphsolid:carried_rho");
+  memory->grow(carried_S, nmax, ncomp, "sphsolid:carried_S");
   nmax_arrays = nmax;
 }
 
@@ -83,6 +89,8 @@ void FixSPHSolidState::copy_arrays(int i, int j, int /*delflag*/)
   rho[j] = rho[i];
   for (int k = 0; k < ncomp; k++) S[j][k] = S[i][k];
   for (int k = 0; k < nsaved; k++) saved[j][k] = saved[i][k];
+  carried_rho[j] = carried_rho[i];
+  for (int k = 0; k < ncomp; k++) carried_S[j][k] = carried_S[i][k];
 }
 
 void FixSPHSolidState::set_arrays(int i)
@@ -90,6 +98,8 @@ void FixSPHSolidState::set_arrays(int i)
   rho[i] = 0.0;
   for (int k = 0; k < ncomp; k++) S[i][k] = 0.0;
   for (int k = 0; k < nsaved; k++) saved[i][k] = 0.0;
+  carried_rho[i] = NAN;
+  for (int k = 0; k < ncomp; k++) carried_S[i][k] = NAN;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -100,6 +110,8 @@ int FixSPHSolidState::pack_exchange(int i, double *buf)
   buf[m++] = rho[i];
   for (int k = 0; k < ncomp; k++) buf[m++] = S[i][k];
   for (int k = 0; k < nsaved; k++) buf[m++] = saved[i][k];
+  buf[m++] = carried_rho[i];
+  for (int k = 0; k < ncomp; k++) buf[m++] = carried_S[i][k];
   return m;
 }
 
@@ -109,6 +121,8 @@ int FixSPHSolidState::unpack_exchange(int nlocal, double *buf)
   rho[nlocal] = buf[m++];
   for (int k = 0; k < ncomp; k++) S[nlocal][k] = buf[m++];
   for (int k = 0; k < nsaved; k++) saved[nlocal][k] = buf[m++];
+  carried_rho[nlocal] = buf[m++];
+  for (int k = 0; k < ncomp; k++) carried_S[nlocal][k] = buf[m++];
   return m;
 }
 
@@ -183,15 +197,18 @@ void FixSPHSolidState::unpack_forward_comm(int n, int first, double *buf)
 }
 
 /* ----------------------------------------------------------------------
-   restart: rho and S (the stage-1 copy is only alive inside a step)
+   restart: rho, S and the leapfrog's carried rates (the stage-1 copy is
+   only alive inside a step); files with rho and S only are read too
 ------------------------------------------------------------------------- */
 
 int FixSPHSolidState::pack_restart(int i, double *buf)
 {
   int m = 0;
-  buf[m++] = 2 + ncomp;    // LAMMPS convention: first value = count including itself
+  buf[m++] = 3 + 2 * ncomp;    // LAMMPS convention: first value = count including itself
   buf[m++] = rho[i];
   for (int k = 0; k < ncomp; k++) buf[m++] = S[i][k];
+  buf[m++] = carried_rho[i];
+  for (int k = 0; k < ncomp; k++) buf[m++] = carried_S[i][k];
   return m;
 }
 
@@ -200,28 +217,34 @@ void FixSPHSolidState::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;
   for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
-  if (static_cast<int>(extra[nlocal][m]) != 2 + ncomp)
-    error->one(FLERR, "SPH state in the restart file has {} values per atom, a {}D run needs {}",
-               static_cast<int>(extra[nlocal][m]) - 1, dim, ncomp + 1);
+  const int count = static_cast<int>(extra[nlocal][m]);
+  if (count != 2 + ncomp && count != 3 + 2 * ncomp)
+    error->one(FLERR,
+               "SPH state in the restart file has {} values per atom, a {}D run needs {} (or {} "
+               "with the leapfrog's rates)",
+               count - 1, dim, ncomp + 1, 2 * (ncomp + 1));
   m++;
   rho[nlocal] = extra[nlocal][m++];
   for (int k = 0; k < ncomp; k++) S[nlocal][k] = extra[nlocal][m++];
   for (int k = 0; k < nsaved; k++) saved[nlocal][k] = 0.0;
+  carried_rho[nlocal] = count == 2 + ncomp ? NAN : extra[nlocal][m++];
+  for (int k = 0; k < ncomp; k++)
+    carried_S[nlocal][k] = count == 2 + ncomp ? NAN : extra[nlocal][m++];
 }
 
 int FixSPHSolidState::size_restart(int /*i*/)
 {
-  return 2 + ncomp;
+  return 3 + 2 * ncomp;
 }
 
 int FixSPHSolidState::maxsize_restart()
 {
-  return 2 + ncomp;
+  return 3 + 2 * ncomp;
 }
 
 /* ---------------------------------------------------------------------- */
 
 double FixSPHSolidState::memory_usage()
 {
-  return (double) nmax_arrays * (1 + ncomp + nsaved) * sizeof(double);
+  return (double) nmax_arrays * (2 * (1 + ncomp) + nsaved) * sizeof(double);
 }

@@ -49,11 +49,18 @@ class FixSPHSolidState : public Fix {
   int dimension() const { return dim; }
   int saved_columns() const { return nsaved; }
   double *S_data() { return S ? S[0] : nullptr; }
+  double *carried_S_data() { return carried_S ? carried_S[0] : nullptr; }
   double *saved_data() { return saved ? saved[0] : nullptr; }
 
   double *rho;       // per atom
   double **S;        // per atom x ncomp
   double **saved;    // per atom x nsaved
+  /* The leapfrog's density and stress rates of the last half step, which
+   * predict the next half step: they travel with their atom and are
+   * written to restart files.  NaN: none yet (a new atom, a restart file
+   * without them). */
+  double *carried_rho;    // per atom
+  double **carried_S;     // per atom x ncomp
 
   /* Forward communication sends rho and S; with forward_motion also the
    * positions and velocities (as comm->forward_comm() would), so that the

@@ -42,7 +42,7 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
     Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false), sim(nullptr),
     state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0), nrates(-1),
-    partial_size(0)
+    partial_size(0), pass_size(0), compute_pass(SPH_RATES_ALL)
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -335,14 +335,15 @@ void PairSPHSolid::init_style()
   // a half list: with newton_pair on each pair is listed on one rank only
   // and the ghosts' partial sums are sent back (comm_reverse doubles each)
   neighbor->add_request(this);
-  cached_build = -1;    // materials of the types may have changed
+  cached_build = -1;               // materials of the types may have changed
+  compute_pass = SPH_RATES_ALL;    // until an integrator fix asks for less (its init follows)
 
   if (sim) sph_destroy(sim);
   sim = nullptr;
   sim = build_handle(true);
   support = sph_support_radius(sim);
-  partial_size = (int) sph_rates_partial_size(sim);
-  comm_reverse = partial_size;
+  partial_size = (int) sph_rates_pass_size(sim, SPH_RATES_ALL);
+  comm_reverse = partial_size;    // the largest pass; each sends only its own sums
 
   state_fix = dynamic_cast<FixSPHSolidState *>(modify->get_fix_by_id(STATE_FIX_ID));
   if (!state_fix) {
@@ -568,7 +569,7 @@ void PairSPHSolid::convert_list()
 
 /* ---------------------------------------------------------------------- */
 
-void PairSPHSolid::evaluate_rates(bool with_motion)
+void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
 {
   // density and deviatoric stress of the ghosts, and with_motion their
   // positions and velocities too, in one exchange
@@ -627,10 +628,12 @@ void PairSPHSolid::evaluate_rates(bool with_motion)
   // pair sums on owned and ghost atoms; with newton_pair on the ghosts'
   // sums belong to their owners (with it off, every pair with a ghost is
   // also listed on the ghost's own rank, and the ghosts' sums are unused)
-  sph_status status = sph_rates_pairs(sim, &particles, &neighbours, partial.data());
+  // (a pass computes, and sends back, only its own sums: pass_size doubles)
+  pass_size = (int) sph_rates_pass_size(sim, pass);
+  sph_status status = sph_rates_pass_pairs(sim, pass, &particles, &neighbours, partial.data());
   if (status == SPH_OK) {
-    if (force->newton_pair) comm->reverse_comm(this);
-    status = sph_rates_finish(sim, &particles, partial.data(), &rates);
+    if (force->newton_pair) comm->reverse_comm(this, pass_size);
+    status = sph_rates_pass_finish(sim, pass, &particles, partial.data(), &rates);
   }
   if (status != SPH_OK) {
     // name the atom by its ID (the library sees local indices)
@@ -650,15 +653,15 @@ void PairSPHSolid::evaluate_rates(bool with_motion)
 
 int PairSPHSolid::pack_reverse_comm(int n, int first, double *buf)
 {
-  const size_t width = partial_size;
+  const size_t width = pass_size;
   const double *src = partial.data() + (size_t) first * width;
   std::copy(src, src + (size_t) n * width, buf);
-  return n * partial_size;
+  return n * pass_size;
 }
 
 void PairSPHSolid::unpack_reverse_comm(int n, int *list, double *buf)
 {
-  const size_t width = partial_size;
+  const size_t width = pass_size;
   for (int k = 0; k < n; k++) {
     double *dst = partial.data() + (size_t) list[k] * width;
     for (size_t c = 0; c < width; c++) dst[c] += buf[(size_t) k * width + c];
@@ -670,7 +673,7 @@ void PairSPHSolid::unpack_reverse_comm(int n, int *list, double *buf)
 void PairSPHSolid::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
-  evaluate_rates();
+  evaluate_rates(false, compute_pass);
 
   double **f = atom->f;
   const int nlocal = atom->nlocal;

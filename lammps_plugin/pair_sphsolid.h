@@ -59,7 +59,11 @@ class PairSPHSolid : public Pair {
    * Density and deviatoric stress are sent to the ghosts here; with
    * with_motion their positions and velocities too (in the same message),
    * otherwise those must be current already (Verlet's forward comm). */
-  void evaluate_rates(bool with_motion = false);
+  void evaluate_rates(bool with_motion = false, int pass = SPH_RATES_ALL);
+  /* The rates compute() evaluates (SPH_RATES_ALL; the leapfrog, which
+   * takes the density and stress rates at the half step, asks for
+   * SPH_RATES_MOMENTUM). */
+  void set_compute_pass(int pass) { compute_pass = pass; }
 
   /* A new library handle configured from pair_style and pair_coeff:
    * kernel, smoothing ratio, spacing dx (sph_set_spacing: the handle holds
@@ -133,7 +137,9 @@ class PairSPHSolid : public Pair {
   std::vector<size_t> neighbour_offsets;    // CSR rows of the owned atoms
   std::vector<int> neighbour_indices, neighbour_counts;
   std::vector<double> rate_dv, rate_drho, rate_dS, rate_dx;
-  int partial_size;               // doubles per atom of the pair sums
+  int partial_size;               // doubles per atom of the pair sums (all rates)
+  int pass_size;                  // of the pass being evaluated (reverse comm)
+  int compute_pass;               // the rates compute() evaluates
   std::vector<double> partial;    // pair sums of owned and ghost atoms
 
   void allocate();

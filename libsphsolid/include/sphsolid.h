@@ -360,8 +360,10 @@ SPH_API sph_status sph_effect_parameter_get(int effect, int parameter, sph_effec
  *                     scheme; wave problems need artificial viscosity
  *   "leapfrog"        kick-drift-kick (velocity Verlet) with density and
  *                     stress advanced by the half-step velocity: symplectic,
- *                     stable without viscosity, two evaluations per step at
- *                     a step up to 1.75 times Improved Euler's limit
+ *                     stable without viscosity, one evaluation's pair work
+ *                     per step (continuity pass at the half step, momentum
+ *                     pass at the end) at a step up to 1.75 times Improved
+ *                     Euler's limit
  * The stable and default steps below are the integrator's.  Selecting an
  * integrator keeps a step set with sph_set_dt() if it is within the new
  * integrator's stability limit, else fails (SPH_ERR_STATE). */
@@ -660,6 +662,28 @@ SPH_API sph_status sph_rates_pairs(sph_sim *sim, const sph_particles *particles,
 SPH_API sph_status sph_rates_finish(sph_sim *sim, const sph_particles *particles,
                                     const double *partial, sph_rates *rates);
 
+/* The rates in two passes over the pairs, for integrators that need them
+ * at different states (the leapfrog: density and stress rates at the half
+ * step, accelerations at the whole step).  The continuity pass computes
+ * drho/dt, dS/dt (velocity gradient, with the kernel-correction matrix when
+ * that effect is on) and the XSPH velocity; the momentum pass dv/dt
+ * (stress, artificial viscosity and stress, gravity, damping).  A pass
+ * writes only its own rate arrays (the others may be NULL) and its partial
+ * sums hold only what it computes: sph_rates_pass_size(sim, pass) doubles
+ * per particle, which is what a reverse communication needs to send.  The
+ * rates of the two passes at one state equal those of SPH_RATES_ALL
+ * bitwise. */
+typedef enum sph_rate_pass {
+    SPH_RATES_CONTINUITY = 1,
+    SPH_RATES_MOMENTUM = 2,
+    SPH_RATES_ALL = 3
+} sph_rate_pass;
+SPH_API size_t sph_rates_pass_size(const sph_sim *sim, int pass);
+SPH_API sph_status sph_rates_pass_pairs(sph_sim *sim, int pass, const sph_particles *particles,
+                                        const sph_neighbours *half_list, double *partial);
+SPH_API sph_status sph_rates_pass_finish(sph_sim *sim, int pass, const sph_particles *particles,
+                                         const double *partial, sph_rates *rates);
+
 /* Improved Euler stages on external arrays of n particles (dim, ncomp
  * from sim).  Stage 1 (predict): saves y_n into `saved` (v, rho, S:
  * dim + 1 + ncomp doubles per particle) and sets y* = y_n + dt f(y_n).
@@ -712,18 +736,22 @@ SPH_API sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, d
 /* The leapfrog (sph_set_integrator "leapfrog") in three stages on external
  * arrays, `stride` doubles apart (>= dim), for a code that owns its
  * particles (the LAMMPS plugin: fix sphsolid/leapfrog).  Per step:
- *   1. sph_leapfrog_begin_strided() with the rates at the start (f_n: dv/dt
- *      with the forces of the rigid bodies applied, drho/dt, dS/dt): saves
+ *   1. sph_leapfrog_begin_strided() with the rates at the start (a_n: dv/dt
+ *      with the forces of the rigid bodies applied; drho/dt, dS/dt of the
+ *      previous step's half step, or of the start on a first step): saves
  *      x_n, rho_n, S_n in `saved` (dim + 1 + ncomp doubles per particle,
  *      sph_integrator_info_get's saved_values), kicks the integrated
  *      velocities by dt/2 dv/dt, moves every position by dt/2 v and
  *      predicts rho and S at the half step;
- *   2. evaluate the rates there (sph_rates_evaluate), then
+ *   2. evaluate the density and stress rates there (the continuity pass,
+ *      sph_rates_pass_pairs/pass_finish; keep them for the next step's
+ *      stage 1), then
  *      sph_leapfrog_drift_strided(): x = x_n + dt v (or the XSPH velocity)
  *      for the integrated particles, x = x_n for the others (their mover
  *      moves them on), rho = rho_n + dt drho/dt, S = S_n + dt dS/dt, with
  *      the watchdog's density bounds;
- *   3. evaluate the rates at the new state, then sph_leapfrog_end_strided():
+ *   3. evaluate the acceleration at the new state (the momentum pass), then
+ *      sph_leapfrog_end_strided():
  *      v += dt/2 dv/dt for the integrated particles, and the watchdog.
  * On SPH_ERR_NONFINITE or SPH_ERR_UNSTABLE *particle is the first particle
  * concerned (else -1). */

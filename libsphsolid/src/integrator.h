@@ -49,6 +49,7 @@ int carried_rates_valid(const sph_sim *sim);
 
 /* run.c */
 sph_status sim_evaluate(sph_sim *sim); /* rates at the handle's state, motions applied */
+sph_status sim_evaluate_pass(sph_sim *sim, int pass); /* PASS_*: only those rates */
 sph_status sim_ensure_neighbours(sph_sim *sim, double extra_displacement);
 
 /* stages.c: per-body constants of a step */

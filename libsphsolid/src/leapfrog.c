@@ -1,40 +1,50 @@
 /*
  * Leapfrog (kick-drift-kick, velocity Verlet) with the density and the
  * deviatoric stress advanced by the same half-step velocity that moves the
- * positions.  With y = (rho, S) and D(x, v, y) their rates, f_n the rates
- * at the end of the previous step:
+ * positions.  With y = (rho, S), D(x, v, y) their rates (the continuity
+ * pass of the rate engine) and a(x, v, y) the acceleration (its momentum
+ * pass):
  *
- *   v_{n+1/2} = v_n + dt/2 a_n                                   kick
- *   x_{n+1/2} = x_n + dt/2 v_{n+1/2},  y~ = y_n + dt/2 D_n          (half drift)
- *   D_{n+1/2} = D(x_{n+1/2}, v_{n+1/2}, y~)                      evaluation 1
- *   x_{n+1}   = x_n + dt v_{n+1/2},    y_{n+1} = y_n + dt D_{n+1/2}  drift
- *   a_{n+1}   = a(x_{n+1}, v_{n+1/2}, y_{n+1})                    evaluation 2
- *   v_{n+1}   = v_{n+1/2} + dt/2 a_{n+1}                            kick
+ *   v_{n+1/2} = v_n + dt/2 a_n                                       kick
+ *   x_{n+1/2} = x_n + dt/2 v_{n+1/2},  y~ = y_n + dt/2 D_{n-1/2}  half drift
+ *   D_{n+1/2} = D(x_{n+1/2}, v_{n+1/2}, y~)                 continuity pass
+ *   x_{n+1}   = x_n + dt v_{n+1/2},    y_{n+1} = y_n + dt D_{n+1/2}   drift
+ *   a_{n+1}   = a(x_{n+1}, v_{n+1/2}, y_{n+1})                momentum pass
+ *   v_{n+1}   = v_{n+1/2} + dt/2 a_{n+1}                             kick
  *
- * The rates of evaluation 2 (a_{n+1}, D_{n+1}) start the next step, so they
- * are carried from one run to the next (and written to checkpoints).
+ * Each pass visits every pair once and computes only its own terms, so a
+ * step costs about one whole rate evaluation (the kernel gradient of each
+ * pair is computed twice, everything else once).  a_{n+1} and D_{n+1/2}
+ * start the next step, so they are carried from one run to the next (and
+ * written to checkpoints); a step that finds no carried rates (the first
+ * one, or after the state was changed from outside) evaluates both at y_n
+ * and predicts with D_n.
  *
- * Why two evaluations: rho and S are integrals of the velocity gradient, as
- * positions are integrals of the velocity.  Advancing them with the
- * velocity gradient of the very velocity v_{n+1/2} that drifts the
- * positions keeps them a function of the positions in the linear regime, so
- * the scheme is velocity Verlet for a potential energy of the positions:
- * symplectic, with no drift of the total energy and a stability limit
- * dt < 2/omega_max (docs/library.md).  That velocity is known only after the
- * acceleration a(y_n) of the same step, so its gradient cannot come from the
- * evaluation that gives the acceleration: a scheme with one evaluation per
- * step either lags y behind x (energy grows in every mode, like Improved
- * Euler without viscosity) or is a two-step method with a parasitic mode.
- * The rate engine computes every rate in one pass, so each evaluation here
- * is a whole one; half of each is used.
+ * Why the rates are taken at two states: rho and S are integrals of the
+ * velocity gradient, as positions are integrals of the velocity.
+ * Advancing them with the velocity gradient of the very velocity v_{n+1/2}
+ * that drifts the positions keeps them a function of the positions in the
+ * linear regime, so the scheme is velocity Verlet for a potential energy of
+ * the positions: symplectic, with no drift of the total energy and a
+ * stability limit dt < 2/omega_max (docs/library.md).  That velocity is
+ * known only after the acceleration of the same step, so D cannot come
+ * from the pass that gives the acceleration.
  *
- * Only y~ (the half-step density and stress used for the volumes and the
- * Jaumann terms of evaluation 1) is predicted, from the rates at the start.
+ * The predictor y~ (the half-step density and stress, used only for the
+ * volumes m/rho and the Jaumann terms S.W of the continuity pass) takes the
+ * rates D_{n-1/2} of the previous step's continuity pass, which differ from
+ * D_n by O(dt): y~ is off by O(dt^2) either way, D_{n+1/2} by O(dt^2), and
+ * y_{n+1} by O(dt^3) per step, so the scheme stays second order.  In the
+ * linear regime about a state at rest D does not depend on y at all (drho/dt
+ * = sum m_b v_ab.grad W_ab; the volume and Jaumann terms are products of two
+ * small quantities), so the predictor drops out: the linearised scheme, its
+ * symplectic structure and its stable step are those of velocity Verlet.
+ *
  * Velocity-dependent accelerations (artificial viscosity, damping) are taken
  * at v_{n+1/2}.  With XSPH the positions drift with the XSPH velocity of
- * evaluation 1.  Prescribed velocities keep their velocity; prescribed
- * rotations move on their exact arcs (half and whole angle); force-driven
- * bodies kick with the body's acceleration.
+ * the continuity pass.  Prescribed velocities keep their velocity;
+ * prescribed rotations move on their exact arcs (half and whole angle);
+ * force-driven bodies kick with the body's acceleration.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -106,7 +116,7 @@ static sph_status leapfrog_step(sph_sim *sim, double dt, double *moved)
     half = sqrt(half);
     /* a list rebuilt here has a zero bound, which the caller's addition of
      * the whole step's displacement from x_n then over-estimates */
-    if ((st = sim_ensure_neighbours(sim, half)) || (st = sim_evaluate(sim))) {
+    if ((st = sim_ensure_neighbours(sim, half)) || (st = sim_evaluate_pass(sim, PASS_CONTINUITY))) {
         body_stages_free(bs, small);
         leapfrog_undo(sim);
         return st;
@@ -159,7 +169,7 @@ static sph_status leapfrog_step(sph_sim *sim, double dt, double *moved)
         leapfrog_undo(sim);
         return st;
     }
-    if ((st = sim_evaluate(sim))) {
+    if ((st = sim_evaluate_pass(sim, PASS_MOMENTUM))) {
         body_stages_free(bs, small);
         leapfrog_undo(sim);
         return st;
@@ -209,8 +219,10 @@ const integrator integrator_leapfrog = {
     .name = "leapfrog",
     .description =
         "kick-drift-kick leapfrog (velocity Verlet), density and stress advanced with the "
-        "half-step velocity: symplectic, stable without viscosity up to 1.75 h/(c_p + |v|)",
-    .evaluations = 2,
+        "half-step velocity: symplectic, one evaluation's pair work per step (continuity pass at "
+        "the half step, momentum pass at the end), stable without viscosity up to "
+        "1.75 h/(c_p + |v|)",
+    .evaluations = 1,
     .stable_factor = 1.75,
     .default_factor = 1.0,
     .saved_values = leapfrog_saved_values,

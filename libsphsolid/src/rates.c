@@ -1,7 +1,14 @@
 /*
  * The rate engine: one evaluation of drho/dt, dv/dt and dS/dt (and the
  * XSPH velocity) for a set of particles.  All rates depend only on the
- * current state, so one pass over the pairs computes them together.
+ * current state, so one pass over the pairs computes them together; or,
+ * for an integrator that needs them at different states (the leapfrog),
+ * one of two passes: the continuity pass (drho/dt, the velocity gradient
+ * and kernel-correction matrix, dS/dt, XSPH) or the momentum pass (dv/dt:
+ * stress, artificial viscosity and stress, gravity, damping).  A pass is a
+ * compile-time parameter of the pair loop: each computes and sums only its
+ * own terms (both compute the distance and kernel gradient), and the two
+ * at one state give bitwise the rates of the whole evaluation.
  *
  * Passes (OpenMP only here):
  *   1. per particle: volume m/rho, sigma/rho^2 and, if on, the artificial
@@ -75,6 +82,7 @@ typedef struct engine {
     int periodic; /* some axis is periodic */
     effects fx;
     double inv_W_dx;
+    int pass; /* PASS_CONTINUITY | PASS_MOMENTUM */
     /* pair pass */
     int full;       /* full list: a pair with b < a is skipped */
     int ghost_sums; /* keep the terms of ghosts (b >= n_local) */
@@ -157,8 +165,9 @@ static inline double separation(const engine *e, const double *xa, size_t b, con
 #define ALWAYS_INLINE inline
 #endif
 
-/* Append one far record (the terms for particle b); on allocation failure
- * the list is marked and the pass reports it. */
+/* Append one far record (the terms for particle b, `record` <= f->record
+ * doubles); on allocation failure the list is marked and the pass reports
+ * it. */
 static void far_append(far_list *f, int record, size_t b, const double *terms)
 {
     if (f->failed)
@@ -168,7 +177,7 @@ static void far_append(far_list *f, int record, size_t b, const double *terms)
         int *t = realloc(f->target, cap * sizeof *t);
         if (t)
             f->target = t;
-        double *v = t ? realloc(f->terms, cap * (size_t)record * sizeof *v) : NULL;
+        double *v = t ? realloc(f->terms, cap * (size_t)f->record * sizeof *v) : NULL;
         if (!t || !v) {
             f->failed = 1;
             return;
@@ -189,15 +198,16 @@ static void far_append(far_list *f, int record, size_t b, const double *terms)
 #define PAIR_BLOCK 32
 
 static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t dend, far_list *far,
-                                   const int dim, const int kernel, const int split)
+                                   const int dim, const int kernel, const int split, const int pass)
 {
     const int periodic = e->periodic;
     const int nsym = dim == 2 ? 3 : 6;
     const int pstride = nsym + 2;
-    const int viscosity = e->fx.viscosity;
-    const int stress = !e->R ? 0 : e->fx.stress_exponent == 4.0 ? 1 : 2;
-    const int correct = e->acc.width[SUM_M] > 0;
-    const int xsph = e->acc.width[SUM_U] > 0;
+    const int cont = pass & PASS_CONTINUITY, mom = pass & PASS_MOMENTUM;
+    const int viscosity = mom && e->fx.viscosity;
+    const int stress = !mom || !e->R ? 0 : e->fx.stress_exponent == 4.0 ? 1 : 2;
+    const int correct = cont && e->acc.width[SUM_M] > 0;
+    const int xsph = cont && e->acc.width[SUM_U] > 0;
     const size_t n_local = e->n_local;
     const double *xa = e->x + a * e->xs;
     const double *va = e->v + a * e->xs;
@@ -251,8 +261,9 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
             }
             mb[k] = e->mass[b];
             Vb[k] = Pb[0];
-            for (int c = 0; c < nsym; ++c)
-                T[c][k] = Pa[1 + c] + Pb[1 + c];
+            if (mom)
+                for (int c = 0; c < nsym; ++c)
+                    T[c][k] = Pa[1 + c] + Pb[1 + c];
             if (viscosity || xsph)
                 rho_mean[k] = 0.5 * (rho_a + e->rho[b]);
             if (viscosity)
@@ -304,16 +315,17 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
                     T[c][k] += RR[c][k] * fn;
             }
         /* momentum: T_ab . grad_a W_ab */
-        for (int k = 0; k < nk; ++k) {
-            double Tk[6], gk[3], fk[3] = {0.0, 0.0, 0.0};
-            for (int c = 0; c < nsym; ++c)
-                Tk[c] = T[c][k];
-            for (int i = 0; i < dim; ++i)
-                gk[i] = gW[i][k];
-            momentum_pair(dim, 1.0, Tk, gk, fk);
-            for (int i = 0; i < dim; ++i)
-                f[i][k] = fk[i];
-        }
+        if (mom)
+            for (int k = 0; k < nk; ++k) {
+                double Tk[6], gk[3], fk[3] = {0.0, 0.0, 0.0};
+                for (int c = 0; c < nsym; ++c)
+                    Tk[c] = T[c][k];
+                for (int i = 0; i < dim; ++i)
+                    gk[i] = gW[i][k];
+                momentum_pair(dim, 1.0, Tk, gk, fk);
+                for (int i = 0; i < dim; ++i)
+                    f[i][k] = fk[i];
+            }
         if (correct)
             for (int k = 0; k < nk; ++k) {
                 double rk[3], gk[3], Hk[6];
@@ -342,12 +354,15 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
          *   XSPH        a: +m_b g     b: -m_a g                          */
         for (int k = 0; k < nk; ++k) {
             const double m = mb[k], V = Vb[k];
-            drho += m * tc[k];
-            for (int i = 0; i < dim; ++i) {
-                dv[i] += m * f[i][k];
-                for (int j = 0; j < dim; ++j)
-                    L[i][j] -= V * vr[i][k] * gW[j][k];
+            if (cont) {
+                drho += m * tc[k];
+                for (int i = 0; i < dim; ++i)
+                    for (int j = 0; j < dim; ++j)
+                        L[i][j] -= V * vr[i][k] * gW[j][k];
             }
+            if (mom)
+                for (int i = 0; i < dim; ++i)
+                    dv[i] += m * f[i][k];
             if (correct)
                 for (int c = 0; c < nsym; ++c)
                     M[c] += V * H[c][k];
@@ -357,12 +372,15 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
 
             const size_t b = (size_t)bidx[k];
             if (b >= b0 && b < dend) {
-                sr[b * zr] += m_a * tc[k];
-                for (int i = 0; i < dim; ++i) {
-                    sv[b * zv + (size_t)i] -= m_a * f[i][k];
-                    for (int j = 0; j < dim; ++j)
-                        sL[b * zL + (size_t)(i * dim + j)] -= V_a * vr[i][k] * gW[j][k];
+                if (cont) {
+                    sr[b * zr] += m_a * tc[k];
+                    for (int i = 0; i < dim; ++i)
+                        for (int j = 0; j < dim; ++j)
+                            sL[b * zL + (size_t)(i * dim + j)] -= V_a * vr[i][k] * gW[j][k];
                 }
+                if (mom)
+                    for (int i = 0; i < dim; ++i)
+                        sv[b * zv + (size_t)i] -= m_a * f[i][k];
                 if (correct)
                     for (int c = 0; c < nsym; ++c)
                         sM[b * zM + (size_t)c] += V_a * H[c][k];
@@ -372,12 +390,15 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
             } else if (b < n_local || e->ghost_sums) {
                 double t[1 + 3 + 9 + 6 + 3];
                 double *o = t;
-                *o++ = m_a * tc[k];
-                for (int i = 0; i < dim; ++i)
-                    *o++ = -(m_a * f[i][k]);
-                for (int i = 0; i < dim; ++i)
-                    for (int j = 0; j < dim; ++j)
-                        *o++ = -(V_a * vr[i][k] * gW[j][k]);
+                if (cont)
+                    *o++ = m_a * tc[k];
+                if (mom)
+                    for (int i = 0; i < dim; ++i)
+                        *o++ = -(m_a * f[i][k]);
+                if (cont)
+                    for (int i = 0; i < dim; ++i)
+                        for (int j = 0; j < dim; ++j)
+                            *o++ = -(V_a * vr[i][k] * gW[j][k]);
                 if (correct)
                     for (int c = 0; c < nsym; ++c)
                         *o++ = V_a * H[c][k];
@@ -389,12 +410,15 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
         }
     }
 
-    sr[a * zr] += drho;
-    for (int i = 0; i < dim; ++i) {
-        sv[a * zv + (size_t)i] += dv[i];
-        for (int j = 0; j < dim; ++j)
-            sL[a * zL + (size_t)(i * dim + j)] += L[i][j];
+    if (cont) {
+        sr[a * zr] += drho;
+        for (int i = 0; i < dim; ++i)
+            for (int j = 0; j < dim; ++j)
+                sL[a * zL + (size_t)(i * dim + j)] += L[i][j];
     }
+    if (mom)
+        for (int i = 0; i < dim; ++i)
+            sv[a * zv + (size_t)i] += dv[i];
     if (correct)
         for (int c = 0; c < nsym; ++c)
             sM[a * zM + (size_t)c] += M[c];
@@ -415,35 +439,46 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
 typedef void (*chunk_fn)(const engine *, long);
 
 static ALWAYS_INLINE void chunk_rows(const engine *e, long c, const int dim, const int kernel,
-                                     const int split)
+                                     const int split, const int pass)
 {
     const size_t b0 = (size_t)c * e->chunk;
     const size_t b1 = b0 + e->chunk < e->n_local ? b0 + e->chunk : e->n_local;
     const size_t dend = b1 + e->chunk < e->n_local ? b1 + e->chunk : e->n_local;
     for (size_t a = b0; a < b1; ++a)
-        row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split);
+        row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split, pass);
 }
 
-#define CHUNK_VARIANT(DIM, KERNEL, SPLIT)                                             \
-    RATE_CLONES static void chunk_##DIM##_##KERNEL##_##SPLIT(const engine *e, long c) \
-    {                                                                                 \
-        chunk_rows(e, c, DIM, KERNEL, SPLIT);                                         \
+#define CHUNK_VARIANT(DIM, KERNEL, SPLIT, PASS)                                                \
+    RATE_CLONES static void chunk_##DIM##_##KERNEL##_##SPLIT##_##PASS(const engine *e, long c) \
+    {                                                                                          \
+        chunk_rows(e, c, DIM, KERNEL, SPLIT, PASS);                                            \
     }
-/* generated from the kernel registry (kernel.h) */
+#define CHUNK_VARIANTS_OF_PASS(ID, PASS) \
+    CHUNK_VARIANT(2, ID, 0, PASS)        \
+    CHUNK_VARIANT(3, ID, 0, PASS) CHUNK_VARIANT(2, ID, 1, PASS) CHUNK_VARIANT(3, ID, 1, PASS)
+/* generated from the kernel registry (kernel.h), for the passes 1, 2, 3 */
 #define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP) \
-    CHUNK_VARIANT(2, ID, 0) CHUNK_VARIANT(3, ID, 0) CHUNK_VARIANT(2, ID, 1) CHUNK_VARIANT(3, ID, 1)
+    CHUNK_VARIANTS_OF_PASS(ID, 1) CHUNK_VARIANTS_OF_PASS(ID, 2) CHUNK_VARIANTS_OF_PASS(ID, 3)
 SPH_KERNELS(CHUNK_VARIANTS_OF_KERNEL)
+#define CHUNK_PASS_ENTRY(ID, PASS)                           \
+    {                                                        \
+        {chunk_2_##ID##_0_##PASS, chunk_3_##ID##_0_##PASS},  \
+        {                                                    \
+            chunk_2_##ID##_1_##PASS, chunk_3_##ID##_1_##PASS \
+        }                                                    \
+    }
 #define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT, STEP) \
-    [ID] = {{chunk_2_##ID##_0, chunk_3_##ID##_0}, {chunk_2_##ID##_1, chunk_3_##ID##_1}},
-/* [kernel][partial-sum buffer][dimension - 2] */
-static const chunk_fn chunk_variants[][2][2] = {SPH_KERNELS(CHUNK_ENTRY)};
+    [ID] = {CHUNK_PASS_ENTRY(ID, 1), CHUNK_PASS_ENTRY(ID, 2), CHUNK_PASS_ENTRY(ID, 3)},
+/* [kernel][pass - 1][partial-sum buffer][dimension - 2] */
+static const chunk_fn chunk_variants[][3][2][2] = {SPH_KERNELS(CHUNK_ENTRY)};
 #undef CHUNK_ENTRY
+#undef CHUNK_PASS_ENTRY
 
 /* Pass 2: the pair sums.  Even chunks, then odd chunks, then the far
  * records in chunk order (each thread adds those of its own particles). */
 static void pass_pairs(const engine *e, int kernel, size_t n_sums)
 {
-    const chunk_fn run = chunk_variants[kernel][e->ghost_sums][e->dim - 2];
+    const chunk_fn run = chunk_variants[kernel][e->pass - 1][e->ghost_sums][e->dim - 2];
     const long n_chunks = e->n_chunks;
 #pragma omp parallel num_threads(e->threads)
     {
@@ -477,17 +512,21 @@ static void finish_particle(const engine *e, size_t a)
 {
     const int dim = e->dim;
     const sums *s = &e->acc;
-    double *dv = e->dv_dt + a * (size_t)dim;
-    const double *sv = s->p[SUM_DV] + a * s->stride[SUM_DV];
-    e->drho_dt[a] = s->p[SUM_RHO][a * s->stride[SUM_RHO]];
-    for (int i = 0; i < dim; ++i) {
-        double acc = sv[i];
-        if (e->fx.gravity)
-            acc += e->fx.g[i];
-        if (e->fx.damping)
-            acc -= e->fx.damping_rate * e->v[a * e->xs + (size_t)i];
-        dv[i] = acc;
+    if (e->pass & PASS_MOMENTUM) {
+        double *dv = e->dv_dt + a * (size_t)dim;
+        const double *sv = s->p[SUM_DV] + a * s->stride[SUM_DV];
+        for (int i = 0; i < dim; ++i) {
+            double acc = sv[i];
+            if (e->fx.gravity)
+                acc += e->fx.g[i];
+            if (e->fx.damping)
+                acc -= e->fx.damping_rate * e->v[a * e->xs + (size_t)i];
+            dv[i] = acc;
+        }
     }
+    if (!(e->pass & PASS_CONTINUITY))
+        return;
+    e->drho_dt[a] = s->p[SUM_RHO][a * s->stride[SUM_RHO]];
     double grad_v[3][3] = {{0.0}};
     const double *sL = s->p[SUM_L] + a * s->stride[SUM_L];
     for (int i = 0; i < dim; ++i)
@@ -521,16 +560,17 @@ static void pass_finish(const engine *e)
         finish_particle(e, (size_t)a);
 }
 
-/* The layout of the sums: widths and offsets in a record. */
-static void sums_layout(const sph_sim *sim, int xsph, sums *s)
+/* The layout of the sums of a pass: widths and offsets in a record. */
+static void sums_layout(const sph_sim *sim, int xsph, int pass, sums *s)
 {
     const int dim = sim->dim;
+    const int cont = (pass & PASS_CONTINUITY) != 0, mom = (pass & PASS_MOMENTUM) != 0;
     memset(s, 0, sizeof *s);
-    s->width[SUM_RHO] = 1;
-    s->width[SUM_DV] = dim;
-    s->width[SUM_L] = dim * dim;
-    s->width[SUM_M] = sim->fx.kernel_correction ? sim->nsym : 0;
-    s->width[SUM_U] = xsph ? dim : 0;
+    s->width[SUM_RHO] = cont;
+    s->width[SUM_DV] = mom ? dim : 0;
+    s->width[SUM_L] = cont ? dim * dim : 0;
+    s->width[SUM_M] = cont && sim->fx.kernel_correction ? sim->nsym : 0;
+    s->width[SUM_U] = cont && xsph ? dim : 0;
     int o = 0;
     for (int q = 0; q < N_SUMS; ++q) {
         s->offset[q] = o;
@@ -547,11 +587,18 @@ static void sums_in_buffer(sums *s, double *buffer)
         s->stride[q] = (size_t)s->record;
     }
 }
-/* Pass 1: per-particle factors of the pair terms. */
+/* Pass 1: per-particle factors of the pair terms (the continuity pass
+ * needs the volumes only). */
 static void pass_pair_data(const engine *e, double *pair_data, double *R)
 {
     const int dim = e->dim, nsym = e->nsym, ncomp = e->ncomp;
     const long n = (long)e->n_total;
+    if (!(e->pass & PASS_MOMENTUM)) {
+#pragma omp parallel for schedule(static) num_threads(e->threads)
+        for (long a = 0; a < n; ++a)
+            pair_data[(size_t)a * (nsym + 2)] = e->mass[a] / e->rho[a];
+        return;
+    }
 #pragma omp parallel for schedule(static) num_threads(e->threads)
     for (long a = 0; a < n; ++a) {
         const material *m = &e->materials[e->material_of[a]];
@@ -600,8 +647,10 @@ static sph_status grow_sum_scratch(sph_sim *sim, size_t doubles)
     return SPH_OK;
 }
 
-/* One far list per chunk, emptied. */
-static sph_status prepare_far(sph_sim *sim, long n_chunks)
+/* One far list per chunk, emptied, for records of `record` doubles (a
+ * list sized for shorter records, of another pass or other effects, is
+ * regrown from empty). */
+static sph_status prepare_far(sph_sim *sim, long n_chunks, int record)
 {
     if ((size_t)n_chunks > sim->n_far) {
         far_list *f = realloc(sim->far, (size_t)n_chunks * sizeof *f);
@@ -612,8 +661,13 @@ static sph_status prepare_far(sph_sim *sim, long n_chunks)
         sim->n_far = (size_t)n_chunks;
     }
     for (size_t c = 0; c < sim->n_far; ++c) {
-        sim->far[c].count = 0;
-        sim->far[c].failed = 0;
+        far_list *f = &sim->far[c];
+        f->count = 0;
+        f->failed = 0;
+        if (f->record < record) {
+            f->capacity = 0; /* the next append reallocates for `record` */
+            f->record = record;
+        }
     }
     return SPH_OK;
 }
@@ -621,9 +675,8 @@ static sph_status prepare_far(sph_sim *sim, long n_chunks)
 size_t rates_far_bytes(const sph_sim *sim)
 {
     size_t bytes = sim->n_far * sizeof(far_list);
-    const int record = 1 + sim->dim + sim->dim * sim->dim + sim->nsym + sim->dim;
     for (size_t c = 0; c < sim->n_far; ++c)
-        bytes += sim->far[c].capacity * (sizeof(int) + (size_t)record * sizeof(double));
+        bytes += sim->far[c].capacity * (sizeof(int) + (size_t)sim->far[c].record * sizeof(double));
     return bytes;
 }
 
@@ -671,11 +724,14 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
         e->half_box[i] = 0.5 * e->box[i];
         e->periodic |= e->periodic_axis[i];
     }
+    e->pass = call->pass ? call->pass : PASS_ALL;
     e->full = !call->half;
     e->ghost_sums = call->partial != NULL;
     e->chunk = rates_chunk_rows(sim->dim, call->n_local);
     e->n_chunks = (long)((call->n_local + e->chunk - 1) / e->chunk);
-    if ((st = prepare_far(sim, e->n_chunks)))
+    sums largest; /* far lists sized for the records of every pass */
+    sums_layout(sim, sim->fx.xsph, PASS_ALL, &largest);
+    if ((st = prepare_far(sim, e->n_chunks, largest.record)))
         return st;
     e->far = sim->far;
     e->dv_dt = call->dv_dt;
@@ -697,9 +753,10 @@ static void zero_sums(const engine *e, size_t n)
 
 static sph_status pairs_run(sph_sim *sim, engine *e)
 {
-    pass_pair_data(e, sim->pair_data, sim->fx.artificial_stress ? sim->stress_R : NULL);
+    double *R = sim->fx.artificial_stress && (e->pass & PASS_MOMENTUM) ? sim->stress_R : NULL;
+    pass_pair_data(e, sim->pair_data, R);
     e->pair_data = sim->pair_data;
-    e->R = sim->fx.artificial_stress ? sim->stress_R : NULL;
+    e->R = R;
     const size_t n_sums = e->ghost_sums ? e->n_total : e->n_local;
     zero_sums(e, n_sums);
     pass_pairs(e, sim->kernel, n_sums);
@@ -718,7 +775,7 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
         return st;
     const int dim = sim->dim, ncomp = sim->ncomp;
     const int xsph = sim->fx.xsph && (call->dx_dt || call->partial);
-    sums_layout(sim, xsph, &e.acc);
+    sums_layout(sim, xsph, e.pass, &e.acc);
     if (call->partial) {
         sums_in_buffer(&e.acc, call->partial);
         return pairs_run(sim, &e);
@@ -728,7 +785,8 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
      * (L in 3D, M) in scratch. */
     const int L_in_dS = dim == 2; /* dS_dt has 4 doubles per particle in 2D */
     const size_t n = call->n_local;
-    const size_t L_doubles = L_in_dS ? 0 : n * 9, M_doubles = n * (size_t)e.acc.width[SUM_M];
+    const size_t L_doubles = L_in_dS || !e.acc.width[SUM_L] ? 0 : n * 9,
+                 M_doubles = n * (size_t)e.acc.width[SUM_M];
     if ((st = grow_sum_scratch(sim, L_doubles + M_doubles)))
         return st;
     e.acc.p[SUM_RHO] = call->drho_dt;
@@ -756,7 +814,7 @@ static sph_status finish_run(sph_sim *sim, const rate_call *call, const double *
     sph_status st = engine_setup(sim, &c, &e);
     if (st)
         return st;
-    sums_layout(sim, sim->fx.xsph != 0, &e.acc);
+    sums_layout(sim, sim->fx.xsph != 0, e.pass, &e.acc);
     sums_in_buffer(&e.acc, (double *)partial);
     pass_finish(&e);
     return SPH_OK;
@@ -798,16 +856,58 @@ static sph_status check_neighbours(sph_sim *sim, const char *fn, const sph_parti
     return SPH_OK;
 }
 
-static sph_status check_rates(sph_sim *sim, const char *fn, const sph_particles *p,
+static sph_status check_rates(sph_sim *sim, const char *fn, int pass, const sph_particles *p,
                               const sph_rates *rates)
 {
-    if (p->n_local > 0 && (!rates->dv_dt || !rates->drho_dt || !rates->dS_dt))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: a rate array (dv_dt, drho_dt, dS_dt) is NULL",
-                        fn);
-    if (sim->fx.xsph && !rates->dx_dt && p->n_local > 0)
+    if (p->n_local == 0)
+        return SPH_OK;
+    if ((pass & PASS_MOMENTUM) && !rates->dv_dt)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: rates->dv_dt is NULL", fn);
+    if ((pass & PASS_CONTINUITY) && (!rates->drho_dt || !rates->dS_dt))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: a rate array (drho_dt, dS_dt) is NULL", fn);
+    if ((pass & PASS_CONTINUITY) && sim->fx.xsph && !rates->dx_dt)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: effect xsph is on but rates->dx_dt is NULL",
                         fn);
     return SPH_OK;
+}
+
+static sph_status check_pass(sph_sim *sim, const char *fn, int pass)
+{
+    if (pass < SPH_RATES_CONTINUITY || pass > SPH_RATES_ALL)
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "%s: pass=%d is not SPH_RATES_CONTINUITY (1), SPH_RATES_MOMENTUM (2) or "
+                        "SPH_RATES_ALL (3)",
+                        fn, pass);
+    return SPH_OK;
+}
+
+/* A call on the caller's particles (checked, with the stride found). */
+static sph_status particle_call(sph_sim *sim, const char *fn, int pass, const sph_particles *p,
+                                rate_call *call)
+{
+    size_t stride = 0;
+    sph_status st;
+    if ((st = check_pass(sim, fn, pass)) || (st = check_particles(sim, fn, p, &stride)))
+        return st;
+    *call = (rate_call){.n_local = p->n_local,
+                        .n_total = p->n_total,
+                        .x = p->x,
+                        .v = p->v,
+                        .rho = p->rho,
+                        .S = p->S,
+                        .mass = p->mass,
+                        .stride = stride,
+                        .material = p->material,
+                        .pass = pass};
+    return SPH_OK;
+}
+
+static void rates_into(rate_call *call, const sph_rates *rates)
+{
+    call->dv_dt = rates->dv_dt;
+    call->drho_dt = rates->drho_dt;
+    call->dS_dt = rates->dS_dt;
+    call->dx_dt = rates->dx_dt;
 }
 
 sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p, const sph_neighbours *nb,
@@ -819,97 +919,82 @@ sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p, const sph_ne
     if (!p || !nb || !rates)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "%s: particles, neighbours and rates must not be NULL", fn);
-    size_t stride;
+    rate_call call;
     sph_status st;
-    if ((st = check_particles(sim, fn, p, &stride)) || (st = check_neighbours(sim, fn, p, nb)) ||
-        (st = check_rates(sim, fn, p, rates)))
+    if ((st = particle_call(sim, fn, PASS_ALL, p, &call)) ||
+        (st = check_neighbours(sim, fn, p, nb)) || (st = check_rates(sim, fn, PASS_ALL, p, rates)))
         return st;
-    const rate_call call = {.n_local = p->n_local,
-                            .n_total = p->n_total,
-                            .x = p->x,
-                            .v = p->v,
-                            .rho = p->rho,
-                            .S = p->S,
-                            .mass = p->mass,
-                            .stride = stride,
-                            .material = p->material,
-                            .neighbours = nb,
-                            .dv_dt = rates->dv_dt,
-                            .drho_dt = rates->drho_dt,
-                            .dS_dt = rates->dS_dt,
-                            .dx_dt = rates->dx_dt};
+    call.neighbours = nb;
+    rates_into(&call, rates);
     st = rates_run(sim, &call);
     return st ? st : sph_ok(sim);
 }
 
-size_t sph_rates_partial_size(const sph_sim *sim)
+size_t sph_rates_pass_size(const sph_sim *sim, int pass)
 {
-    if (!sim)
+    if (!sim || pass < SPH_RATES_CONTINUITY || pass > SPH_RATES_ALL)
         return 0;
     sums s;
-    sums_layout(sim, sim->fx.xsph != 0, &s);
+    sums_layout(sim, sim->fx.xsph != 0, pass, &s);
     return (size_t)s.record;
 }
 
-sph_status sph_rates_pairs(sph_sim *sim, const sph_particles *p, const sph_neighbours *half,
-                           double *partial)
+size_t sph_rates_partial_size(const sph_sim *sim)
+{
+    return sph_rates_pass_size(sim, SPH_RATES_ALL);
+}
+
+sph_status sph_rates_pass_pairs(sph_sim *sim, int pass, const sph_particles *p,
+                                const sph_neighbours *half, double *partial)
 {
     static const char fn[] = "sph_rates_pairs";
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!p || !half)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particles and neighbours must not be NULL", fn);
-    size_t stride;
+    rate_call call;
     sph_status st;
-    if ((st = check_particles(sim, fn, p, &stride)) || (st = check_neighbours(sim, fn, p, half)))
+    if ((st = particle_call(sim, fn, pass, p, &call)) || (st = check_neighbours(sim, fn, p, half)))
         return st;
     if (p->n_total > 0 && !partial)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "%s: partial must hold n_total * sph_rates_partial_size() doubles", fn);
-    const rate_call call = {.n_local = p->n_local,
-                            .n_total = p->n_total,
-                            .x = p->x,
-                            .v = p->v,
-                            .rho = p->rho,
-                            .S = p->S,
-                            .mass = p->mass,
-                            .stride = stride,
-                            .material = p->material,
-                            .neighbours = half,
-                            .half = 1,
-                            .partial = partial};
+                        "%s: partial must hold n_total * sph_rates_pass_size() doubles", fn);
+    call.neighbours = half;
+    call.half = 1;
+    call.partial = partial;
     st = rates_run(sim, &call);
     return st ? st : sph_ok(sim);
 }
 
-sph_status sph_rates_finish(sph_sim *sim, const sph_particles *p, const double *partial,
-                            sph_rates *rates)
+sph_status sph_rates_pairs(sph_sim *sim, const sph_particles *p, const sph_neighbours *half,
+                           double *partial)
+{
+    return sph_rates_pass_pairs(sim, SPH_RATES_ALL, p, half, partial);
+}
+
+sph_status sph_rates_pass_finish(sph_sim *sim, int pass, const sph_particles *p,
+                                 const double *partial, sph_rates *rates)
 {
     static const char fn[] = "sph_rates_finish";
     if (!sim)
         return SPH_ERR_ARGUMENT;
     if (!p || !rates)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particles and rates must not be NULL", fn);
-    size_t stride;
+    rate_call call;
     sph_status st;
-    if ((st = check_particles(sim, fn, p, &stride)) || (st = check_rates(sim, fn, p, rates)))
+    if ((st = particle_call(sim, fn, pass, p, &call)) ||
+        (st = check_rates(sim, fn, pass, p, rates)))
         return st;
     if (p->n_local > 0 && !partial)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: partial is NULL", fn);
-    const rate_call call = {.n_local = p->n_local,
-                            .n_total = p->n_total,
-                            .x = p->x,
-                            .v = p->v,
-                            .rho = p->rho,
-                            .S = p->S,
-                            .mass = p->mass,
-                            .stride = stride,
-                            .material = p->material,
-                            .dv_dt = rates->dv_dt,
-                            .drho_dt = rates->drho_dt,
-                            .dS_dt = rates->dS_dt,
-                            .dx_dt = rates->dx_dt,
-                            .half = 1};
+    rates_into(&call, rates);
+    call.half = 1;
     st = finish_run(sim, &call, partial);
     return st ? st : sph_ok(sim);
+}
+
+sph_status sph_rates_finish(sph_sim *sim, const sph_particles *p, const double *partial,
+                            sph_rates *rates)
+{
+    return sph_rates_pass_finish(sim, SPH_RATES_ALL, p, partial, rates);
 }

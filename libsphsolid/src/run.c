@@ -93,7 +93,9 @@ sph_status sim_ensure_neighbours(sph_sim *sim, double extra)
     return SPH_OK;
 }
 
-sph_status sim_evaluate(sph_sim *sim)
+sph_status sim_evaluate(sph_sim *sim) { return sim_evaluate_pass(sim, PASS_ALL); }
+
+sph_status sim_evaluate_pass(sph_sim *sim, int pass)
 {
     const sph_neighbours nb = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
     const rate_call call = {.n_local = sim->n,
@@ -111,9 +113,10 @@ sph_status sim_evaluate(sph_sim *sim)
                             .drho_dt = sim->drho_dt,
                             .dS_dt = sim->dS_dt,
                             .dx_dt = sim->fx.xsph ? sim->dx_dt : NULL,
-                            .half = 1};
+                            .half = 1,
+                            .pass = pass};
     sph_status st = rates_run(sim, &call);
-    if (st)
+    if (st || !(pass & PASS_MOMENTUM))
         return st;
     /* Prescribed motions: no acceleration; force-driven bodies translate
      * rigidly under the applied force plus the SPH forces on them. */

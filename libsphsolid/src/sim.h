@@ -51,7 +51,8 @@ typedef struct neighbour_list {
 /* Pair terms a chunk of the rate engine adds after the pair pass: one
  * record of sums per target particle (rates.c). */
 typedef struct far_list {
-    size_t count, capacity;
+    size_t count, capacity; /* records */
+    int record;             /* doubles per record that `terms` was sized for */
     int *target;
     double *terms;
     int failed;
@@ -165,7 +166,13 @@ typedef struct rate_call {
     int half;        /* the list holds each pair once (else full) */
     double *partial; /* if set: the pair pass only, its sums for all
                                n_total particles written here (ghosts too) */
+    int pass;        /* PASS_*: the rates computed (0: all) */
 } rate_call;
+enum {
+    PASS_CONTINUITY = SPH_RATES_CONTINUITY, /* drho/dt, dS/dt, XSPH velocity */
+    PASS_MOMENTUM = SPH_RATES_MOMENTUM,     /* dv/dt */
+    PASS_ALL = SPH_RATES_ALL
+};
 
 sph_status rates_run(sph_sim *sim, const rate_call *call);
 int sim_threads(const sph_sim *sim);

@@ -297,8 +297,9 @@ class Leapfrog(Dynamics):
     velocity gradient of the half-step velocity that moves the positions,
     so the scheme is symplectic (no drift of the total energy of an
     undamped vibration) and stable without viscosity up to
-    1.75 h / (c_p + |v|). Two rate evaluations per step, default step
-    h / c0 (twice Improved Euler's). Parameters as for :class:`Dynamics`.
+    1.75 h / (c_p + |v|). One rate evaluation's pair work per step (the
+    density and stress rates at the half step, the acceleration at the
+    end), default step h / c0 (twice Improved Euler's). Parameters as for :class:`Dynamics`.
 
     Examples
     --------

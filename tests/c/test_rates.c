@@ -621,6 +621,86 @@ static void split_evaluation_over_two_processes(void **state)
     sph_destroy(sim);
 }
 
+/* The continuity and momentum passes (each over the half list, each with
+ * only its own partial sums) give bitwise the rates of the whole
+ * evaluation, every pair effect on; a pass leaves the other pass's rate
+ * arrays alone. */
+static void passes_add_up_to_the_whole_evaluation(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(24, 18, 1e-3);
+    check(sim, sph_effect(sim, "kernel_correction", ""));
+    check(sim, sph_effect(sim, "xsph", "epsilon=0.5"));
+    check(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 beta=2"));
+    check(sim, sph_effect(sim, "artificial_stress", "epsilon=0.3 n=4"));
+    check(sim, sph_effect(sim, "gravity", "gy=-9.81"));
+    check(sim, sph_effect(sim, "damping", "rate=1000"));
+    perturb(sim, 3u);
+    check(sim, sph_run(sim, 0));
+    const size_t n = sim->n;
+    const size_t P = sph_rates_pass_size(sim, SPH_RATES_ALL);
+    const size_t Pc = sph_rates_pass_size(sim, SPH_RATES_CONTINUITY);
+    const size_t Pm = sph_rates_pass_size(sim, SPH_RATES_MOMENTUM);
+    assert_int_equal(P, sph_rates_partial_size(sim));
+    assert_int_equal(Pc, 1 + 4 + 3 + 2); /* drho, L, M, XSPH */
+    assert_int_equal(Pm, 2);             /* dv */
+    assert_int_equal(Pc + Pm, P);
+    assert_int_equal(sph_rates_pass_size(sim, 0), 0);
+    sph_particles all = {.n_local = n,
+                         .n_total = n,
+                         .x = sim->x,
+                         .v = sim->v,
+                         .rho = sim->rho,
+                         .S = sim->S,
+                         .mass = sim->mass,
+                         .material = sim->material_of};
+    sph_neighbours half = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
+    double *partial = calloc(n * P, sizeof *partial);
+    double *buf[2][4];
+    for (int k = 0; k < 2; ++k) {
+        buf[k][0] = calloc(2 * n, sizeof(double));
+        buf[k][1] = calloc(n, sizeof(double));
+        buf[k][2] = calloc(4 * n, sizeof(double));
+        buf[k][3] = calloc(2 * n, sizeof(double));
+    }
+    sph_rates whole = {buf[0][0], buf[0][1], buf[0][2], buf[0][3]};
+    check(sim, sph_rates_pass_pairs(sim, SPH_RATES_ALL, &all, &half, partial));
+    check(sim, sph_rates_pass_finish(sim, SPH_RATES_ALL, &all, partial, &whole));
+    /* the momentum pass needs only dv_dt, the continuity pass the rest */
+    sph_rates mom = {.dv_dt = buf[1][0]};
+    sph_rates cont = {.drho_dt = buf[1][1], .dS_dt = buf[1][2], .dx_dt = buf[1][3]};
+    for (size_t a = 0; a < n; ++a)
+        buf[1][1][a] = -7.0; /* must survive the momentum pass */
+    check(sim, sph_rates_pass_pairs(sim, SPH_RATES_MOMENTUM, &all, &half, partial));
+    check(sim, sph_rates_pass_finish(sim, SPH_RATES_MOMENTUM, &all, partial, &mom));
+    assert_true(buf[1][1][n / 2] == -7.0);
+    check(sim, sph_rates_pass_pairs(sim, SPH_RATES_CONTINUITY, &all, &half, partial));
+    check(sim, sph_rates_pass_finish(sim, SPH_RATES_CONTINUITY, &all, partial, &cont));
+    assert_memory_equal(buf[1][0], buf[0][0], 2 * n * sizeof(double));
+    assert_memory_equal(buf[1][1], buf[0][1], n * sizeof(double));
+    assert_memory_equal(buf[1][2], buf[0][2], 4 * n * sizeof(double));
+    assert_memory_equal(buf[1][3], buf[0][3], 2 * n * sizeof(double));
+    /* the rates are not trivial: gravity, stress and flow all show */
+    double amax = 0.0, rmax = 0.0;
+    for (size_t a = 0; a < n; ++a) {
+        amax = fmax(amax, fabs(buf[0][0][2 * a]));
+        rmax = fmax(rmax, fabs(buf[0][1][a]));
+    }
+    assert_true(amax > 0.0 && rmax > 0.0);
+    /* a pass outside 1..3 is refused by name */
+    assert_int_equal(sph_rates_pass_pairs(sim, 4, &all, &half, partial), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "pass=4"));
+    /* the momentum pass refuses a missing dv_dt */
+    assert_int_equal(sph_rates_pass_finish(sim, SPH_RATES_MOMENTUM, &all, partial, &cont),
+                     SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "dv_dt"));
+    for (int k = 0; k < 2; ++k)
+        for (int q = 0; q < 4; ++q)
+            free(buf[k][q]);
+    free(partial);
+    sph_destroy(sim);
+}
+
 static void energy_is_conserved_without_viscosity(void **state)
 {
     (void)state;
@@ -787,6 +867,7 @@ int main(void)
         cmocka_unit_test(artificial_stress_exponent_paths_agree),
         cmocka_unit_test(strided_entry_points_match_the_dense_ones),
         cmocka_unit_test(split_evaluation_over_two_processes),
+        cmocka_unit_test(passes_add_up_to_the_whole_evaluation),
         cmocka_unit_test(energy_is_conserved_without_viscosity),
         cmocka_unit_test(uniform_translation_changes_nothing),
         cmocka_unit_test(xsph_velocity_of_one_moving_particle),
