@@ -391,6 +391,9 @@ def scene_text(name, result) -> str:
     return (f"## {name}\n\n{result.get('note', '')}\n\nEffects found: "
             f"{effects}\n\nWall time of these checks: "
             + (f"{result['wall']:.0f} s" if result.get("wall") else "-")
+            + (" (load average {:.1f} at the start, {:.1f} at the end, on "
+               "{} cores)".format(*result["load"], os.cpu_count())
+               if result.get("load") else "")
             + "\n\n" + text)
 
 
@@ -485,6 +488,7 @@ def main(argv=None) -> int:
         return 0
     visc = {"artificial_viscosity": {"alpha": 1.0, "beta": 0.0}}
     for name in args.scenes.split(","):
+        load_start = os.getloadavg()[0]
         scene = builders[name](data, args.quick, log)
         if args.estimate_only and name in results:
             result = results[name]
@@ -510,6 +514,7 @@ def main(argv=None) -> int:
                 args.threads, log)
         if not args.estimate_only:
             result["wall"] = wallclock.perf_counter() - clock
+            result["load"] = [load_start, os.getloadavg()[0]]
         results[name] = result
         results_path.write_text(json.dumps(results, indent=1, default=float))
         write_document(args.out / "accuracy.md", results, args)
@@ -542,31 +547,42 @@ def write_document(path: Path, results: dict, args) -> None:
 
 
 QUICK_NOTE = """**Quick mode** (`--quick`): finite-element reference at
-2 mm (its 4 mm run gives its own convergence), candidates the cubic
-spline at h/dx 1.2 and 1.5 with both integrators (no Wendland, no
-kernel-correction variants), calibration budget 120 s per request,
+1 mm when its series is kept in docs/accuracy (else 2 mm), candidates the
+cubic spline at h/dx 1.2 and 1.5 with both integrators (no Wendland, no
+kernel-correction variants), calibration budget 400 s per request,
 sweep to 1.5 mm (strip to 0.25 mm, gravity to 3 mm), per-run estimate
-at 3 and 2 mm. The full mode (FE at 1 mm, every candidate, sweep to
-0.5 mm, estimate at 2, 1.5 and 1 mm) takes hours on a loaded 2-core
-machine.
+at 3 and 2 mm. The full mode (every candidate, sweep to 0.5 mm, estimate
+at 2, 1.5 and 1 mm) takes hours on a loaded 2-core machine and was not
+run.
 """
 
 READING = """How to read the tables. *refused (sweep also missed)*: the
 refusals for which no setting of the exhaustive sweep met the request
-either (within the sweep's spacings). *cost / cheapest*: particle-steps of
-the planned run over those of the cheapest sweep setting that met the
-request (`-`: none did, so there is nothing to compare). *wall error*:
-measured over predicted wall time minus one. Known limits of the method,
-visible here: the metrics of these scenes (a front smoothed over 1 us)
-converge at observed orders of 0.3-0.9 on coarse ladders, where the GCI
-safety factor is 3, so the planner is conservative: it meets what it
-promises but asks for finer spacings (more cost) than the cheapest
-setting that would do, and refuses some requests a finer sweep might
-meet; the per-run estimate from 2 dx and 4 dx shadows of coarse runs
-(12 mm shadows of a 3 mm run are a few particles across the specimen)
-measures a poor order and misses the factor [1, 3] more often than at
-fine spacings; wall times on a machine shared with other jobs vary by
-more than +-30 % between identical runs.
+either (within the sweep's spacings). *particle-steps / cheapest*:
+particle-steps of the planned run over those of the cheapest sweep
+setting that met the request; *CPU cost / cheapest*: the same with every
+run priced at its setting's measured CPU seconds per particle-step (`-`:
+no sweep setting met the request, so there is nothing to compare). *wall
+error*: measured over predicted wall time minus one; *CPU predicted /
+measured*: process CPU seconds of the planned run's stepping, the cost
+model's own clock.
+
+Known limits of the method, visible here (docs/planner.md explains
+them): the metrics of these scenes (a front smoothed over 1 us) converge
+at orders of 0.4-0.9, and the safety factor the planner keeps (1.25 from
+Eça & Hoekstra for orders in [0.5, 2.1], 3 below) costs Fs^(d/q) in run
+time even when the central prediction is exact (run cost ~ dx^-d, d = 3
+in 2D, 2 for the strip): 1.25^(3/0.6) = 3.1x. The difference-based error
+estimate is itself 1.1-1.6x above the exact error on the strip (a
+difference of two series is at least the difference of their errors).
+A plan within 1.5x of the sweep's cheapest sufficient setting therefore
+happens only where the sweep's spacing steps leave room; the planner
+keeps achieved <= request instead. The gravity column's section means do
+not converge at the sweep's spacings (the errors scatter between 1 and 8
+% from one spacing to the next, a lattice effect at fixed h/dx), so the
+planner bounds them by 3x the data range (Eça & Hoekstra's rule for
+data without convergence) and refuses anything below that, even where a
+sweep spacing happens to land below the request.
 """
 
 
@@ -575,7 +591,8 @@ HEADER = """# Accuracy on demand: the planner's honesty checks
 Regenerate with `{command}` (from the repository root, with the
 package installed; `--scenes strip,gravity,piston` picks scenes). Runs use
 {threads} thread(s). **Timings were taken on a shared 2-core machine under
-load from other jobs; predicted and measured wall times are both noisy.**
+load from other jobs (load averages below); wall times depend on that
+load, CPU times much less: compare the CPU predictions.**
 
 What is checked, per request (10, 5, 3, 2 %, in the max and the RMS norm):
 the planner (`sphsolid.plan`, `sphsolid plan ...`) returns settings or
@@ -585,21 +602,29 @@ is compared with the measured one (**within +-30 %**, marked `**` when
 not), and the chosen setting's particle-steps are compared with the
 cheapest setting of an exhaustive sweep that met the request (**at most
 1.5x**; particle-steps rather than seconds, because seconds on a loaded
-machine are noise). The per-run error estimate (`--error-estimate`,
-`sphsolid.estimate.ErrorEstimate`: shadow runs at 2 dx and 4 dx, 1/8 +
-1/64 of the run's particle-steps in 2D) is compared with the actual error
-per probe and window: **ratio in [1, 3] in at least 90 % of the cases**.
+machine are noise), and in CPU seconds. The per-run error estimate
+(`--error-estimate`, `sphsolid.estimate.ErrorEstimate`: shadow runs at
+2 dx and 4 dx, 1/8 + 1/64 of the run's particle-steps in 2D; Roache's GCI
+with Fs = 3 and the observed order bounded to [1, 2]) is compared with the
+actual error per probe and window: **ratio in [1, 3] in at least 90 % of
+the cases**.
 
-How the planner decides (python/sphsolid/plan.py): effects from one
-coarse run with none; a calibration ladder per candidate setting (kernels,
-h/dx, integrators and effects the library offers), refined for the most
-promising; error model E = C dx^q fitted by least squares on the
-differences of consecutive levels (the Eça-Hoekstra idea without an
-extrapolated limit series), the lower order of the finest three levels
-when convergence slows, and the GCI safety factor (1.25 for an order in
-[0.5, 2.1], else 3); a floor from the settings' disagreement in the limit;
-cost from the ladder's own timings and a timing of a few steps at the
-chosen spacing.
+How the planner decides (python/sphsolid/plan.py, docs/planner.md):
+effects from one coarse run with none; a calibration ladder per candidate
+setting (kernels, h/dx, integrators and effects the library offers),
+refined for the most promising; error model E = C dx^q fitted by least
+squares on the differences of consecutive levels over every level
+(Eça & Hoekstra), with their safety factor (1.25 for an order in
+[0.5, 2.1] and a good fit, else 3; data that show no convergence bounded
+by 3x their range), at most 2x below the finest calibrated spacing; a
+floor where two settings differ by more than their own predicted errors
+explain; cost from the calibration runs' process CPU time (particle-steps
+per CPU second of each setting at the requested threads) and a timing of
+a few steps at the chosen spacing, wall time from the calibration's
+wall/CPU ratio. *CPU cost / cheapest* prices every run at its setting's
+CPU seconds per particle-step measured in the sweep, so that a setting
+with cheaper steps (the leapfrog's one evaluation per step) counts as
+cheaper; *particle-steps / cheapest* ignores that.
 """
 
 

@@ -793,10 +793,11 @@ def detect_effects(scene_factory, dx: float, until: float, probes,
                    quantity: str = "von_mises",
                    integrator: str = DEFAULT_INTEGRATOR,
                    threads: int | None = None, steps: int | None = None,
-                   log=None) -> list[Finding]:
+                   log=None, kernel: str = "cubic_spline",
+                   smoothing_ratio: float = 1.2) -> list[Finding]:
     """What the scene calls for, measured on one run at ``dx`` with no
-    optional effect and ``integrator``, for ``steps`` steps (default: to
-    ``until``).
+    optional effect, ``integrator``, ``kernel`` and ``smoothing_ratio``,
+    for ``steps`` steps (default: to ``until``).
 
     Criteria (from the hard-case suite, docs/stability.md):
 
@@ -819,7 +820,7 @@ def detect_effects(scene_factory, dx: float, until: float, probes,
       suite measured it stable and smooth with nothing extra.
     """
     say = log or (lambda message: None)
-    setting = Setting.make(integrator=integrator)
+    setting = Setting.make(smoothing_ratio, kernel, integrator)
     scene = build_scene(scene_factory, dx, setting, threads)
     free = np.zeros(len(scene), bool)
     driven, forced, rotating = [], [], []
@@ -1129,7 +1130,8 @@ class Plan:
                          f"{cost})")
         lines.append("")
         header = (f"{'setting':<58} {'order':>5} {'Fs':>4} {'floor':>6} "
-                  f"{'dx [mm]':>8} {'error':>7} {'upper':>7} {'time [s]':>9}")
+                  f"{'dx [mm]':>8} {'error':>7} {'upper':>7} {'CPU [s]':>9} "
+                  f"{'wall [s]':>9}")
         lines.append(header)
         lines.append("-" * len(header))
         for c in self.candidates:
@@ -1141,12 +1143,14 @@ class Plan:
             err = (f"{m.predict(c.dx) * 100:6.2f}%" if c.dx else f"{'-':>7}")
             up = (f"{m.upper(c.dx) * 100:6.2f}%" if c.dx else f"{'-':>7}")
             sec = f"{c.seconds:9.3g}" if c.seconds else f"{'-':>9}"
+            cpu = (f"{c.cpu_seconds:9.3g}" if c.cpu_seconds
+                   else f"{'-':>9}")
             mark = " <" if (self.setting == c.setting
                             and self.feasible) else ""
             lines.append(f"{c.setting.label():<58} {m.order:5.2f} "
                          f"{m.safety:4.2f} {m.floor * 100:5.2f}% {dx} {err} "
-                         f"{up} {sec}{mark}" + (f"  {c.note}" if c.note
-                                                else ""))
+                         f"{up} {cpu} {sec}{mark}"
+                         + (f"  {c.note}" if c.note else ""))
         lines.append("")
         if self.feasible:
             lines.append(
@@ -1551,10 +1555,20 @@ def _refusal(modelled, error, max_seconds, scene_factory, until):
             best, where = reach, (cand, dx)
     floors = min(c.model.floor for c in modelled)
     cand, dx = where
-    if floors >= error:
+    if cand.model.anomalous:
+        dx = cand.model.coarsest
+        reason = (f"no setting meets {error * 100:g} %: the calibration "
+                  f"levels show no convergence (observed order "
+                  f"{cand.model.observed_order:.2f}, fit residual "
+                  f"{cand.model.residual:.2f}), so the error of each "
+                  f"calibrated level is only bounded by 3 x their largest "
+                  f"difference ({cand.model.data_range * 100:.2f} %; Eça & "
+                  f"Hoekstra) and nothing finer can be promised")
+    elif floors >= error:
         reason = (f"the request {error * 100:g} % is below the observed error"
-                  f" floor: the settings' limits disagree by at least "
-                  f"{floors * 100:.2f} % (a bias refinement does not remove)")
+                  f" floor: the settings differ by {floors * 100:.2f} %, "
+                  f"more than their own predicted errors explain (a bias "
+                  f"refinement does not remove)")
     elif max_seconds is not None:
         reason = (f"no setting meets {error * 100:g} % within "
                   f"{max_seconds:g} s")
