@@ -37,8 +37,9 @@ How (orchestration only; every run is the C library's):
    a good fit, 3 otherwise), because the request must be met, not just
    met on average. Self-convergence cannot see a bias that does not go
    away with dx (the lattice moment at fixed h/dx, a dissipation floor):
-   where two settings differ by more than their own predicted errors
-   explain, the difference is a **floor** added to the prediction
+   where two settings differ by an amount that does not shrink with
+   refinement, or by more than their own predicted errors explain, the
+   difference is a **floor** added to the prediction
    (:func:`consistency_floors`).
 5. **Cost model** per setting (:class:`CostModel`): process CPU seconds
    per step against particles, fitted on the ladder's own runs at the
