@@ -1584,8 +1584,9 @@ def _refusal(modelled, error, max_seconds, scene_factory, until):
                   f"Hoekstra) and nothing finer can be promised")
     elif floors >= error:
         reason = (f"the request {error * 100:g} % is below the observed error"
-                  f" floor: the settings differ by {floors * 100:.2f} %, "
-                  f"more than their own predicted errors explain (a bias "
+                  f" floor: the settings differ by {floors * 100:.2f} %, a "
+                  f"difference that does not shrink with refinement or "
+                  f"that their own predicted errors do not explain (a bias "
                   f"refinement does not remove)")
     elif max_seconds is not None:
         reason = (f"no setting meets {error * 100:g} % within "
