@@ -146,18 +146,10 @@ static sph_status correct_external(sph_sim *sim, size_t n, double dt, double *x,
                 wild = a;
         }
     }
-    if (particle)
-        *particle = bad < nn ? bad : wild < nn ? wild : -1;
-    if (bad < nn)
-        return sph_fail(sim, SPH_ERR_NONFINITE,
-                        "Improved Euler correction produced a non-finite value (or non-positive "
-                        "density) at particle %ld",
-                        bad);
-    if (wild < nn)
-        return watchdog_report(sim, wild, dim, v + wild * xs, rho[wild],
-                               &sim->materials[material_of[wild]],
-                               integrate_motion ? integrate_motion[wild] : 1);
-    return SPH_OK;
+    const stage_arrays out = {v, xs, rho, material_of, integrate_motion};
+    return stage_outcome(
+        sim, "Improved Euler correction produced a non-finite value (or non-positive density)", nn,
+        bad, wild, particle, &out);
 }
 
 sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt, double *x, double *v, double *rho,
@@ -310,14 +302,9 @@ static sph_status heun_step(sph_sim *sim, double dt, double *moved)
     return SPH_OK;
 }
 
-const integrator integrator_improved_euler = {
-    .name = "improved_euler",
-    .description = "Improved Euler (Heun): two rate evaluations per step, second order; needs "
-                   "artificial viscosity for wave problems (the paper's scheme)",
-    .evaluations = 2,
-    .stable_factor = 1.0,
-    .default_factor = 0.5,
-    .saved_values = heun_saved_values,
-    .step = heun_step,
-    .carries_rates = 0,
-};
+const integrator integrator_improved_euler = INTEGRATOR_RECORD(
+    "improved_euler",
+    "Improved Euler (Heun): two rate evaluations per step, second order; needs artificial "
+    "viscosity for wave problems (the paper's scheme)",
+    /* evaluations */ 2, /* stable */ 1.0, /* default */ 0.5, heun_saved_values, heun_step,
+    /* carries rates */ 0);

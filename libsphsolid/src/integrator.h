@@ -12,6 +12,8 @@
 #ifndef SPHSOLID_INTEGRATOR_H
 #define SPHSOLID_INTEGRATOR_H
 
+#include <math.h>
+
 #include "sim.h"
 
 typedef struct integrator {
@@ -34,6 +36,17 @@ typedef struct integrator {
      * its own evaluation */
     int carries_rates;
 } integrator;
+
+/* An integrator's record, in the order of the fields above. */
+#define INTEGRATOR_RECORD(NAME, DESCRIPTION, EVALUATIONS, STABLE, DEFAULT, SAVED, STEP, CARRIES) \
+    {.name = NAME,                                                                               \
+     .description = DESCRIPTION,                                                                 \
+     .evaluations = EVALUATIONS,                                                                 \
+     .stable_factor = STABLE,                                                                    \
+     .default_factor = DEFAULT,                                                                  \
+     .saved_values = SAVED,                                                                      \
+     .step = STEP,                                                                               \
+     .carries_rates = CARRIES}
 
 extern const integrator integrator_improved_euler;
 extern const integrator integrator_leapfrog;
@@ -85,5 +98,32 @@ static inline int watchdog_trips(int dim, const double *v, double rho, double vm
 sph_status step_failure(sph_sim *sim, double dt, long bad, long wild);
 sph_status watchdog_report(sph_sim *sim, long a, int dim, const double *v_a, double rho_a,
                            const material *m, int integrate);
+/* The outcome of a stage on external arrays of n particles: *particle (if
+ * given) the first particle that went non-finite (`bad`), else the first
+ * that tripped the watchdog (`wild`), else -1 (n: none); a non-finite one
+ * is reported as "<failure> at particle <bad>". */
+typedef struct stage_arrays {
+    const double *v; /* `stride` doubles apart */
+    size_t stride;
+    const double *rho;
+    const int *material_of;
+    const unsigned char *integrate_motion; /* NULL: all integrated */
+} stage_arrays;
+sph_status stage_outcome(sph_sim *sim, const char *failure, long n, long bad, long wild,
+                         long *particle, const stage_arrays *a);
+/* y = y_n + dt D for one particle (rho and its ncomp stress components);
+ * 0 if a value is not finite or the density not positive. */
+static inline int drift_state(int nc, double dt, double rho_n, const double *S_n, double drho,
+                              const double *dS, double *rho, double *S)
+{
+    double ok = 1.0;
+    *rho = rho_n + dt * drho;
+    ok *= isfinite(*rho) && *rho > 0.0;
+    for (int c = 0; c < nc; ++c) {
+        S[c] = S_n[c] + dt * dS[c];
+        ok *= isfinite(S[c]);
+    }
+    return ok != 0.0;
+}
 
 #endif

@@ -148,12 +148,8 @@ static sph_status leapfrog_step(sph_sim *sim, double dt, double *moved)
         }
         for (int i = 0; i < dim; ++i)
             ok *= isfinite(xa[i]);
-        rho[a] = rho_n[a] + dt * sim->drho_dt[a];
-        ok *= isfinite(rho[a]) && rho[a] > 0.0;
-        for (int c = 0; c < nc; ++c) {
-            S[a * nc + c] = S_n[a * nc + c] + dt * sim->dS_dt[a * nc + c];
-            ok *= isfinite(S[a * nc + c]);
-        }
+        ok *= drift_state(nc, dt, rho_n[a], S_n + a * nc, sim->drho_dt[a], sim->dS_dt + a * nc,
+                          rho + a, S + a * nc);
         if (!ok) {
             if (a < bad)
                 bad = a;
@@ -215,20 +211,13 @@ static sph_status leapfrog_step(sph_sim *sim, double dt, double *moved)
  * h/dx = 1.5 (docs/library.md); the factor below, 2 / 1.13 rounded down,
  * covers both kernels and ratios, with |v| added to c_p as for Improved
  * Euler. */
-const integrator integrator_leapfrog = {
-    .name = "leapfrog",
-    .description =
-        "kick-drift-kick leapfrog (velocity Verlet), density and stress advanced with the "
-        "half-step velocity: symplectic, one evaluation's pair work per step (continuity pass at "
-        "the half step, momentum pass at the end), stable without viscosity up to "
-        "1.75 h/(c_p + |v|)",
-    .evaluations = 1,
-    .stable_factor = 1.75,
-    .default_factor = 1.0,
-    .saved_values = leapfrog_saved_values,
-    .step = leapfrog_step,
-    .carries_rates = 1,
-};
+const integrator integrator_leapfrog = INTEGRATOR_RECORD(
+    "leapfrog",
+    "kick-drift-kick leapfrog (velocity Verlet), density and stress advanced with the half-step "
+    "velocity: symplectic, one evaluation's pair work per step (continuity pass at the half "
+    "step, momentum pass at the end), stable without viscosity up to 1.75 h/(c_p + |v|)",
+    /* evaluations */ 1, /* stable */ 1.75, /* default */ 1.0, leapfrog_saved_values, leapfrog_step,
+    /* carries rates */ 1);
 
 /* ------------------------------------------------ stages on caller arrays */
 
@@ -245,6 +234,15 @@ static sph_status leapfrog_args(sph_sim *sim, size_t n, double dt, size_t stride
     if (n > 0 && (!a || !b || !c || !d || !e))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "leapfrog stage: an array argument is NULL");
     return SPH_OK;
+}
+
+/* Whether a particle of material `m` trips the watchdog: its density
+ * bounds, and with a velocity v its speed too. */
+static int trips(const sph_sim *sim, int m, int integrate, const double *v, double rho)
+{
+    double vmax2, lo, hi;
+    watchdog_bounds(sim, &sim->materials[m], integrate, &vmax2, &lo, &hi);
+    return v ? watchdog_trips(sim->dim, v, rho, vmax2, lo, hi) : rho < lo || rho > hi;
 }
 
 sph_status sph_leapfrog_begin_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
@@ -303,34 +301,19 @@ sph_status sph_leapfrog_drift_strided(sph_sim *sim, size_t n, double dt, double 
             xa[i] = integrate ? x_n[a * dim + i] + dt * u[i] : x_n[a * dim + i];
             ok *= isfinite(xa[i]);
         }
-        rho[a] = rho_n[a] + dt * r->drho_dt[a];
-        ok *= isfinite(rho[a]) && rho[a] > 0.0;
-        for (int c = 0; c < nc; ++c) {
-            S[a * nc + c] = S_n[a * nc + c] + dt * r->dS_dt[a * nc + c];
-            ok *= isfinite(S[a * nc + c]);
-        }
+        ok *= drift_state(nc, dt, rho_n[a], S_n + a * nc, r->drho_dt[a], r->dS_dt + a * nc, rho + a,
+                          S + a * nc);
         if (!ok) {
             if (a < bad)
                 bad = a;
-        } else if (a < wild) {
-            double vmax2, lo, hi;
-            watchdog_bounds(sim, &sim->materials[material_of[a]], integrate, &vmax2, &lo, &hi);
-            if (rho[a] < lo || rho[a] > hi)
-                wild = a;
+        } else if (a < wild && trips(sim, material_of[a], integrate, NULL, rho[a])) {
+            wild = a;
         }
     }
-    if (particle)
-        *particle = bad < nn ? bad : wild < nn ? wild : -1;
-    if (bad < nn)
-        return sph_fail(
-            sim, SPH_ERR_NONFINITE,
-            "leapfrog drift produced a non-finite value (or non-positive density) at particle %ld",
-            bad);
-    if (wild < nn)
-        return watchdog_report(sim, wild, dim, v + wild * stride, rho[wild],
-                               &sim->materials[material_of[wild]],
-                               integrate_motion ? integrate_motion[wild] : 1);
-    return SPH_OK;
+    const stage_arrays out = {v, stride, rho, material_of, integrate_motion};
+    return stage_outcome(sim,
+                         "leapfrog drift produced a non-finite value (or non-positive density)", nn,
+                         bad, wild, particle, &out);
 }
 
 sph_status sph_leapfrog_end_strided(sph_sim *sim, size_t n, double dt, double *v, size_t stride,
@@ -358,21 +341,11 @@ sph_status sph_leapfrog_end_strided(sph_sim *sim, size_t n, double dt, double *v
         if (!ok) {
             if (a < bad)
                 bad = a;
-        } else if (a < wild) {
-            double vmax2, lo, hi;
-            watchdog_bounds(sim, &sim->materials[material_of[a]], integrate, &vmax2, &lo, &hi);
-            if (watchdog_trips(dim, va, rho[a], vmax2, lo, hi))
-                wild = a;
+        } else if (a < wild && trips(sim, material_of[a], integrate, va, rho[a])) {
+            wild = a;
         }
     }
-    if (particle)
-        *particle = bad < nn ? bad : wild < nn ? wild : -1;
-    if (bad < nn)
-        return sph_fail(sim, SPH_ERR_NONFINITE,
-                        "leapfrog kick produced a non-finite velocity at particle %ld", bad);
-    if (wild < nn)
-        return watchdog_report(sim, wild, dim, v + wild * stride, rho[wild],
-                               &sim->materials[material_of[wild]],
-                               integrate_motion ? integrate_motion[wild] : 1);
-    return SPH_OK;
+    const stage_arrays out = {v, stride, rho, material_of, integrate_motion};
+    return stage_outcome(sim, "leapfrog kick produced a non-finite velocity", nn, bad, wild,
+                         particle, &out);
 }

@@ -197,6 +197,18 @@ static void far_append(far_list *f, int record, size_t b, const double *terms)
  * a-side into registers, the b-side into b's sums (or b's far record). */
 #define PAIR_BLOCK 32
 
+static ALWAYS_INLINE void column(const double (*a)[PAIR_BLOCK], int k, int rows, double *out)
+{
+    for (int i = 0; i < rows; ++i)
+        out[i] = a[i][k];
+}
+
+static ALWAYS_INLINE void set_column(double (*a)[PAIR_BLOCK], int k, int rows, const double *in)
+{
+    for (int i = 0; i < rows; ++i)
+        a[i][k] = in[i];
+}
+
 static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t dend, far_list *far,
                                    const int dim, const int kernel, const int split, const int pass)
 {
@@ -315,36 +327,30 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
                     T[c][k] += RR[c][k] * fn;
             }
         /* momentum: T_ab . grad_a W_ab */
+        /* (the pair functions take one pair's terms as short vectors:
+         * column k of the block's arrays) */
         if (mom)
             for (int k = 0; k < nk; ++k) {
                 double Tk[6], gk[3], fk[3] = {0.0, 0.0, 0.0};
-                for (int c = 0; c < nsym; ++c)
-                    Tk[c] = T[c][k];
-                for (int i = 0; i < dim; ++i)
-                    gk[i] = gW[i][k];
+                column(T, k, nsym, Tk);
+                column(gW, k, dim, gk);
                 momentum_pair(dim, 1.0, Tk, gk, fk);
-                for (int i = 0; i < dim; ++i)
-                    f[i][k] = fk[i];
+                set_column(f, k, dim, fk);
             }
         if (correct)
             for (int k = 0; k < nk; ++k) {
                 double rk[3], gk[3], Hk[6];
-                for (int i = 0; i < dim; ++i) {
-                    rk[i] = r[i][k];
-                    gk[i] = gW[i][k];
-                }
+                column(r, k, dim, rk);
+                column(gW, k, dim, gk);
                 correction_matrix_pair(dim, 1.0, rk, gk, Hk);
-                for (int c = 0; c < nsym; ++c)
-                    H[c][k] = Hk[c];
+                set_column(H, k, nsym, Hk);
             }
         if (xsph)
             for (int k = 0; k < nk; ++k) {
                 double vk[3], t[3] = {0.0, 0.0, 0.0};
-                for (int i = 0; i < dim; ++i)
-                    vk[i] = vr[i][k];
+                column(vr, k, dim, vk);
                 xsph_pair(dim, e->fx.xsph_epsilon, 1.0, rho_mean[k], vk, W[k], t);
-                for (int i = 0; i < dim; ++i)
-                    s[i][k] = t[i];
+                set_column(s, k, dim, t);
             }
         /* Sums in neighbour order.  With g the unweighted term of the pair
          * (grad_b W_ba = -grad_a W_ab, v_ba = -v_ab, r_ba = -r_ab):
@@ -881,25 +887,20 @@ static sph_status check_pass(sph_sim *sim, const char *fn, int pass)
     return SPH_OK;
 }
 
-/* A call on the caller's particles (checked, with the stride found). */
-static sph_status particle_call(sph_sim *sim, const char *fn, int pass, const sph_particles *p,
-                                rate_call *call)
+/* A call on arrays of particle state: {x, v, rho, S, mass}. */
+static rate_call call_on(size_t n_local, size_t n_total, const double *const state[5],
+                         size_t stride, const int *material, int pass)
 {
-    size_t stride = 0;
-    sph_status st;
-    if ((st = check_pass(sim, fn, pass)) || (st = check_particles(sim, fn, p, &stride)))
-        return st;
-    *call = (rate_call){.n_local = p->n_local,
-                        .n_total = p->n_total,
-                        .x = p->x,
-                        .v = p->v,
-                        .rho = p->rho,
-                        .S = p->S,
-                        .mass = p->mass,
-                        .stride = stride,
-                        .material = p->material,
-                        .pass = pass};
-    return SPH_OK;
+    return (rate_call){.n_local = n_local,
+                       .n_total = n_total,
+                       .x = state[0],
+                       .v = state[1],
+                       .rho = state[2],
+                       .S = state[3],
+                       .mass = state[4],
+                       .stride = stride,
+                       .material = material,
+                       .pass = pass};
 }
 
 static void rates_into(rate_call *call, const sph_rates *rates)
@@ -910,18 +911,46 @@ static void rates_into(rate_call *call, const sph_rates *rates)
     call->dx_dt = rates->dx_dt;
 }
 
+sph_status rates_of_handle(sph_sim *sim, int pass)
+{
+    const sph_neighbours nb = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
+    const double *const state[5] = {sim->x, sim->v, sim->rho, sim->S, sim->mass};
+    rate_call call = call_on(sim->n, sim->n, state, (size_t)sim->dim, sim->material_of, pass);
+    const sph_rates r = {sim->dv_dt, sim->drho_dt, sim->dS_dt, sim->fx.xsph ? sim->dx_dt : NULL};
+    rates_into(&call, &r);
+    call.neighbours = &nb;
+    call.periodic = 1;
+    call.half = 1;
+    return rates_run(sim, &call);
+}
+
+/* The start of a public entry point: the handle, the particles and the
+ * other pointer argument(s) checked (`other` NULL if one is missing), the
+ * call on the caller's particles set up. */
+static sph_status entry(sph_sim *sim, const char *fn, int pass, const sph_particles *p,
+                        const void *other, const char *what, rate_call *call)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (!p || !other)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: %s must not be NULL", fn, what);
+    size_t stride = 0;
+    sph_status st;
+    if ((st = check_pass(sim, fn, pass)) || (st = check_particles(sim, fn, p, &stride)))
+        return st;
+    const double *const state[5] = {p->x, p->v, p->rho, p->S, p->mass};
+    *call = call_on(p->n_local, p->n_total, state, stride, p->material, pass);
+    return SPH_OK;
+}
+
 sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p, const sph_neighbours *nb,
                               sph_rates *rates)
 {
     static const char fn[] = "sph_rates_evaluate";
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!p || !nb || !rates)
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "%s: particles, neighbours and rates must not be NULL", fn);
     rate_call call;
     sph_status st;
-    if ((st = particle_call(sim, fn, PASS_ALL, p, &call)) ||
+    if ((st = entry(sim, fn, PASS_ALL, p, nb && rates ? nb : NULL,
+                    "particles, neighbours and rates", &call)) ||
         (st = check_neighbours(sim, fn, p, nb)) || (st = check_rates(sim, fn, PASS_ALL, p, rates)))
         return st;
     call.neighbours = nb;
@@ -948,13 +977,10 @@ sph_status sph_rates_pass_pairs(sph_sim *sim, int pass, const sph_particles *p,
                                 const sph_neighbours *half, double *partial)
 {
     static const char fn[] = "sph_rates_pairs";
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!p || !half)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particles and neighbours must not be NULL", fn);
     rate_call call;
     sph_status st;
-    if ((st = particle_call(sim, fn, pass, p, &call)) || (st = check_neighbours(sim, fn, p, half)))
+    if ((st = entry(sim, fn, pass, p, half, "particles and neighbours", &call)) ||
+        (st = check_neighbours(sim, fn, p, half)))
         return st;
     if (p->n_total > 0 && !partial)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
@@ -976,13 +1002,9 @@ sph_status sph_rates_pass_finish(sph_sim *sim, int pass, const sph_particles *p,
                                  const double *partial, sph_rates *rates)
 {
     static const char fn[] = "sph_rates_finish";
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (!p || !rates)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: particles and rates must not be NULL", fn);
     rate_call call;
     sph_status st;
-    if ((st = particle_call(sim, fn, pass, p, &call)) ||
+    if ((st = entry(sim, fn, pass, p, rates, "particles and rates", &call)) ||
         (st = check_rates(sim, fn, pass, p, rates)))
         return st;
     if (p->n_local > 0 && !partial)

@@ -97,25 +97,7 @@ sph_status sim_evaluate(sph_sim *sim) { return sim_evaluate_pass(sim, PASS_ALL);
 
 sph_status sim_evaluate_pass(sph_sim *sim, int pass)
 {
-    const sph_neighbours nb = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
-    const rate_call call = {.n_local = sim->n,
-                            .n_total = sim->n,
-                            .x = sim->x,
-                            .v = sim->v,
-                            .rho = sim->rho,
-                            .S = sim->S,
-                            .mass = sim->mass,
-                            .stride = (size_t)sim->dim,
-                            .material = sim->material_of,
-                            .neighbours = &nb,
-                            .periodic = 1,
-                            .dv_dt = sim->dv_dt,
-                            .drho_dt = sim->drho_dt,
-                            .dS_dt = sim->dS_dt,
-                            .dx_dt = sim->fx.xsph ? sim->dx_dt : NULL,
-                            .half = 1,
-                            .pass = pass};
-    sph_status st = rates_run(sim, &call);
+    sph_status st = rates_of_handle(sim, pass);
     if (st || !(pass & PASS_MOMENTUM))
         return st;
     /* Prescribed motions: no acceleration; force-driven bodies translate

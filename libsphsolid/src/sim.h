@@ -175,6 +175,9 @@ enum {
 };
 
 sph_status rates_run(sph_sim *sim, const rate_call *call);
+/* The rates of the handle's own particles (periodic, its half list) into its
+ * rate arrays. */
+sph_status rates_of_handle(sph_sim *sim, int pass);
 int sim_threads(const sph_sim *sim);
 size_t rates_chunk_rows(int dim, size_t n);
 size_t rates_far_bytes(const sph_sim *sim);

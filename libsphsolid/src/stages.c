@@ -88,6 +88,20 @@ sph_status watchdog_report(sph_sim *sim, long a, int dim, const double *v_a, dou
                     rho_a / m->rho0, sim->watch_rho_min, sim->watch_rho_max);
 }
 
+sph_status stage_outcome(sph_sim *sim, const char *failure, long n, long bad, long wild,
+                         long *particle, const stage_arrays *a)
+{
+    if (particle)
+        *particle = bad < n ? bad : wild < n ? wild : -1;
+    if (bad < n)
+        return sph_fail(sim, SPH_ERR_NONFINITE, "%s at particle %ld", failure, bad);
+    if (wild < n)
+        return watchdog_report(sim, wild, sim->dim, a->v + wild * (long)a->stride, a->rho[wild],
+                               &sim->materials[a->material_of[wild]],
+                               a->integrate_motion ? a->integrate_motion[wild] : 1);
+    return SPH_OK;
+}
+
 sph_status sph_watchdog_check(sph_sim *sim, size_t n, const double *v, const double *rho,
                               const int *material_of, const unsigned char *integrate_motion,
                               long *particle)

@@ -38,6 +38,19 @@ static void full_list(const sph_sim *sim, size_t **offsets, int **indices)
     *indices = idx;
 }
 
+/* The handle's own particles as caller-owned ones (no ghosts). */
+static sph_particles handle_particles(const sph_sim *sim)
+{
+    return (sph_particles){.n_local = sim->n,
+                           .n_total = sim->n,
+                           .x = sim->x,
+                           .v = sim->v,
+                           .rho = sim->rho,
+                           .S = sim->S,
+                           .mass = sim->mass,
+                           .material = sim->material_of};
+}
+
 /* Evaluate the rates of the current state through the public low-level
  * entry point, with the full list made from the simulation's own. */
 static rates_buf evaluate(sph_sim *sim)
@@ -51,14 +64,7 @@ static rates_buf evaluate(sph_sim *sim)
     size_t *offsets;
     int *indices;
     full_list(sim, &offsets, &indices);
-    sph_particles p = {.n_local = n,
-                       .n_total = n,
-                       .x = sim->x,
-                       .v = sim->v,
-                       .rho = sim->rho,
-                       .S = sim->S,
-                       .mass = sim->mass,
-                       .material = sim->material_of};
+    sph_particles p = handle_particles(sim);
     sph_neighbours nb = {.offsets = offsets, .indices = indices};
     sph_rates out = {.dv_dt = r.dv, .drho_dt = r.drho, .dS_dt = r.dS};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &out));
@@ -449,14 +455,7 @@ static void split_evaluation_over_two_processes(void **state)
     size_t *offsets;
     int *indices;
     full_list(sim, &offsets, &indices);
-    sph_particles all = {.n_local = n,
-                         .n_total = n,
-                         .x = sim->x,
-                         .v = sim->v,
-                         .rho = sim->rho,
-                         .S = sim->S,
-                         .mass = sim->mass,
-                         .material = sim->material_of};
+    sph_particles all = handle_particles(sim);
     sph_neighbours full = {.offsets = offsets, .indices = indices};
     sph_rates ref = {.dv_dt = dv, .drho_dt = drho, .dS_dt = dS, .dx_dt = u};
     check(sim, sph_rates_evaluate(sim, &all, &full, &ref));
@@ -646,14 +645,7 @@ static void passes_add_up_to_the_whole_evaluation(void **state)
     assert_int_equal(Pm, 2);             /* dv */
     assert_int_equal(Pc + Pm, P);
     assert_int_equal(sph_rates_pass_size(sim, 0), 0);
-    sph_particles all = {.n_local = n,
-                         .n_total = n,
-                         .x = sim->x,
-                         .v = sim->v,
-                         .rho = sim->rho,
-                         .S = sim->S,
-                         .mass = sim->mass,
-                         .material = sim->material_of};
+    sph_particles all = handle_particles(sim);
     sph_neighbours half = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
     double *partial = calloc(n * P, sizeof *partial);
     double *buf[2][4];
@@ -762,14 +754,7 @@ static void xsph_velocity_of_one_moving_particle(void **state)
     size_t *offsets;
     int *indices;
     full_list(sim, &offsets, &indices);
-    sph_particles p = {.n_local = n,
-                       .n_total = n,
-                       .x = sim->x,
-                       .v = sim->v,
-                       .rho = sim->rho,
-                       .S = sim->S,
-                       .mass = sim->mass,
-                       .material = sim->material_of};
+    sph_particles p = handle_particles(sim);
     sph_neighbours nb = {.offsets = offsets, .indices = indices};
     sph_rates out = {.dv_dt = dv, .drho_dt = drho, .dS_dt = dS, .dx_dt = u};
     check(sim, sph_rates_evaluate(sim, &p, &nb, &out));
