@@ -641,7 +641,11 @@ class CostModel:
     CPU ratio of the same runs) turns it into wall time as the machine
     behaved during the calibration (1 / threads on an idle machine with
     perfect scaling; more under load or when threads wait). ``measured``
-    holds CPU seconds per step timed at spacings the plan considered. Runs
+    holds corrections of the fit at particle counts the plan considered:
+    a few steps timed there over the same timing at the finest calibrated
+    spacing, relative to the fit's ratio of the two (large scenes cost
+    more per particle than small ones; timing both alike keeps what the
+    few-step timing leaves out, such as probe sampling, in the fit). Runs
     without a CPU time (a LAMMPS deck's ``Loop time``) are fitted on wall
     time, with ``wall_per_cpu`` 1."""
     intercept: float
@@ -684,16 +688,28 @@ class CostModel:
         """Throughput of large scenes (1 / per-particle cost)."""
         return 1.0 / self.per_particle if self.per_particle > 0 else math.inf
 
+    def fitted(self, particles: int) -> float:
+        """The fit's seconds per step (no timing correction)."""
+        return self.intercept + self.per_particle * particles
+
+    def correct(self, particles: int, seconds: float, reference: int,
+                reference_seconds: float) -> float:
+        """Record a timing check: ``seconds`` per step at ``particles``
+        and ``reference_seconds`` at ``reference`` particles (the finest
+        calibrated spacing), timed alike. Returns the correction factor of
+        the fit at ``particles``."""
+        factor = ((seconds / reference_seconds)
+                  / (self.fitted(particles) / self.fitted(reference)))
+        self.measured[int(particles)] = float(factor)
+        return factor
+
     def seconds_per_step(self, particles: int) -> float:
-        """CPU (or, for wall-clock models, wall) seconds per step."""
-        if particles in self.measured:
-            return self.measured[particles]
-        base = self.intercept + self.per_particle * particles
+        """CPU (or, for wall-clock models, wall) seconds per step: the fit,
+        times the correction of the nearest timing check."""
+        base = self.fitted(particles)
         if self.measured:
-            # scale by the nearest measurement's ratio to the fit
             n0 = min(self.measured, key=lambda n: abs(math.log(n / particles)))
-            base *= self.measured[n0] / (self.intercept
-                                         + self.per_particle * n0)
+            base *= self.measured[n0]
         return base
 
     def predict_cpu(self, particles: int, steps: int) -> float:
@@ -711,8 +727,8 @@ class CostModel:
                 "per_particle_step_s": self.per_particle,
                 "particle_steps_per_s": self.particle_steps_per_second,
                 "threads": self.threads, "wall_per_cpu": self.wall_per_cpu,
-                "measured_s_per_step": {str(k): v for k, v in
-                                        self.measured.items()}}
+                "timing_correction": {str(k): v for k, v in
+                                      self.measured.items()}}
 
 
 def time_steps(scene_factory, dx, setting, threads, steps: int = 5,
@@ -1488,7 +1504,10 @@ def plan(scene_factory: Callable, error: float = 0.03,
             f"{cand.dx * 1e3:.3g} mm ...")
         n, _, per_step = time_steps(scene_factory, cand.dx, cand.setting,
                                     threads, clock=cand.cost.clock)
-        cand.cost.measured[n] = per_step
+        finest = min(cand.runs, key=lambda r: r.dx)
+        n0, _, per_step0 = time_steps(scene_factory, finest.dx, cand.setting,
+                                      threads, clock=cand.cost.clock)
+        cand.cost.correct(n, per_step, n0, per_step0)
         cand.seconds = cand.cost.predict(cand.particles, cand.steps)
         cand.cpu_seconds = cand.cost.predict_cpu(cand.particles, cand.steps)
     priced.sort(key=lambda c: c.cpu_seconds)

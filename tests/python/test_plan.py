@@ -174,6 +174,12 @@ def test_cost_model_uses_process_cpu_time_and_the_wall_ratio():
     assert model.per_particle == pytest.approx(1e-6, rel=1e-6)
     assert model.predict_cpu(4000, 50) == pytest.approx(50 * 0.0041)
     assert model.predict(4000, 50) == pytest.approx(2 * 50 * 0.0041)
+    # a timing check at 16000 particles that costs 1.2x the fit's ratio to
+    # the same timing at 8000 corrects the fit there (the fit itself keeps
+    # what the few-step timing leaves out)
+    factor = model.correct(16000, 0.0024, 8000, 0.001)
+    assert factor == pytest.approx(2.4 / (0.0161 / 0.0081))
+    assert model.predict_cpu(16000, 10) == pytest.approx(10 * 0.0161 * factor)
     # without CPU times (a LAMMPS deck's loop time): wall time
     for run in runs:
         run.cpu = math.nan
