@@ -80,7 +80,10 @@ void ComputeSPHSolidProbe::compute_vector()
     if (!(mask[i] & groupbit)) continue;
     double delta[3] = {x[i][0] - point[0], x[i][1] - point[1], x[i][2] - point[2]};
     if (dim == 2) delta[2] = 0.0;
-    domain->minimum_image(FLERR, delta);
+    // minimum_image changes only components beyond half a periodic box;
+    // the inline check spares the call (and its file-name string) per atom
+    if (domain->minimum_image_check(delta[0], delta[1], delta[2]))
+      domain->minimum_image(FLERR, delta);
     double r2 = 0.0;
     for (int d = 0; d < dim; d++) r2 += delta[d] * delta[d];
     if (r2 > reach * reach) continue;
