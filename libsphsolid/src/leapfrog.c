@@ -245,6 +245,19 @@ static int trips(const sph_sim *sim, int m, int integrate, const double *v, doub
     return v ? watchdog_trips(sim->dim, v, rho, vmax2, lo, hi) : rho < lo || rho > hi;
 }
 
+/* The watchdog's verdict on particle a after a stage: the first particle
+ * with a non-finite value (bad) or past a bound (wild), lowest index wins. */
+static void watch(const sph_sim *sim, long a, double ok, int m, int integrate, const double *v,
+                  double rho, long *bad, long *wild)
+{
+    if (!ok) {
+        if (a < *bad)
+            *bad = a;
+    } else if (a < *wild && trips(sim, m, integrate, v, rho)) {
+        *wild = a;
+    }
+}
+
 sph_status sph_leapfrog_begin_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
                                       size_t stride, double *rho, double *S, const sph_rates *r,
                                       const unsigned char *integrate_motion, double *saved)
@@ -303,12 +316,7 @@ sph_status sph_leapfrog_drift_strided(sph_sim *sim, size_t n, double dt, double 
         }
         ok *= drift_state(nc, dt, rho_n[a], S_n + a * nc, r->drho_dt[a], r->dS_dt + a * nc, rho + a,
                           S + a * nc);
-        if (!ok) {
-            if (a < bad)
-                bad = a;
-        } else if (a < wild && trips(sim, material_of[a], integrate, NULL, rho[a])) {
-            wild = a;
-        }
+        watch(sim, a, ok, material_of[a], integrate, NULL, rho[a], &bad, &wild);
     }
     const stage_arrays out = {v, stride, rho, material_of, integrate_motion};
     return stage_outcome(sim,
@@ -338,12 +346,7 @@ sph_status sph_leapfrog_end_strided(sph_sim *sim, size_t n, double dt, double *v
                 va[i] += 0.5 * dt * dv_dt[a * dim + i];
         for (int i = 0; i < dim; ++i)
             ok *= isfinite(va[i]);
-        if (!ok) {
-            if (a < bad)
-                bad = a;
-        } else if (a < wild && trips(sim, material_of[a], integrate, va, rho[a])) {
-            wild = a;
-        }
+        watch(sim, a, ok, material_of[a], integrate, va, rho[a], &bad, &wild);
     }
     const stage_arrays out = {v, stride, rho, material_of, integrate_motion};
     return stage_outcome(sim, "leapfrog kick produced a non-finite velocity", nn, bad, wild,

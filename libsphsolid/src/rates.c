@@ -329,21 +329,22 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
         /* momentum: T_ab . grad_a W_ab */
         /* (the pair functions take one pair's terms as short vectors:
          * column k of the block's arrays) */
-        if (mom)
+        if (mom || correct)
             for (int k = 0; k < nk; ++k) {
-                double Tk[6], gk[3], fk[3] = {0.0, 0.0, 0.0};
-                column(T, k, nsym, Tk);
+                double gk[3];
                 column(gW, k, dim, gk);
-                momentum_pair(dim, 1.0, Tk, gk, fk);
-                set_column(f, k, dim, fk);
-            }
-        if (correct)
-            for (int k = 0; k < nk; ++k) {
-                double rk[3], gk[3], Hk[6];
-                column(r, k, dim, rk);
-                column(gW, k, dim, gk);
-                correction_matrix_pair(dim, 1.0, rk, gk, Hk);
-                set_column(H, k, nsym, Hk);
+                if (mom) {
+                    double Tk[6], fk[3] = {0.0, 0.0, 0.0};
+                    column(T, k, nsym, Tk);
+                    momentum_pair(dim, 1.0, Tk, gk, fk);
+                    set_column(f, k, dim, fk);
+                }
+                if (correct) {
+                    double rk[3], Hk[6];
+                    column(r, k, dim, rk);
+                    correction_matrix_pair(dim, 1.0, rk, gk, Hk);
+                    set_column(H, k, nsym, Hk);
+                }
             }
         if (xsph)
             for (int k = 0; k < nk; ++k) {

@@ -353,6 +353,37 @@ static void leapfrog_moves_prescribed_bodies_exactly(void **state)
     sph_destroy(sim);
 }
 
+/* The leapfrog's closing kick on caller arrays (the LAMMPS fix's call)
+ * applies the watchdog: the lowest particle past a density or speed bound,
+ * or with a non-finite velocity, is named. */
+static void leapfrog_kick_on_caller_arrays_applies_the_watchdog(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int m;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &m));
+    check(sim, sph_set_spacing(sim, 1e-3));
+    check(sim, sph_set_watchdog(sim, 0.1, 0.9, 1.1));
+    const int material[3] = {m, m, m};
+    for (int kind = 0; kind < 3; ++kind) {
+        double v[6] = {0}, dv[6] = {0};
+        double rho[3] = {PAPER_RHO0, PAPER_RHO0, PAPER_RHO0};
+        int expect = kind == 2 ? 0 : kind + 1;
+        if (kind == 0)
+            rho[1] = 1.5 * PAPER_RHO0; /* density ratio 1.5 > 1.1 */
+        else if (kind == 1)
+            v[2 * 2 + 1] = 1e4; /* faster than 0.1 c_p */
+        else
+            dv[0] = NAN;
+        long particle = -7;
+        sph_status st =
+            sph_leapfrog_end_strided(sim, 3, 1e-7, v, 2, rho, dv, NULL, material, &particle);
+        assert_int_equal(st, kind == 2 ? SPH_ERR_NONFINITE : SPH_ERR_UNSTABLE);
+        assert_int_equal(particle, expect);
+    }
+    sph_destroy(sim);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -364,6 +395,7 @@ int main(void)
         cmocka_unit_test(leapfrog_runs_split_anywhere),
         cmocka_unit_test(leapfrog_moves_prescribed_bodies_exactly),
         cmocka_unit_test(leapfrog_turns_stress_with_a_rotation_to_second_order),
+        cmocka_unit_test(leapfrog_kick_on_caller_arrays_applies_the_watchdog),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
