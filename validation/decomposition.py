@@ -98,15 +98,21 @@ def run(dx, strip=False, until=WINDOW, dt_factor=1.0,
     dynamics = dynamics_for(integrator)
     dyn = dynamics(s, progress=False)
     dyn = dynamics(s, dt=dyn.dt * dt_factor, progress=False)
-    probes = Probes(s, STRIP_PROBES if strip else PAPER_PROBES)
-    dyn.attach(probes, interval=1)
+    return probe_series(s, dyn, STRIP_PROBES if strip else PAPER_PROBES, until)
+
+
+def probe_series(scene, dyn, points, until, interval=1) -> dict:
+    """Run `dyn` on `scene` to `until`, sampling von Mises at `points`
+    every `interval` steps; the series with the run's wall and CPU time."""
+    probes = Probes(scene, points)
+    dyn.attach(probes, interval=interval)
     wall, cpu = wallclock.perf_counter(), wallclock.process_time()
     dyn.run(until=until)
     return {"times": np.asarray(probes.times),
             "vm": {n: np.asarray(probes[n]["von_mises"]) for n in probes.names},
             "wall": wallclock.perf_counter() - wall,
             "cpu": wallclock.process_time() - cpu,
-            "steps": dyn.nsteps, "particles": len(s)}
+            "steps": dyn.nsteps, "particles": len(scene)}
 
 
 def strip_exact(times, y):

@@ -53,17 +53,10 @@ def specimen_run(dx, preset, until=decomposition.WINDOW, threads=1,
     scene = scenes.uniaxial_piston(dx, preset=preset, **overrides)
     scene.calc = CLibrary(threads=threads)
     dyn = presets.dynamics(scene, progress=False)
-    probes = Probes(scene, PAPER_PROBES)
-    dyn.attach(probes, interval=interval)
-    wall, cpu = wallclock.perf_counter(), wallclock.process_time()
-    dyn.run(until=until)
-    return {"times": np.asarray(probes.times),
-            "vm": {n: np.asarray(probes[n]["von_mises"]) for n in probes.names},
-            "wall": wallclock.perf_counter() - wall,
-            "cpu": wallclock.process_time() - cpu,
-            "steps": dyn.nsteps, "particles": len(scene),
-            "inset": scene.bodies[1].hi[1] / (scene.bodies[0].hi[1]
-                                               / scene.bodies[0].lattice_shape[1])}
+    result = decomposition.probe_series(scene, dyn, PAPER_PROBES, until, interval)
+    result["inset"] = scene.bodies[1].hi[1] / (scene.bodies[0].hi[1]
+                                               / scene.bodies[0].lattice_shape[1])
+    return result
 
 
 def strip_scene(dx, preset, **overrides) -> Scene:

@@ -80,6 +80,25 @@ def run_deck(deck: Path, workdir: Path, variables: dict[str, object], plugin: Pa
     return done
 
 
+def run_on_one_and_two_ranks(tmp_path: Path, deck_text: str, variables: dict[str, object],
+                             plugin: Path) -> tuple[Path, Path, int]:
+    """Run a deck (with `px` set to the rank count) on 1 and on 2 ranks, each
+    in its own directory; returns both directories and the 2-rank run's
+    neighbour list builds (atoms that really move across bins and ranks
+    rebuild often)."""
+    deck = tmp_path / "in.deck"
+    deck.write_text(deck_text)
+    works = []
+    for ranks in (1, 2):
+        work = tmp_path / f"np{ranks}"
+        work.mkdir()
+        run_deck(deck, work, {"px": ranks, **variables}, plugin, ranks=ranks)
+        works.append(work)
+    log = (works[1] / "log.lammps").read_text()
+    builds = int(log.split("Neighbor list builds =")[1].split()[0])
+    return works[0], works[1], builds
+
+
 def read_probes(path: Path) -> np.ndarray:
     """Rows of fix ave/time output: step, time, then 6 values for each of A, B, C."""
     return np.loadtxt(path, comments="#", ndmin=2)

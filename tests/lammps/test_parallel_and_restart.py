@@ -13,7 +13,7 @@ import textwrap
 import numpy as np
 import pytest
 
-from conftest import PISTON_DECK, read_probes, run_deck, sphsolid_lammps
+from conftest import PISTON_DECK, read_probes, run_deck, run_on_one_and_two_ranks, sphsolid_lammps
 
 
 @pytest.mark.parametrize("load,tolerance", [({}, 1e-12),
@@ -119,18 +119,9 @@ def test_atoms_crossing_ranks_keep_their_state(tmp_path, plugin, fix):
     # With the leapfrog the half step's density and stress rates, which
     # predict the next half step, travel with the atoms too (a lost or
     # misplaced one shows at 1e-6 and above).
-    deck = tmp_path / "in.block"
-    deck.write_text(SPINNING_BLOCK)
-    results = {}
-    for ranks in (1, 2):
-        work = tmp_path / f"np{ranks}"
-        work.mkdir()
-        run_deck(deck, work, {"px": ranks, "fix": fix}, plugin, ranks=ranks)
-        results[ranks] = final_state(work / "final.txt")
-    log = (tmp_path / "np2" / "log.lammps").read_text()
-    builds = int(log.split("Neighbor list builds =")[1].split()[0])
+    work1, work2, builds = run_on_one_and_two_ranks(tmp_path, SPINNING_BLOCK, {"fix": fix}, plugin)
     assert builds > 10  # atoms really moved across bins and ranks
-    one, two = results[1], results[2]
+    one, two = final_state(work1 / "final.txt"), final_state(work2 / "final.txt")
     assert one.shape == two.shape == (576, 10)
     np.testing.assert_array_equal(one[:, 0], two[:, 0])
     # the block crossed x = 0: it started at x < -0.008 m, drifted 0.02 m

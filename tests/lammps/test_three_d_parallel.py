@@ -17,7 +17,7 @@ import textwrap
 
 import numpy as np
 
-from conftest import REPOSITORY, read_probes, run_deck
+from conftest import REPOSITORY, read_probes, run_deck, run_on_one_and_two_ranks
 
 CYLINDER = REPOSITORY / "examples" / "uniaxial_cylinder" / "in.uniaxial_cylinder"
 
@@ -59,19 +59,10 @@ SPINNING_BLOCK_3D = textwrap.dedent("""\
 
 
 def test_3d_atoms_crossing_ranks_keep_their_state(tmp_path, plugin):
-    deck = tmp_path / "in.block3d"
-    deck.write_text(SPINNING_BLOCK_3D)
-    results, probes = {}, {}
-    for ranks in (1, 2):
-        work = tmp_path / f"np{ranks}"
-        work.mkdir()
-        run_deck(deck, work, {"px": ranks}, plugin, ranks=ranks)
-        results[ranks] = np.loadtxt(work / "final.txt", skiprows=9)
-        probes[ranks] = read_probes(work / "probes.txt")
-    log = (tmp_path / "np2" / "log.lammps").read_text()
-    builds = int(log.split("Neighbor list builds =")[1].split()[0])
+    work1, work2, builds = run_on_one_and_two_ranks(tmp_path, SPINNING_BLOCK_3D, {}, plugin)
     assert builds > 10  # atoms really moved across bins and ranks
-    one, two = results[1], results[2]
+    one, two = (np.loadtxt(w / "final.txt", skiprows=9) for w in (work1, work2))
+    probes = {1: read_probes(work1 / "probes.txt"), 2: read_probes(work2 / "probes.txt")}
     assert one.shape == two.shape == (1000, 14)
     np.testing.assert_array_equal(one[:, 0], two[:, 0])
     # the block's centre drifted from x = -0.007 m across x = 0
