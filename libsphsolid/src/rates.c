@@ -925,39 +925,53 @@ sph_status rates_of_handle(sph_sim *sim, int pass)
     return rates_run(sim, &call);
 }
 
-/* The start of a public entry point: the handle, the particles and the
- * other pointer argument(s) checked (`other` NULL if one is missing), the
- * call on the caller's particles set up. */
-static sph_status entry(sph_sim *sim, const char *fn, int pass, const sph_particles *p,
-                        const void *other, const char *what, rate_call *call)
+/* The public calls on caller arrays: one evaluation (rates from
+ * neighbours), the pair pass (partial sums from a half list) and the
+ * finish (rates from the partial sums). */
+enum { CALL_EVALUATE, CALL_PAIRS, CALL_FINISH };
+
+/* Checks the handle and the arguments of call `kind` (each pointer it uses
+ * must be given), sets up the call on the caller's particles and runs it.
+ * `sums` is the pair pass's output, `sums_in` the finish's input. */
+static sph_status public_call(sph_sim *sim, int kind, int pass, const sph_particles *p,
+                              const sph_neighbours *nb, const sph_rates *rates, double *sums,
+                              const double *sums_in)
 {
+    static const char *const names[] = {"sph_rates_evaluate", "sph_rates_pairs",
+                                        "sph_rates_finish"};
+    static const char *const needs[] = {"particles, neighbours and rates",
+                                        "particles and neighbours", "particles and rates"};
+    const char *fn = names[kind];
     if (!sim)
         return SPH_ERR_ARGUMENT;
-    if (!p || !other)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: %s must not be NULL", fn, what);
+    if (!p || (kind != CALL_FINISH && !nb) || (kind != CALL_PAIRS && !rates))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: %s must not be NULL", fn, needs[kind]);
     size_t stride = 0;
     sph_status st;
-    if ((st = check_pass(sim, fn, pass)) || (st = check_particles(sim, fn, p, &stride)))
+    if ((st = check_pass(sim, fn, pass)) || (st = check_particles(sim, fn, p, &stride)) ||
+        (kind != CALL_FINISH && (st = check_neighbours(sim, fn, p, nb))) ||
+        (kind != CALL_PAIRS && (st = check_rates(sim, fn, pass, p, rates))))
         return st;
+    if (kind != CALL_EVALUATE && (kind == CALL_PAIRS ? p->n_total : p->n_local) > 0 &&
+        !(kind == CALL_PAIRS ? (const double *)sums : sums_in))
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "%s: partial is NULL; it holds %s * sph_rates_pass_size() doubles", fn,
+                        kind == CALL_PAIRS ? "n_total" : "n_local");
     const double *const state[5] = {p->x, p->v, p->rho, p->S, p->mass};
-    *call = call_on(p->n_local, p->n_total, state, stride, p->material, pass);
-    return SPH_OK;
+    rate_call call = call_on(p->n_local, p->n_total, state, stride, p->material, pass);
+    call.neighbours = nb;
+    call.half = kind != CALL_EVALUATE;
+    call.partial = sums;
+    if (rates)
+        rates_into(&call, rates);
+    st = kind == CALL_FINISH ? finish_run(sim, &call, sums_in) : rates_run(sim, &call);
+    return st ? st : sph_ok(sim);
 }
 
 sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p, const sph_neighbours *nb,
                               sph_rates *rates)
 {
-    static const char fn[] = "sph_rates_evaluate";
-    rate_call call;
-    sph_status st;
-    if ((st = entry(sim, fn, PASS_ALL, p, nb && rates ? nb : NULL,
-                    "particles, neighbours and rates", &call)) ||
-        (st = check_neighbours(sim, fn, p, nb)) || (st = check_rates(sim, fn, PASS_ALL, p, rates)))
-        return st;
-    call.neighbours = nb;
-    rates_into(&call, rates);
-    st = rates_run(sim, &call);
-    return st ? st : sph_ok(sim);
+    return public_call(sim, CALL_EVALUATE, PASS_ALL, p, nb, rates, NULL, NULL);
 }
 
 size_t sph_rates_pass_size(const sph_sim *sim, int pass)
@@ -977,43 +991,20 @@ size_t sph_rates_partial_size(const sph_sim *sim)
 sph_status sph_rates_pass_pairs(sph_sim *sim, int pass, const sph_particles *p,
                                 const sph_neighbours *half, double *partial)
 {
-    static const char fn[] = "sph_rates_pairs";
-    rate_call call;
-    sph_status st;
-    if ((st = entry(sim, fn, pass, p, half, "particles and neighbours", &call)) ||
-        (st = check_neighbours(sim, fn, p, half)))
-        return st;
-    if (p->n_total > 0 && !partial)
-        return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "%s: partial must hold n_total * sph_rates_pass_size() doubles", fn);
-    call.neighbours = half;
-    call.half = 1;
-    call.partial = partial;
-    st = rates_run(sim, &call);
-    return st ? st : sph_ok(sim);
-}
-
-sph_status sph_rates_pairs(sph_sim *sim, const sph_particles *p, const sph_neighbours *half,
-                           double *partial)
-{
-    return sph_rates_pass_pairs(sim, SPH_RATES_ALL, p, half, partial);
+    return public_call(sim, CALL_PAIRS, pass, p, half, NULL, partial, NULL);
 }
 
 sph_status sph_rates_pass_finish(sph_sim *sim, int pass, const sph_particles *p,
                                  const double *partial, sph_rates *rates)
 {
-    static const char fn[] = "sph_rates_finish";
-    rate_call call;
-    sph_status st;
-    if ((st = entry(sim, fn, pass, p, rates, "particles and rates", &call)) ||
-        (st = check_rates(sim, fn, pass, p, rates)))
-        return st;
-    if (p->n_local > 0 && !partial)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: partial is NULL", fn);
-    rates_into(&call, rates);
-    call.half = 1;
-    st = finish_run(sim, &call, partial);
-    return st ? st : sph_ok(sim);
+    return public_call(sim, CALL_FINISH, pass, p, NULL, rates, NULL, partial);
+}
+
+/* The same for the whole evaluation (both passes at once). */
+sph_status sph_rates_pairs(sph_sim *sim, const sph_particles *p, const sph_neighbours *half,
+                           double *partial)
+{
+    return sph_rates_pass_pairs(sim, SPH_RATES_ALL, p, half, partial);
 }
 
 sph_status sph_rates_finish(sph_sim *sim, const sph_particles *p, const double *partial,

@@ -686,6 +686,12 @@ static void passes_add_up_to_the_whole_evaluation(void **state)
     assert_int_equal(sph_rates_pass_finish(sim, SPH_RATES_MOMENTUM, &all, partial, &cont),
                      SPH_ERR_ARGUMENT);
     assert_non_null(strstr(sph_errmsg(sim), "dv_dt"));
+    /* a missing partial-sum buffer is refused, naming it and its size */
+    assert_int_equal(sph_rates_pass_pairs(sim, SPH_RATES_ALL, &all, &half, NULL), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "sph_rates_pairs: partial is NULL; it holds n_total"));
+    assert_int_equal(sph_rates_pass_finish(sim, SPH_RATES_ALL, &all, NULL, &whole),
+                     SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "sph_rates_finish: partial is NULL; it holds n_local"));
     for (int k = 0; k < 2; ++k)
         for (int q = 0; q < 4; ++q)
             free(buf[k][q]);
