@@ -125,6 +125,32 @@ class Probes:
 
     __call__ = record
 
+    def load(self, series, interval: int | None = None) -> None:
+        """Take the samples of these probes recorded by the library into a
+        trajectory file (:attr:`Trajectory.probes`, a ``ProbeSeries``),
+        replacing any recorded here.
+
+        A run that writes a trajectory with ``probe_interval`` gets its
+        series this way without a Python observer: the library samples
+        the same points with the same function (``sph_probe_sample``), so
+        the series are those :meth:`record` takes at those steps, and the
+        steps run without returning to Python between samples.  With
+        ``interval`` only the samples at multiples of it are taken (a
+        trajectory also samples the state it is closed at): those an
+        observer attached with that interval records.
+        """
+        if list(series.names) != self.names:
+            raise ValueError(f"the file's probes {list(series.names)} are not"
+                             f" these probes {self.names}")
+        if list(series.columns) != self.values:
+            raise ValueError(f"the file's probe columns {list(series.columns)}"
+                             f" are not {self.values}")
+        keep = [k for k, step in enumerate(series.steps)
+                if interval is None or int(step) % interval == 0]
+        self._times = [float(series.times[k]) for k in keep]
+        self._steps = [int(series.steps[k]) for k in keep]
+        self._samples = [np.array(series.values[k]) for k in keep]
+
     @property
     def times(self) -> np.ndarray:
         """Times of the recorded samples [s]."""

@@ -117,3 +117,34 @@ def test_cli_reports_bad_input_without_a_traceback(tmp_path):
     assert "dx" in run.stderr and "Traceback" not in run.stderr
     run = cli("info", str(tmp_path / "none.h5"))
     assert run.returncode == 2 and "none.h5" in run.stderr
+
+
+def test_cli_probe_series_is_the_observer_series(tmp_path):
+    """The CLI takes its probe series from the library's trajectory file
+    (no Python observer between samples): it must be the series a Probes
+    observer records at the same steps of the same run, value for value."""
+    run = cli("piston", "--dx", "4mm", "--until", "0.04ms",
+              "--probe-interval", "3", "--out", str(tmp_path))
+    assert run.returncode == 0, run.stderr
+    scene = scenes.uniaxial_piston(4e-3)
+    probes = sphsolid.Probes(scene, scenes.PAPER_PROBES)
+    dyn = sphsolid.ImprovedEuler(scene, progress=False)
+    dyn.attach(probes, interval=3)
+    for k in range(1, 5):                 # the CLI's 4 frames to --until
+        dyn.run(until=0.04e-3 * k / 4)
+    expected = tmp_path / "observer.csv"
+    probes.write_csv(expected)
+    written = (tmp_path / "piston_probes.csv").read_text()
+    assert len(probes.times) > 10
+    assert written == expected.read_text()
+
+
+def test_probes_load_refuses_another_files_probes(tmp_path):
+    scene = scenes.uniaxial_piston(4e-3)
+    probes = sphsolid.Probes(scene, {"A": scenes.PAPER_PROBES["A"]})
+    from sphsolid.trajectory import ProbeSeries
+    other = ProbeSeries(names=["B"], columns=probes.values,
+                        points=np.zeros((1, 2)), steps=np.zeros(0),
+                        times=np.zeros(0), values=np.zeros((0, 1, 6)))
+    with pytest.raises(ValueError, match="'B'"):
+        probes.load(other)
