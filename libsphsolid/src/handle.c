@@ -39,7 +39,7 @@ void sph_destroy(sph_sim *sim)
     output_free(sim);
     free(sim->materials);
     free(sim->bodies);
-    free(sim->probes);
+    probes_free(sim);
     free(sim->x);
     free(sim->v);
     free(sim->rho);

@@ -42,11 +42,20 @@
  * (before the version was recorded) have no `sphsolid_format` attribute. */
 #define SPH_FILE_FORMAT 2L
 
+/* Probe samples are kept in memory and appended to the file PROBE_BLOCK at
+ * a time, and whenever the file is committed (output_commit), so a reader
+ * sees the same samples as if each were appended when taken: it trusts
+ * only the samples counted at the last commit. */
+#define PROBE_BLOCK 256
+
 struct output_file {
     hid_t file;
     long snapshot_interval, probe_interval;
-    long frames, probe_frames;
+    long frames, probe_frames; /* probe_frames counts the pending samples */
     long last_snapshot_step, last_probe_step;
+    long pending;       /* probe samples not yet in the file */
+    long *pending_step; /* PROBE_BLOCK each */
+    double *pending_time, *pending_value;
     int failed; /* a write failed: the file takes no more */
     char error[SPH_ERRMSG_SIZE];
     char *path;
@@ -286,8 +295,9 @@ static int write_dataset(io *c, hid_t loc, const char *name, hid_t type, int ran
 }
 
 /* An H5MD time series: group with extendible step, time and value, each
- * chunked and checksummed. */
-static int series_create(io *c, hid_t loc, const char *name, int rank, const hsize_t *inner)
+ * chunked and checksummed (value in chunks of value_rows records). */
+static int series_create(io *c, hid_t loc, const char *name, int rank, const hsize_t *inner,
+                         hsize_t value_rows)
 {
     hid_t g = group_create(c, loc, name);
     hsize_t dims[4] = {0}, maxd[4] = {H5S_UNLIMITED}, chunk[4] = {1};
@@ -298,7 +308,7 @@ static int series_create(io *c, hid_t loc, const char *name, int rank, const hsi
         const int r = k < 2 ? 1 : rank + 1;
         hsize_t c1[4];
         memcpy(c1, chunk, sizeof c1);
-        c1[0] = k < 2 ? 256 : 1;
+        c1[0] = k < 2 ? 256 : value_rows;
         char what[160];
         snprintf(what, sizeof what, "%s/%s", name, names[k]);
         hid_t space = H5Screate_simple(r, dims, maxd);
@@ -317,7 +327,7 @@ static int series_create(io *c, hid_t loc, const char *name, int rank, const hsi
 }
 
 static int extend_append(io *c, hid_t g, const char *group, const char *name, hid_t type,
-                         const void *data)
+                         hsize_t rows, const void *data)
 {
     char what[160];
     snprintf(what, sizeof what, "%s/%s", group, name);
@@ -331,9 +341,9 @@ static int extend_append(io *c, hid_t g, const char *group, const char *name, hi
     space = -1;
     if (ok(c, rank, what)) {
         start[0] = dims[0];
-        dims[0] += 1;
+        dims[0] += rows;
         memcpy(count, dims, sizeof count);
-        count[0] = 1;
+        count[0] = rows;
         if (ok(c, H5Dset_extent(d, dims), what) && ok(c, space = H5Dget_space(d), what) &&
             ok(c, H5Sselect_hyperslab(space, H5S_SELECT_SET, start, NULL, count, NULL), what) &&
             ok(c, mem = H5Screate_simple(rank, count, NULL), what))
@@ -345,19 +355,26 @@ static int extend_append(io *c, hid_t g, const char *group, const char *name, hi
     return c->failed ? -1 : 0;
 }
 
-static int series_append(io *c, hid_t loc, const char *path, long step, double time,
-                         const double *value)
+/* Appends `rows` records (steps, times, values one after another). */
+static int series_append_rows(io *c, hid_t loc, const char *path, hsize_t rows, const long *step,
+                              const double *time, const double *value)
 {
     hid_t g = H5Gopen2(loc, path, H5P_DEFAULT);
     if (!ok(c, g, path)) {
         close_id(g);
         return -1;
     }
-    extend_append(c, g, path, "step", H5T_NATIVE_LONG, &step);
-    extend_append(c, g, path, "time", H5T_NATIVE_DOUBLE, &time);
-    extend_append(c, g, path, "value", H5T_NATIVE_DOUBLE, value);
+    extend_append(c, g, path, "step", H5T_NATIVE_LONG, rows, step);
+    extend_append(c, g, path, "time", H5T_NATIVE_DOUBLE, rows, time);
+    extend_append(c, g, path, "value", H5T_NATIVE_DOUBLE, rows, value);
     group_close(c, g, path);
     return c->failed ? -1 : 0;
+}
+
+static int series_append(io *c, hid_t loc, const char *path, long step, double time,
+                         const double *value)
+{
+    return series_append_rows(c, loc, path, 1, &step, &time, value);
 }
 
 /* File access: output files in the HDF5 1.8 format (checksummed metadata;
@@ -513,9 +530,19 @@ static sph_status output_failed(sph_sim *sim, const char *action, const io *c)
 
 /* Makes the frames and samples written so far count: their data is flushed
  * first, then the counts readers trust, then flushed again. */
+static int probes_append_pending(io *c, struct output_file *o)
+{
+    if (o->pending > 0 && series_append_rows(c, o->file, "/observables/probes", (hsize_t)o->pending,
+                                             o->pending_step, o->pending_time, o->pending_value))
+        return -1;
+    o->pending = 0;
+    return 0;
+}
+
 static int output_commit(io *c, struct output_file *o, long frames, long probe_frames)
 {
-    if (!ok(c, H5Fflush(o->file, H5F_SCOPE_GLOBAL), "the file (flush)"))
+    if (probes_append_pending(c, o) ||
+        !ok(c, H5Fflush(o->file, H5F_SCOPE_GLOBAL), "the file (flush)"))
         return -1;
     hid_t all = H5Gopen2(o->file, "/particles/all", H5P_DEFAULT);
     if (ok(c, all, "/particles/all"))
@@ -563,46 +590,66 @@ static sph_status write_snapshot(sph_sim *sim)
     return sph_ok(sim);
 }
 
-static sph_status write_probes(sph_sim *sim)
+/* Samples the probes into the pending block (in_run: from the run driver,
+ * see probe_sample_point); a full block goes to the file. */
+static sph_status write_probes(sph_sim *sim, int in_run)
 {
     struct output_file *o = sim->out;
     if (sim->n_probes == 0)
         return SPH_OK;
     if (o->failed)
         return sph_fail(sim, SPH_ERR_IO, "%s", o->error);
-    const int nv = SPH_PROBE_VALUES(sim->dim);
-    double *values = malloc((size_t)sim->n_probes * nv * sizeof *values);
-    if (!values)
-        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate probe values");
-    for (int k = 0; k < sim->n_probes; ++k) {
-        const sph_status st = probe_sample_point(sim, &sim->probes[k], values + (size_t)k * nv);
-        if (st) {
-            free(values);
-            return st;
+    const size_t nv = (size_t)SPH_PROBE_VALUES(sim->dim) * (size_t)sim->n_probes;
+    if (!o->pending_step) {
+        o->pending_step = malloc(PROBE_BLOCK * sizeof *o->pending_step);
+        o->pending_time = malloc(PROBE_BLOCK * sizeof *o->pending_time);
+        o->pending_value = malloc(PROBE_BLOCK * nv * sizeof *o->pending_value);
+        if (!o->pending_step || !o->pending_time || !o->pending_value) {
+            free(o->pending_step);
+            free(o->pending_time);
+            free(o->pending_value);
+            o->pending_step = NULL;
+            o->pending_time = NULL;
+            o->pending_value = NULL;
+            return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate probe values");
         }
     }
-    io c = {0};
-    series_append(&c, o->file, "/observables/probes", sim->step, sim->t, values);
-    free(values);
-    if (c.failed)
-        return output_failed(sim, "writing probe samples to", &c);
+    double *values = o->pending_value + (size_t)o->pending * nv;
+    for (int k = 0; k < sim->n_probes; ++k) {
+        const sph_status st = probe_sample_point(
+            sim, &sim->probes[k], values + (size_t)k * (nv / (size_t)sim->n_probes), in_run);
+        if (st)
+            return st;
+    }
+    o->pending_step[o->pending] = sim->step;
+    o->pending_time[o->pending] = sim->t;
+    o->pending++;
     o->probe_frames++;
     o->last_probe_step = sim->step;
+    if (o->pending == PROBE_BLOCK) {
+        io c = {0};
+        if (probes_append_pending(&c, o))
+            return output_failed(sim, "writing probe samples to", &c);
+    }
     return SPH_OK;
 }
 
 sph_status output_write_due(sph_sim *sim)
 {
     struct output_file *o = sim->out;
+    const int snapshot = o->snapshot_interval > 0 && sim->step % o->snapshot_interval == 0 &&
+                         o->last_snapshot_step != sim->step;
+    const int probes = o->probe_interval > 0 && sim->step % o->probe_interval == 0 &&
+                       o->last_probe_step != sim->step;
+    if (!snapshot && !probes)
+        return SPH_OK;
     sph_status st = SPH_OK;
     quiet q;
     quiet_begin(&q);
-    if (o->snapshot_interval > 0 && sim->step % o->snapshot_interval == 0 &&
-        o->last_snapshot_step != sim->step)
+    if (snapshot)
         st = write_snapshot(sim);
-    if (!st && o->probe_interval > 0 && sim->step % o->probe_interval == 0 &&
-        o->last_probe_step != sim->step)
-        st = write_probes(sim);
+    if (!st && probes)
+        st = write_probes(sim, 1);
     quiet_end(&q);
     return st;
 }
@@ -661,12 +708,12 @@ static int write_static(io *c, sph_sim *sim, hid_t file)
     write_dataset(c, all, "body", H5T_NATIVE_INT, 1, &n, sim->body_of);
     write_dataset(c, all, "material", H5T_NATIVE_INT, 1, &n, sim->material_of);
     hsize_t vec[2] = {n, (hsize_t)dim}, ten[2] = {n, (hsize_t)nc};
-    series_create(c, all, "position", 2, vec);
-    series_create(c, all, "velocity", 2, vec);
-    series_create(c, all, "density", 1, &n);
-    series_create(c, all, "pressure", 1, &n);
-    series_create(c, all, "deviatoric_stress", 2, ten);
-    series_create(c, all, "von_mises", 1, &n);
+    series_create(c, all, "position", 2, vec, 1);
+    series_create(c, all, "velocity", 2, vec, 1);
+    series_create(c, all, "density", 1, &n, 1);
+    series_create(c, all, "pressure", 1, &n, 1);
+    series_create(c, all, "deviatoric_stress", 2, ten, 1);
+    series_create(c, all, "von_mises", 1, &n, 1);
     group_close(c, all, "particles/all");
     group_close(c, parts, "particles");
 
@@ -674,7 +721,7 @@ static int write_static(io *c, sph_sim *sim, hid_t file)
     if (sim->n_probes > 0 && !c->failed) {
         const int nv = SPH_PROBE_VALUES(dim);
         hsize_t inner[2] = {(hsize_t)sim->n_probes, (hsize_t)nv};
-        series_create(c, obs, "probes", 2, inner);
+        series_create(c, obs, "probes", 2, inner, PROBE_BLOCK);
         hid_t pg = H5Gopen2(obs, "probes", H5P_DEFAULT);
         ok(c, pg, "observables/probes");
         attr_long(c, pg, "complete_samples", 0);
@@ -720,6 +767,9 @@ static int output_release(io *c, sph_sim *sim)
         fail_at(c, "the file (close)", 0);
         err = -1;
     }
+    free(o->pending_step);
+    free(o->pending_time);
+    free(o->pending_value);
     free(o->path);
     free(o);
     sim->out = NULL;
@@ -772,7 +822,7 @@ sph_status sph_output_open(sph_sim *sim, const char *path, long snapshot_interva
                       c.cause, c.what);
         io ignored = {0};
         output_release(&ignored, sim);
-    } else if (!(st = write_snapshot(sim)) && probe_interval > 0 && !(st = write_probes(sim))) {
+    } else if (!(st = write_snapshot(sim)) && probe_interval > 0 && !(st = write_probes(sim, 0))) {
         io cc = {0};
         if (output_commit(&cc, o, o->frames, o->probe_frames))
             st = output_failed(sim, "writing probe samples to", &cc);
@@ -831,7 +881,7 @@ sph_status sph_output_close(sph_sim *sim)
     if (!failed && o->last_snapshot_step != sim->step)
         st = write_snapshot(sim);
     if (!st && !failed && o->probe_interval > 0 && o->last_probe_step != sim->step)
-        st = write_probes(sim);
+        st = write_probes(sim, 0);
     const long frames = o->frames;
     if (!failed && !o->failed)
         output_commit(&c, o, o->frames, sim->n_probes > 0 ? o->probe_frames : -1);

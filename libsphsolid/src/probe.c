@@ -59,13 +59,83 @@ static void probe_finish(const sph_sim *sim, const double *sums, double *values)
         values[2 + c] = sums[3 + c] / sums[0] - (c < 3 ? values[1] : 0.0);
 }
 
+/* Minimum-image squared distance of particle b from a point. */
+static double distance2(const sph_sim *sim, const double *point, size_t b)
+{
+    const int dim = sim->dim;
+    double r2 = 0.0;
+    for (int i = 0; i < dim; ++i) {
+        double d = point[i] - sim->x[b * (size_t)dim + (size_t)i];
+        if (sim->has_domain && sim->periodic[i]) {
+            const double L = sim->hi[i] - sim->lo[i];
+            if (d > 0.5 * L)
+                d -= L;
+            else if (d < -0.5 * L)
+                d += L;
+        }
+        r2 += d * d;
+    }
+    return r2;
+}
+
+/* The particles that can be within 2h of p's point while the current
+ * neighbour list is valid: those within 2h + skin now.  Every particle
+ * moves less than skin/2 during the list's life (the run driver rebuilds
+ * it before), so one within 2h later is within 2h + skin/2 now.  0 when
+ * there is no valid list or no memory (then every particle is visited). */
+static int probe_near(sph_sim *sim, probe *p)
+{
+    if (!sim->nl.valid || sim->nl.n != sim->n || sim->nl_builds == 0)
+        return 0;
+    if (p->near_list == sim->nl_builds)
+        return 1;
+    const double reach = 2.0 * sim->h + sim->nl.skin, reach2 = reach * reach;
+    p->n_near = 0;
+    p->near_list = 0;
+    for (size_t b = 0; b < sim->n; ++b) {
+        if (!(distance2(sim, p->point, b) < reach2))
+            continue;
+        if (p->n_near == p->near_capacity) {
+            const size_t cap = p->near_capacity ? 2 * p->near_capacity : 64;
+            int *grown = realloc(p->near, cap * sizeof *grown);
+            if (!grown)
+                return 0;
+            p->near = grown;
+            p->near_capacity = cap;
+        }
+        p->near[p->n_near++] = (int)b;
+    }
+    p->near_list = sim->nl_builds;
+    return 1;
+}
+
+void probes_free(sph_sim *sim)
+{
+    for (int k = 0; k < sim->n_probes; ++k)
+        free(sim->probes[k].near);
+    free(sim->probes);
+}
+
 /* Samples probe p; outside every body: NaN, and SPH_ERR_DOMAIN unless the
- * handle asked for NaN (sph_set_probe_outside). */
-sph_status probe_sample_point(sph_sim *sim, const probe *p, double *values)
+ * handle asked for NaN (sph_set_probe_outside).  In a run (in_run: the
+ * positions are the library's own since the neighbour list was built) only
+ * the particles near the point are visited, in index order: the sums add
+ * the same terms in the same order as a visit of all particles, whose
+ * others add nothing. */
+sph_status probe_sample_point(sph_sim *sim, probe *p, double *values, int in_run)
 {
     double sums[3 + 6] = {0};
-    probe_accumulate(sim, sim->n, sim->x, (size_t)sim->dim, sim->rho, sim->S, sim->mass,
-                     sim->material_of, p->point, sums);
+    if (in_run && probe_near(sim, p)) {
+        const size_t dim = (size_t)sim->dim, nc = (size_t)sim->ncomp;
+        for (size_t k = 0; k < p->n_near; ++k) {
+            const size_t b = (size_t)p->near[k];
+            probe_accumulate(sim, 1, sim->x + b * dim, dim, sim->rho + b, sim->S + b * nc,
+                             sim->mass + b, sim->material_of + b, p->point, sums);
+        }
+    } else {
+        probe_accumulate(sim, sim->n, sim->x, (size_t)sim->dim, sim->rho, sim->S, sim->mass,
+                         sim->material_of, p->point, sums);
+    }
     probe_finish(sim, sums, values);
     if (sums[0] > 0.0 || sim->probe_outside_nan)
         return SPH_OK;
@@ -193,6 +263,6 @@ sph_status sph_probe_sample(sph_sim *sim, int id, double *values)
     if (sim->n == 0 || sim->h <= 0.0)
         return sph_fail(sim, SPH_ERR_STATE, "probe '%s': the simulation has no particles",
                         sim->probes[id].name);
-    const sph_status st = probe_sample_point(sim, &sim->probes[id], values);
+    const sph_status st = probe_sample_point(sim, &sim->probes[id], values, 0);
     return st ? st : sph_ok(sim);
 }

@@ -79,6 +79,7 @@ sph_status sim_prepare(sph_sim *sim)
         sph_status st = neighbour_build(sim);
         if (st)
             return st;
+        sim->nl_builds++;
     }
     return SPH_OK;
 }
@@ -88,8 +89,10 @@ sph_status sim_prepare(sph_sim *sim)
  * be made on top of the recorded one. */
 sph_status sim_ensure_neighbours(sph_sim *sim, double extra)
 {
-    if (sim->nl.displacement_bound + extra > 0.5 * sim->nl.skin)
+    if (sim->nl.displacement_bound + extra > 0.5 * sim->nl.skin) {
+        sim->nl_builds++;
         return neighbour_build(sim);
+    }
     return SPH_OK;
 }
 

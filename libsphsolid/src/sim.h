@@ -34,6 +34,11 @@ typedef struct body {
 typedef struct probe {
     char name[SPH_NAME_SIZE];
     double point[3];
+    /* particles within 2h + skin of the point when neighbour list number
+     * near_list was built (0: none), in index order (probe.c) */
+    int *near;
+    size_t n_near, near_capacity;
+    unsigned long near_list;
 } probe;
 
 /* Half neighbour list in CSR form: row a holds the particles b > a closer
@@ -104,6 +109,7 @@ struct sph_sim {
     int carry_valid;                /* the rates carried by the integrator belong to */
     unsigned long long carry_print; /* the state with this fingerprint */
     neighbour_list nl;
+    unsigned long nl_builds; /* neighbour lists built so far (run.c) */
 
     /* scratch of the rate engine, sized to scratch_n particles */
     size_t scratch_n;
@@ -212,7 +218,8 @@ void effects_describe(const effects *fx, char *buf, size_t size);
 int effects_values(const effects *fx, int effect, double *values);
 
 /* probe.c */
-sph_status probe_sample_point(sph_sim *sim, const probe *p, double *values);
+sph_status probe_sample_point(sph_sim *sim, probe *p, double *values, int in_run);
+void probes_free(sph_sim *sim);
 
 /* validate.c */
 sph_status state_check(sph_sim *sim);

@@ -148,3 +148,36 @@ def test_probes_load_refuses_another_files_probes(tmp_path):
                         times=np.zeros(0), values=np.zeros((0, 1, 6)))
     with pytest.raises(ValueError, match="'B'"):
         probes.load(other)
+
+
+def test_trajectory_probes_follow_particles_across_list_rebuilds(tmp_path):
+    """The library's own probe samples (a Trajectory's, taken in the run
+    from the particles near each point) equal sph_probe_sample's over all
+    particles, sample for sample, while a vibrating block sweeps through
+    the points and the neighbour list is rebuilt many times (it moves
+    ~15 skins); points the block enters and leaves record NaN outside."""
+    from sphsolid.build import block
+    from sphsolid.trajectory import Trajectory
+    dx = 1e-3
+    body = block((0.0, 0.0), (0.02, 0.01), dx, scenes.paper_material(),
+                 velocity=(30.0, 0.0))
+    scene = sphsolid.Scene(2, [body])
+    scene.freeze()
+    x = scene.positions[:, 0].copy()
+    scene.velocities[:, 0] += 2.0 * np.sin(np.pi * x / 0.02)  # vibrates
+    points = {f"P{k}": (0.016 + 0.002 * k, 0.005 + 0.0004 * k)
+              for k in range(5)}
+    probes = sphsolid.Probes(scene, points, outside="nan")
+    dyn = sphsolid.ImprovedEuler(scene, progress=False)
+    dyn.attach(probes, interval=7)
+    traj = Trajectory(tmp_path / "sweep.h5", "w", scene, probe_interval=7)
+    dyn.run(steps=600)
+    traj.close()
+    assert scene.positions[:, 0].min() > 10 * 0.25 * 1.2 * dx   # moved
+    with Trajectory(tmp_path / "sweep.h5") as reader:
+        series = reader.probes
+    steps = list(series.steps)
+    assert steps[:-1] == list(probes.steps)       # + the closing sample
+    values = np.array(probes._samples)
+    assert np.isnan(values[:, -1, 0]).any() and not np.isnan(values).all()
+    np.testing.assert_array_equal(series.values[:-1], values)
