@@ -115,33 +115,53 @@ def probe_series(scene, dyn, points, until, interval=1) -> dict:
             "steps": dyn.nsteps, "particles": len(scene)}
 
 
-def strip_exact(times, y):
-    """Von Mises at height y of the strip: 2 mu (v/c_p) times the number of
-    fronts passed, the fronts at (2kH + H - y)/c_p and (2kH + H + y)/c_p
-    (bottom fixed, top moving at v from t = 0)."""
+def ramp(t, rise: float):
+    """The piston's speed over its final speed: 0 before t = 0, the C2
+    quintic 10 s^3 - 15 s^4 + 6 s^5 (s = t/rise) up to ``rise``, then 1;
+    a step (1 from t = 0 on) when ``rise`` is 0."""
+    t = np.asarray(t, float)
+    if rise <= 0:
+        return (t > 0).astype(float)
+    s = np.clip(t / rise, 0.0, 1.0)
+    return s ** 3 * (10 - 15 * s + 6 * s * s)
+
+
+def arrivals(y, passages=4) -> list:
+    """Exact arrival times of the strip's fronts at height y, in order:
+    (2kH + H - y)/c_p and (2kH + H + y)/c_p."""
+    c, H = scenes.paper_material().c_p, scenes.SPECIMEN_Y[1]
+    return sorted([(2 * k * H + H - y) / c for k in range(passages)]
+                  + [(2 * k * H + H + y) / c for k in range(passages)])
+
+
+def front_jump() -> float:
+    """Von Mises added by each front: 2 mu v/c_p [Pa]."""
     rock = scenes.paper_material()
-    c, H = rock.c_p, scenes.SPECIMEN_Y[1]
+    return 2 * rock.mu * scenes.PISTON_SPEED / rock.c_p
+
+
+def strip_exact(times, y, rise=0.0):
+    """Von Mises at height y of the strip: 2 mu (v/c_p) times the fronts
+    passed, the fronts at (2kH + H - y)/c_p and (2kH + H + y)/c_p (bottom
+    fixed, top moving at v from t = 0; with ``rise`` > 0 the piston's
+    speed follows :func:`ramp` and so does each front: linear acoustics,
+    both ends reflect with the same sign)."""
+    c, H = scenes.paper_material().c_p, scenes.SPECIMEN_Y[1]
     times = np.asarray(times, float)
-    passed = np.zeros_like(times)
-    for k in range(int(times[-1] * c / (2 * H)) + 2):
-        passed += times > (2 * k * H + H - y) / c
-        passed += times > (2 * k * H + H + y) / c
-    return 2 * rock.mu * scenes.PISTON_SPEED / c * passed
+    passages = int(times[-1] * c / (2 * H)) + 2
+    total = sum(ramp(times - t, rise) for t in arrivals(y, passages))
+    return front_jump() * total
 
 
 def front_delays(result) -> dict:
     """Per probe, the delay [s] of each front's half-step crossing against
     its exact arrival time."""
-    rock = scenes.paper_material()
-    c, H = rock.c_p, scenes.SPECIMEN_Y[1]
-    jump = 2 * rock.mu * scenes.PISTON_SPEED / c
+    jump = front_jump()
     out = {}
     for n, (_, y) in STRIP_PROBES.items():
         t, v = result["times"], result["vm"][n]
-        arrivals = sorted([(2 * k * H + H - y) / c for k in range(4)]
-                          + [(2 * k * H + H + y) / c for k in range(4)])
         delays = []
-        for i, te in enumerate(a for a in arrivals if a < t[-1] - 1e-5):
+        for i, te in enumerate(a for a in arrivals(y) if a < t[-1] - 1e-5):
             level = (i + 0.5) * jump
             idx = np.nonzero((t > te - 8e-6) & (v > level))[0]
             if not len(idx) or idx[0] == 0:

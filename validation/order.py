@@ -1,0 +1,425 @@
+"""What limits the observed order of the piston test's error
+(docs/validation.md, section "What limits the observed order").
+
+    python -m validation.order --experiments strip specimen \
+        --out docs/validation/order --doc docs/validation.md
+    (--dx 2e-3 1e-3 5e-4 by default; --only LABEL ... runs some again and
+    merges them into DIR/order.json; --series keeps the probe series)
+
+The error of the issue's metric (von Mises at the probes, both series
+smoothed with a 1 us Gaussian, worst probe's RMS deviation over the
+reference's RMS, 0-0.3 ms) falls at about first order from 2 to 1 to
+0.5 mm. Each experiment here changes one candidate cause alone:
+
+- *time stepping*: the same runs with the step halved and quartered;
+- *free surfaces*: the laterally periodic strip (no free surface, no
+  corner, exact answer) against the specimen (against finite elements);
+- *the loaded ends*: plate and piston at the static inset against the
+  paper's placement;
+- *the front's steepness against the 1 us smoothing*: the same strip with
+  the piston's speed ramped up smoothly over a time T (a C2 quintic ramp;
+  the exact answer is then a staircase of smooth fronts, below) and the
+  same runs measured with a wider smoothing (post-processing only);
+- *the reference's own resolution*: the specimen against the 2 mm and the
+  1 mm finite-element series.
+
+Exact answer of the strip (linear acoustics, uniaxial strain): the piston
+moving down at V(t) sends a front down; the fixed plate and the piston
+(a prescribed velocity) both reflect it with the same sign, so at height y
+
+    sigma_yy(y, t) = -rho0 c_p sum_k [V(t - t_k-(y)) + V(t - t_k+(y))],
+    t_k-(y) = (2kH + H - y)/c_p,  t_k+(y) = (2kH + H + y)/c_p,
+
+and von Mises is |sigma_yy - sigma_xx| = 2 mu/(rho0 c_p) |sigma_yy| = 2 mu
+V/c_p per passage. With V a step this is ``decomposition.strip_exact``.
+The runs are the library's; the ramp is applied by setting the piston's
+prescribed velocity to V(t + dt/2) before each step (the midpoint rule:
+the piston's position is second order in dt).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import time as wallclock
+from pathlib import Path
+
+import numpy as np
+
+from sphsolid import _lib, metrics, presets, scenes
+from sphsolid._lib import lib
+from sphsolid.calculators import CLibrary
+from sphsolid.dynamics import dynamics_for
+from sphsolid.probes import PAPER_PROBES, Probes
+
+from . import decomposition, end_placement
+
+WINDOW = decomposition.WINDOW
+STRIP_PROBES = decomposition.STRIP_PROBES
+
+
+ramp = decomposition.ramp
+strip_exact = decomposition.strip_exact
+
+
+def _ramp_piston(scene, dyn, rise):
+    """An observer setting the piston's velocity to V(t + dt/2)."""
+    piston = scene._body_index("piston")
+    speed = scenes.PISTON_SPEED
+
+    def update():
+        v = -speed * float(ramp(dyn.time + 0.5 * dyn.dt, rise))
+        scene._check(lib.sph_set_motion(
+            scene.handle, piston, _lib.MOTION_VELOCITY,
+            _lib.as_doubles((0.0, v), 2, "piston velocity")), "ramp")
+    return update
+
+
+def series(scene, dyn, points, until=WINDOW, rise=0.0) -> dict:
+    """Run ``dyn`` to ``until`` with the piston ramped over ``rise``,
+    sampling von Mises at ``points`` every step; CPU and wall time, steps
+    and particle-steps."""
+    if rise > 0:
+        dyn.attach(_ramp_piston(scene, dyn, rise), interval=1)
+    probes = Probes(scene, points)
+    dyn.attach(probes, interval=1)
+    wall, cpu = wallclock.perf_counter(), wallclock.process_time()
+    dyn.run(until=until)
+    return {"times": np.asarray(probes.times),
+            "vm": {n: np.asarray(probes[n]["von_mises"]) for n in probes.names},
+            "syy": {n: np.asarray(probes[n]["sigma_yy"])
+                    for n in probes.names},
+            "wall": wallclock.perf_counter() - wall,
+            "cpu": wallclock.process_time() - cpu,
+            "steps": dyn.nsteps, "particles": len(scene)}
+
+
+def _dynamics(scene, integrator, dt_factor):
+    """The preset's (or ``integrator``'s) Dynamics at ``dt_factor`` times
+    its default step."""
+    dyn = (presets.dynamics(scene, progress=False) if integrator is None
+           else dynamics_for(integrator)(scene, progress=False))
+    kind = type(dyn)
+    if dt_factor != 1.0:
+        dyn = kind(scene, dt=dyn.dt * dt_factor, progress=False)
+    return dyn
+
+
+def strip_run(dx, preset="waves", rise=0.0, dt_factor=1.0, until=WINDOW,
+              integrator=None, **overrides) -> dict:
+    """The laterally periodic strip (``end_placement.strip_scene``) run
+    with the preset's integrator (or ``integrator``) at ``dt_factor``
+    times its default step."""
+    scene = end_placement.strip_scene(dx, preset, **overrides)
+    scene.calc = CLibrary(threads=1)
+    return series(scene, _dynamics(scene, integrator, dt_factor),
+                  STRIP_PROBES, until, rise)
+
+
+def specimen_run(dx, preset="waves", rise=0.0, dt_factor=1.0, until=WINDOW,
+                 integrator=None, threads=1, **overrides) -> dict:
+    """The paper's specimen built from a preset, as :func:`strip_run`."""
+    scene = scenes.uniaxial_piston(dx, preset=preset, **overrides)
+    scene.calc = CLibrary(threads=threads)
+    return series(scene, _dynamics(scene, integrator, dt_factor),
+                  PAPER_PROBES, until, rise)
+
+
+def deviation(result, reference, norm="rms", sigma=metrics.SMOOTHING,
+              window=WINDOW) -> float:
+    """The worst probe's smoothed deviation of ``result`` against
+    ``reference`` (a function of the time grid returning {probe: series})
+    over [0, window]."""
+    grid = metrics.time_grid(0.0, window)
+    ref = reference(grid)
+    got = {n: metrics.on_grid(result["times"], result["vm"][n], grid)
+           for n in ref}
+    return metrics.worst_deviation(got, ref, grid, norm, sigma)
+
+
+def front_delays(result, rise, fronts=1, level=0.5) -> dict:
+    """Per strip probe, the delay [s] of the first ``fronts`` fronts'
+    crossings of ``level`` times the jump against the exact series'
+    crossings (for the quintic ramp the half level is crossed at
+    t_k + rise/2)."""
+    jump = decomposition.front_jump()
+    out = {}
+    for name, (_, y) in STRIP_PROBES.items():
+        t = result["times"]
+        pair = (result["vm"][name] / jump, strip_exact(t, y, rise) / jump)
+        delays = []
+        for i, start in enumerate(decomposition.arrivals(y)[:fronts]):
+            when = []
+            for series in pair:
+                j = np.nonzero((t > start - 0.5 * rise - 5e-6)
+                               & (series > i + level))[0]
+                if not len(j) or j[0] == 0:
+                    raise ValueError(f"front {i + 1} does not reach probe "
+                                     f"{name} before t = {t[-1]:g} s")
+                j = j[0]
+                when.append(t[j - 1] + (i + level - series[j - 1])
+                            * (t[j] - t[j - 1]) / (series[j] - series[j - 1]))
+            delays.append(float(when[0] - when[1]))
+        out[name] = delays
+    return out
+
+
+def front_share(result, rise=0.0, sigma=metrics.SMOOTHING, window=WINDOW,
+                near=3e-6, ahead=12e-6) -> dict:
+    """Where the squared smoothed deviation of a strip run sits (worst
+    probe): within ``near`` of an exact front's arrival (its middle, for
+    a ramp), up to ``ahead`` before it (a precursor: short waves running
+    fast), or elsewhere (behind the fronts)."""
+    grid = metrics.time_grid(0.0, window)
+    worst, out = -1.0, {}
+    for name, (_, y) in STRIP_PROBES.items():
+        got = metrics.smooth(grid, metrics.on_grid(result["times"],
+                                                    result["vm"][name], grid),
+                             sigma)
+        ref = metrics.smooth(grid, strip_exact(grid, y, rise), sigma)
+        d2 = (got - ref) ** 2
+        middle = [t + 0.5 * rise for t in decomposition.arrivals(y)]
+        close = np.zeros(len(grid), bool)
+        before = np.zeros(len(grid), bool)
+        for t in middle:
+            close |= np.abs(grid - t) <= near
+            before |= (grid > t - ahead) & (grid < t - near)
+        before &= ~close
+        total = float(d2.sum())
+        if total > worst:
+            worst = total
+            out = {"near": float(d2[close].sum() / total),
+                   "ahead": float(d2[before].sum() / total),
+                   "behind": float(d2[~close & ~before].sum() / total)}
+    return out
+
+
+def _signed(reference):
+    """The exact sigma_yy of the strip from its von Mises: in uniaxial
+    strain sigma_yy = -(rho0 c_p^2 / 2 mu) x von Mises."""
+    rock = scenes.paper_material()
+    factor = -rock.rho0 * rock.c_p ** 2 / (2 * rock.mu)
+    return lambda grid: {n: factor * v for n, v in reference(grid).items()}
+
+
+def fe_self(paths) -> list:
+    """The FE series against each other in the metric (worst probe)."""
+    grid = metrics.time_grid(0.0, WINDOW)
+    series = {p.stem: decomposition.fe_reference(p)(grid) for p in paths
+              if p.exists()}
+    names = sorted(series, key=lambda n: -float(n.split("_")[-1][:-2]))
+    return [{"pair": f"{a} vs {b}",
+             **{norm: metrics.worst_deviation(series[a], series[b], grid,
+                                              norm)
+                for norm in ("max", "rms")}}
+            for i, a in enumerate(names) for b in names[i + 1:]]
+
+
+def strip_reference(rise=0.0):
+    return lambda grid: {n: strip_exact(grid, p[1], rise)
+                         for n, p in STRIP_PROBES.items()}
+
+
+def orders(dxs, errors) -> list:
+    """Observed order between successive spacings."""
+    return [float(np.log(errors[i] / errors[i + 1])
+                  / np.log(dxs[i] / dxs[i + 1])) for i in range(len(dxs) - 1)]
+
+
+#: Strip experiments: label -> (preset, options of strip_run)
+STRIP = {
+    "waves": ("waves", {}),
+    "waves, dt/2": ("waves", {"dt_factor": 0.5}),
+    "waves, dt/4": ("waves", {"dt_factor": 0.25}),
+    "waves, inset 0": ("waves", {"inset": 0.0}),
+    "waves, h/dx 1.6525 (M = 1)": ("waves", {"smoothing_ratio": 1.6525}),
+    "waves, M = 1, dt/2": ("waves", {"smoothing_ratio": 1.6525,
+                                     "dt_factor": 0.5}),
+    "waves, M = 1, dt/4": ("waves", {"smoothing_ratio": 1.6525,
+                                     "dt_factor": 0.25}),
+    "waves, ramp 10 us": ("waves", {"rise": 10e-6}),
+    "waves, ramp 20 us": ("waves", {"rise": 20e-6}),
+    "waves, M = 1, dt/2, ramp 10 us": ("waves", {"smoothing_ratio": 1.6525,
+                                                 "dt_factor": 0.5,
+                                                 "rise": 10e-6}),
+    "waves, M = 1, dt/4, ramp 10 us": ("waves", {"smoothing_ratio": 1.6525,
+                                                 "dt_factor": 0.25,
+                                                 "rise": 10e-6}),
+    "paper": ("paper", {}),
+    "paper, dt/2": ("paper", {"dt_factor": 0.5}),
+    "paper, static inset": ("paper", {"inset": "static"}),
+    "paper, ramp 10 us": ("paper", {"rise": 10e-6}),
+}
+#: Specimen experiments (against FE): label -> (preset, options)
+SPECIMEN = {
+    "waves": ("waves", {}),
+    "waves, dt/2": ("waves", {"dt_factor": 0.5}),
+    "waves, dt/4": ("waves", {"dt_factor": 0.25}),
+    "waves, M = 1, dt/2": ("waves", {"dt_factor": 0.5,
+                                     "smoothing_ratio": 1.6525}),
+    "paper, dt/2": ("paper", {"dt_factor": 0.5}),
+}
+SIGMAS = (1e-6, 2e-6, 4e-6)
+
+
+def table(rows) -> str:
+    """Markdown tables of the saved experiments (``order.json``): RMS and
+    max deviation (1 us smoothing) per spacing, the observed orders, CPU
+    seconds, and for the strip where the error sits at the finest
+    spacing."""
+    lines = []
+    for kind, refs in (("strip", ("exact",)),
+                       ("specimen", ("fe_piston_1mm", "fe_piston_2mm"))):
+        chosen = [r for r in rows if r["kind"] == kind]
+        if not chosen:
+            continue
+        dxs = chosen[0]["dx"]
+        mm = " / ".join(f"{d * 1e3:g}" for d in dxs)
+        head = (f"| {kind} | reference | RMS % ({mm} mm) | RMS orders | "
+                f"RMS orders, 2 / 4 us smoothing | max % | max orders | "
+                f"CPU s |")
+        if kind == "strip":
+            head += (" RMS % of signed sigma_yy | near / ahead of fronts, "
+                     "per spacing |")
+        lines += [head, "|" + "---|" * (head.count("|") - 1)]
+        for r in chosen:
+            for ref in refs:
+                e = {n: [x["errors"].get(f"{ref} {n} 1us") for x in r["runs"]]
+                     for n in ("rms", "max")}
+                if None in e["rms"]:
+                    continue
+                o = {n: orders(r["dx"], e[n]) for n in e}
+                wide = [", ".join(f"{v:.2f}" for v in orders(r["dx"], [
+                    x["errors"][f"{ref} rms {w}us"] for x in r["runs"]]))
+                    for w in (2, 4)]
+                line = (f"| {r['label']} | {ref} | "
+                        + " / ".join(f"{100 * v:.3g}" for v in e["rms"])
+                        + " | " + ", ".join(f"{v:.2f}" for v in o["rms"])
+                        + " | " + " / ".join(wide)
+                        + " | " + " / ".join(f"{100 * v:.3g}" for v in e["max"])
+                        + " | " + ", ".join(f"{v:.2f}" for v in o["max"])
+                        + " | " + " / ".join(f"{x['cpu']:.1f}"
+                                             for x in r["runs"]) + " |")
+                if kind == "strip":
+                    syy = [x["errors"].get("exact-syy rms 1us")
+                           for x in r["runs"]]
+                    line += (" " + (" / ".join(f"{100 * v:.3g}" for v in syy)
+                                    if None not in syy else "") + " |")
+                    line += " " + ", ".join(
+                        f"{x['shares']['near']:.2f} / "
+                        f"{x['shares']['ahead']:.2f}" for x in r["runs"]) + " |"
+                lines.append(line)
+        lines.append("")
+    fe = [r for r in rows if r["kind"] == "fe"]
+    if fe:
+        lines += ["| FE series against each other | max % | RMS % |",
+                  "|---|---|---|"]
+        lines += [f"| {q['pair']} | {100 * q['max']:.3g} | "
+                  f"{100 * q['rms']:.3g} |" for q in fe[0]["pairs"]]
+        lines.append("")
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--out", type=Path, default=Path("/tmp/accur-order"))
+    parser.add_argument("--dx", type=float, nargs="+",
+                        default=[2e-3, 1e-3, 5e-4])
+    parser.add_argument("--experiments", nargs="+", default=["strip"],
+                        choices=["strip", "specimen"])
+    parser.add_argument("--only", nargs="+", default=None,
+                        help="labels of the experiments to run")
+    parser.add_argument("--tables-only", action="store_true",
+                        help="run nothing: the tables from DIR/order.json")
+    parser.add_argument("--series", action="store_true",
+                        help="also save each run's probe series (npz)")
+    parser.add_argument("--doc", type=Path, default=None,
+                        help="also write the tables between <!-- order:begin "
+                        "--> and <!-- order:end --> of this file "
+                        "(docs/validation.md)")
+    parser.add_argument("--fe", nargs="+", type=Path,
+                        default=[Path("docs/accuracy/fe_piston_1mm.npz"),
+                                 Path("docs/accuracy/fe_piston_2mm.npz")])
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for kind in [] if args.tables_only else args.experiments:
+        experiments = STRIP if kind == "strip" else SPECIMEN
+        for label, (preset, options) in experiments.items():
+            if args.only and label not in args.only:
+                continue
+            options = dict(options)
+            rise = options.get("rise", 0.0)
+            errs = {}
+            row = {"kind": kind, "label": label, "dx": args.dx, "runs": []}
+            for dx in args.dx:
+                run = (strip_run if kind == "strip" else specimen_run)(
+                    dx, preset, **options)
+                if args.series:
+                    np.savez_compressed(
+                        args.out / f"{kind}_{label.replace(' ', '_')}"
+                        f"_{dx * 1e3:g}mm.npz".replace("/", ""),
+                        times=run["times"], **run["vm"])
+                shares = None
+                if kind == "strip":
+                    refs = {"exact": strip_reference(rise)}
+                    shares = front_share(run, rise)
+                else:
+                    refs = {p.stem: decomposition.fe_reference(p)
+                            for p in args.fe if p.exists()}
+                e = {}
+                if kind == "strip":
+                    e["exact-syy rms 1us"] = deviation(
+                        {"times": run["times"], "vm": run["syy"]},
+                        _signed(strip_reference(rise)), "rms")
+                for rname, ref in refs.items():
+                    for sigma in SIGMAS:
+                        for norm in ("max", "rms"):
+                            e[f"{rname} {norm} {sigma * 1e6:g}us"] = deviation(
+                                run, ref, norm, sigma)
+                row["runs"].append({"dx": dx, "cpu": run["cpu"],
+                                    "shares": shares,
+                                    "wall": run["wall"], "steps": run["steps"],
+                                    "particle_steps": run["steps"]
+                                    * run["particles"], "errors": e})
+                for key, value in e.items():
+                    errs.setdefault(key, []).append(value)
+                print(json.dumps({"label": label, "dx": dx,
+                                  "cpu": round(run["cpu"], 2),
+                                  **{k: round(100 * v, 3)
+                                     for k, v in e.items()
+                                     if "1us" in k}}), flush=True)
+            row["orders"] = {k: orders(args.dx, v) for k, v in errs.items()}
+            rows.append(row)
+            print(json.dumps({"label": label, "orders": {
+                k: [round(o, 2) for o in v] for k, v in row["orders"].items()
+                if "rms" in k}}), flush=True)
+            path = args.out / "order.json"
+            old = json.loads(path.read_text()) if path.exists() else []
+            old = [r for r in old if not (r["kind"] == kind
+                                          and r["label"] == label)]
+            path.write_text(json.dumps(old + [row], indent=1))
+    path = args.out / "order.json"
+    fe_paths = [Path(f"docs/accuracy/fe_piston_{s}mm.npz") for s in (4, 2, 1)]
+    if all(p.exists() for p in fe_paths):
+        old = json.loads(path.read_text()) if path.exists() else []
+        old = [r for r in old if r["kind"] != "fe"]
+        path.write_text(json.dumps(old + [{"kind": "fe", "label": "fe",
+                                           "pairs": fe_self(fe_paths)}],
+                                   indent=1))
+    if path.exists():
+        text = table(json.loads(path.read_text()))
+        (args.out / "order.md").write_text(text)
+        if args.doc is not None:
+            body = args.doc.read_text()
+            begin, end = "<!-- order:begin -->", "<!-- order:end -->"
+            if begin not in body or end not in body:
+                raise SystemExit(f"{args.doc}: no {begin} ... {end} markers")
+            head, rest = body.split(begin, 1)
+            args.doc.write_text(
+                head + begin + "\n<!-- generated by python -m validation."
+                "order; do not edit -->\n" + text + end
+                + rest.split(end, 1)[1])
+
+
+if __name__ == "__main__":
+    main()
