@@ -115,7 +115,7 @@ def uniaxial_piston(dx: float = 1e-3, velocity: float = PISTON_SPEED,
         (default: the preset's, alpha 1 for "paper").
     material : Material, optional
         Default :func:`paper_material`.
-    preset : {"paper", "waves"}, optional
+    preset : {"paper", "waves", "fronts"}, optional
         Named setting (:mod:`sphsolid.presets`); default "paper".
     kernel, smoothing_ratio, inset : optional
         Override the preset's kernel, h/dx and platen inset (lattice steps

@@ -139,3 +139,23 @@ def test_waves_preset_front_carries_rho_c_v():
     levels = {r: -s_yy[rows == r].mean() / jump for r in np.unique(rows)}
     crossed = [r * dx for r, v in sorted(levels.items()) if v > 0.5]
     assert abs(min(crossed) - front) < 2 * dx
+
+
+def test_fronts_preset_runs_the_leapfrog_at_half_its_step():
+    """The fronts preset: cubic_o4 at the h/dx of unit lattice moment, the
+    leapfrog at half its default step, unless a step is given."""
+    from validation.study import lattice_gradient_moment
+    scene = scenes.uniaxial_piston(4e-3, preset="fronts")
+    assert scene.kernel == "cubic_o4"
+    assert lattice_gradient_moment(scene.smoothing_ratio, "cubic_o4") \
+        == pytest.approx(1.0, abs=1e-5)
+    assert scene.effects == {}
+    full = presets.dynamics(scenes.uniaxial_piston(4e-3, preset="waves"),
+                            progress=False)
+    dyn = presets.dynamics(scene, progress=False)
+    assert type(dyn).__name__ == "Leapfrog"
+    ratio = scene.smoothing_ratio / 1.65
+    assert dyn.dt == pytest.approx(0.5 * ratio * full.dt, rel=1e-12)
+    assert presets.dynamics(scene, dt=1e-7, progress=False).dt == 1e-7
+    assert presets.preset("fronts").to_dict()["step"] == 0.5
+    assert presets.preset("waves").step == 1.0
