@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import re
 import sys
 import time as wallclock
@@ -463,6 +464,11 @@ def _run_scene(args, scene, name: str) -> int:
     print(f"{dyn.nsteps} steps to t = {dyn.time * 1e3:.6g} ms in {wall:.2f} s"
           f" ({len(scene) * dyn.nsteps / max(wall, 1e-9) / 1e6:.3g} M "
           "particle-steps/s)")
+    # CPU over wall: ~the threads asked for when they had the cores to
+    # themselves; fewer when other jobs took them (then the wall time is
+    # not this run's alone)
+    print(f"loop CPU time {cpu:.2f} s ({cpu / max(wall, 1e-9):.2f} cores busy"
+          f" on average); load average {os.getloadavg()[0]:.2f} at the end")
     planned = getattr(args, "_plan", None)
     if planned is not None and planned.predicted_seconds:
         print(f"the plan predicted {planned.predicted_seconds:.3g} s for this"
