@@ -14,6 +14,7 @@
 
 #include "atom.h"
 #include "error.h"
+#include "neighbor.h"
 #include "update.h"
 
 #include <algorithm>
@@ -61,10 +62,18 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
   // The predictor takes the density and stress rates of the last half step.
   // Atoms without them (the first step, a new atom, a restart file written
   // without them) take those of the current state: a continuity pass here,
-  // on every rank if any rank needs it (it communicates).
-  int missing = 0, any_missing = 0;
-  for (int i = 0; i < nlocal && !missing; i++) missing = std::isnan(state->carried_rho[i]);
-  MPI_Allreduce(&missing, &any_missing, 1, MPI_INT, MPI_MAX, world);
+  // on every rank if any rank needs it (it communicates).  Every step sets
+  // them for all owned atoms and they move with their atoms, so atoms
+  // without them can only appear when LAMMPS re-neighbours (atoms are
+  // created or read between runs or in a re-neighbouring step): the check,
+  // a collective, is made on the first step of a run and after a
+  // re-neighbouring only.
+  int any_missing = 0;
+  if (neighbor->ago == 0 || update->ntimestep == update->firststep + 1) {
+    int missing = 0;
+    for (int i = 0; i < nlocal && !missing; i++) missing = std::isnan(state->carried_rho[i]);
+    MPI_Allreduce(&missing, &any_missing, 1, MPI_INT, MPI_MAX, world);
+  }
   if (any_missing) {
     pair->evaluate_rates(true, SPH_RATES_CONTINUITY);
     keep_rates(true);
