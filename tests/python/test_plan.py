@@ -72,6 +72,26 @@ def test_error_model_recovers_a_known_order_from_a_synthetic_series(order):
                             else planner.SAFETY_POOR)
 
 
+def test_error_model_uses_at_most_the_formal_order():
+    # differences falling at order 2 (a pre-asymptotic drop): the
+    # prediction uses order 1 with its own coefficient, so it lies above
+    # the order-2 law below the ladder (never below it); Fs follows the
+    # observed order
+    spacings = np.array([4e-3, 3e-3, 2e-3, 1.5e-3])
+    diffs = 40.0 * (spacings[:-1] ** 2 - spacings[1:] ** 2)
+    free = planner.fit_error_model(spacings, diffs)
+    capped = planner.fit_error_model(spacings, diffs, max_order=1.0)
+    assert free.order == pytest.approx(2.0, abs=0.01)
+    assert capped.order == 1.0 and capped.observed_order == pytest.approx(2.0,
+                                                                         abs=0.01)
+    assert capped.safety == free.safety == planner.SAFETY_GOOD
+    for dx in (1e-3, 0.5e-3):
+        assert capped.predict(dx) > free.predict(dx)
+    # the order-1 fit reproduces the measured differences' scale
+    d = capped.coefficient * (spacings[:-1] - spacings[1:])
+    assert np.exp(np.mean(np.log(d / diffs))) == pytest.approx(1.0, abs=1e-9)
+
+
 def test_error_model_without_convergence_is_bounded_by_the_data_range():
     # differences that do not shrink (a noise floor, or not yet
     # asymptotic): no power law to extrapolate; at the calibrated spacings
@@ -160,6 +180,30 @@ def test_floor_only_where_the_settings_disagreement_does_not_shrink():
     assert floors == [pytest.approx(d), pytest.approx(d)]
 
 
+def test_a_far_from_converged_setting_does_not_excuse_a_floor():
+    # two settings whose disagreement grows with refinement (a floor of
+    # ~2 %) and a third far from both (10 % away, converging slowly with
+    # large errors, so its differences are "explained"): the third shows
+    # nothing about a 2 % bias, the floor stays; it gets none itself
+    t = np.linspace(0, 1, 200)
+    limit = np.sin(2 * np.pi * t) + 2.0
+    spacings = [2e-3, 1.4e-3, 1e-3, 0.7e-3]
+    models, levels = [], []
+    for k, (coefficient, drift) in enumerate(((0.3, 0.0), (0.3, 0.06),
+                                              (1.5, 0.0))):
+        series = [limit + coefficient * (dx * 1e3) ** 0.8 * np.cos(3 * t)
+                  + drift * (2e-3 - dx) / 1.3e-3 for dx in spacings]
+        diffs = [metrics.deviation(a, b, scale=3.0)
+                 for a, b in zip(series, series[1:])]
+        models.append(planner.fit_error_model(spacings, diffs))
+        levels.append([{"A": s} for s in series])
+    floors = planner.consistency_floors(models, levels)
+    d = metrics.deviation(levels[0][-1]["A"], levels[1][-1]["A"])
+    assert metrics.deviation(levels[0][-1]["A"], levels[2][-1]["A"]) > d
+    assert floors[:2] == [pytest.approx(d), pytest.approx(d)]
+    assert floors[2] == 0.0
+
+
 def test_cost_model_uses_process_cpu_time_and_the_wall_ratio():
     # runs with CPU times: the model is fitted on them and the wall
     # prediction carries the calibration's wall / CPU ratio (a loaded
@@ -212,9 +256,87 @@ def test_planner_switches_on_viscosity_for_the_piston_step(strip_plan):
     found = {f.effect for f in strip_plan.findings}
     assert "artificial_viscosity" in found
     assert "damping" not in found and "kernel_correction" not in found
-    assert all(("artificial_viscosity" in dict(c.setting.effects))
-               for c in strip_plan.candidates
-               if c.setting.integrator == "improved_euler")
+    standard = [c for c in strip_plan.candidates
+                if c.setting.integrator == "improved_euler"
+                and c.setting.kernel not in planner.OWN_SETTING]
+    assert standard and all("artificial_viscosity" in dict(c.setting.effects)
+                            for c in standard)
+
+
+def test_own_setting_kernels_try_effects_found_from_a_sign_both_ways(
+        strip_plan):
+    # cubic_o4 runs at its own h/dx and end placement; an effect found from
+    # roughness or a tension share (not a blow-up) is tried with and
+    # without, an effect found from a blow-up only with
+    own = [c.setting for c in strip_plan.candidates
+           if c.setting.kernel in planner.OWN_SETTING]
+    if not own:
+        pytest.skip("the library has no kernel with its own setting")
+    ratio, inset = planner.OWN_SETTING[own[0].kernel]
+    assert all(s.smoothing_ratio == ratio and s.inset == inset for s in own)
+    for integrator in {s.integrator for s in own}:
+        variants = {frozenset(dict(s.effects)) for s in own
+                    if s.integrator == integrator}
+        assert frozenset() in variants or any(
+            f.required for f in strip_plan.findings if f.effect)
+        assert len(variants) <= 2
+
+
+def test_setting_end_placement_reaches_the_factory_or_is_refused():
+    setting = planner.Setting.make(1.65, "cubic_o4", "leapfrog",
+                                   inset="static")
+    assert planner.Setting.from_dict(setting.to_dict()) == setting
+    assert "inset=static" in setting.label()
+    seen = {}
+
+    def factory(dx, smoothing_ratio=1.2, kernel="cubic_spline", inset=0.0):
+        seen["inset"] = inset
+        return STRIP.factory(dx, smoothing_ratio, kernel, inset=inset)
+    scene = planner.build_scene(factory, 2e-3, setting, 1, calculator=False)
+    assert seen["inset"] == "static"
+    plain = planner.build_scene(STRIP.factory, 2e-3,
+                                planner.Setting.make(1.65, "cubic_o4"), 1,
+                                calculator=False)
+    # the static inset moves plate and piston into the strip's extent
+    top = lambda s: s.positions[s.body_slice("piston"), 1].min()
+    assert top(scene) < top(plain)
+
+    def fixed(dx, smoothing_ratio=1.2, kernel="cubic_spline"):
+        return STRIP.factory(dx, smoothing_ratio, kernel)
+    with pytest.raises(planner.UnsupportedError, match="inset"):
+        planner.build_scene(fixed, 2e-3, setting, 1, calculator=False)
+
+
+class _Rows:
+    """A specimen of particle rows with a given sigma_yy per row (what
+    :func:`planner.gravity_sections` reads of a scene)."""
+
+    def __init__(self, rows_y, rows_s, per_row=5):
+        self.positions = np.array([(x, y) for y in rows_y
+                                   for x in range(per_row)], float)
+        self.stress = np.zeros((len(self.positions), 4))
+        self.stress[:, 1] = np.repeat(rows_s, per_row)
+        self.h = 1e-3
+
+    def body_slice(self, name):
+        return slice(0, len(self.positions))
+
+
+def test_gravity_section_means_cancel_the_row_to_row_alternation():
+    # the static column: sigma_yy = -rho g (H - y) (linear), plus a mode
+    # that alternates from row to row (the kernel-sum divergence does not
+    # see it): the section means are the linear field at every height,
+    # wherever the height falls between rows
+    rho_g, H = 2700 * 9.81, 0.140
+    for dy in (8e-3, 6e-3, 4e-3, 3e-3):
+        n = round(H / dy)
+        rows_y = (np.arange(n) + 0.5) * H / n
+        exact = -rho_g * (H - rows_y)
+        mode = 0.04 * rho_g * 0.07 * (-1.0) ** np.arange(n)
+        means = planner.gravity_sections(_Rows(rows_y, exact + mode))
+        for name, y in planner.GRAVITY_SECTIONS.items():
+            assert means[name] == pytest.approx(-rho_g * (H - y),
+                                                rel=1e-9), (dy, name)
 
 
 def test_request_below_reach_is_refused_naming_the_reachable_error(
