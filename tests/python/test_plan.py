@@ -189,8 +189,7 @@ def test_a_far_from_converged_setting_does_not_excuse_a_floor():
     limit = np.sin(2 * np.pi * t) + 2.0
     spacings = [2e-3, 1.4e-3, 1e-3, 0.7e-3]
     models, levels = [], []
-    for k, (coefficient, drift) in enumerate(((0.3, 0.0), (0.3, 0.06),
-                                              (1.5, 0.0))):
+    for coefficient, drift in ((0.3, 0.0), (0.3, 0.06), (1.5, 0.0)):
         series = [limit + coefficient * (dx * 1e3) ** 0.8 * np.cos(3 * t)
                   + drift * (2e-3 - dx) / 1.3e-3 for dx in spacings]
         diffs = [metrics.deviation(a, b, scale=3.0)
@@ -298,7 +297,8 @@ def test_setting_end_placement_reaches_the_factory_or_is_refused():
                                 planner.Setting.make(1.65, "cubic_o4"), 1,
                                 calculator=False)
     # the static inset moves plate and piston into the strip's extent
-    top = lambda s: s.positions[s.body_slice("piston"), 1].min()
+    def top(s):
+        return s.positions[s.body_slice("piston"), 1].min()
     assert top(scene) < top(plain)
 
     def fixed(dx, smoothing_ratio=1.2, kernel="cubic_spline"):
