@@ -587,6 +587,7 @@ def main(argv=None) -> int:
         if not args.estimate_only:
             result["wall"] = wallclock.perf_counter() - scene_start
             result["elapsed"] = wallclock.perf_counter() - clock
+            result["cpu_elapsed"] = wallclock.process_time()
             result["load"] = [load_start, os.getloadavg()[0]]
         results[name] = result
         results_path.write_text(json.dumps(results, indent=1, default=float))
@@ -608,11 +609,13 @@ def write_document(path: Path, results: dict, args) -> None:
         ran = [results[n] for n in ("piston", "strip", "gravity")
                if n in results and results[n].get("wall")]
         loads = [x for r in ran for x in r.get("load", [])]
-        elapsed = ("{:.1f} minutes for the three scenes (wall, one thread, "
-                   "load average {:.0f}-{:.0f} on {} cores from other "
-                   "jobs)".format(max(r.get("elapsed", r["wall"])
-                                      for r in ran) / 60,
-                                  min(loads), max(loads), os.cpu_count())
+        cpu = max((r.get("cpu_elapsed", 0.0) for r in ran), default=0.0)
+        elapsed = ("{:.1f} minutes wall for the three scenes, one thread, "
+                   "at load average {:.0f}-{:.0f} on {} cores from other "
+                   "jobs{}".format(max(r.get("elapsed", r["wall"])
+                                       for r in ran) / 60,
+                                   min(loads), max(loads), os.cpu_count(),
+                                   f", {cpu:.0f} s of CPU" if cpu else "")
                    if len(ran) == 3 and loads else
                    "its run time is given per scene below")
         parts.append(QUICK_NOTE.format(elapsed=elapsed,
@@ -633,7 +636,7 @@ def write_document(path: Path, results: dict, args) -> None:
 #: The measured run time of ``--full --scenes strip`` (the full mode was
 #: not run to the end on the other scenes).
 FULL_STRIP = "not measured"
-QUICK_NOTE = """**Quick mode** (`--quick`; one command, {elapsed}): finite-element
+QUICK_NOTE = """**Quick mode** (`--quick`, one command: {elapsed}). Finite-element
 reference at 1 mm (its series is kept in docs/accuracy); candidates the
 leapfrog with the cubic spline at h/dx 1.2 and 1.5 (with the effects
 found) and cubic_o4 at its own setting (h/dx 1.65, plate and piston at
@@ -681,7 +684,7 @@ differences (max 8.3, 6.7, 7.0 %; RMS 4.0, 2.5, 2.2 % between 3, 2, 1.5
 and 1 mm) are as large as its errors against the FE solution and do not
 shrink in the max norm, so self-convergence (all a user's scene offers)
 bounds them by 3x their range, and the per-run estimate of cubic_o4 is
-likewise 3-6x its error (never below it). The plan is then the cubic
+likewise 2-6x its error (never below it). The plan is then the cubic
 spline, at 60-120x the particle-steps of cubic_o4 at 3 mm (3.4x the
 cheapest cubic-spline setting for RMS 10 %). *Order at most 1*: an
 observed order above 1 is fitted again at 1 (cubic_o4 on the strip:
@@ -692,19 +695,22 @@ piston and on the strip) both carry it as a floor unless a setting that
 agrees more closely with one of them says otherwise; without it a 5 %
 max plan with h/dx 1.2 on the piston achieved 8.9 %. *Gravity column*:
 the section means now converge (h/dx 1.5: 4.9, 2.6, 1.6, 1.2, 0.4 % at 8,
-6, 4, 3, 2 mm), but the calibration of h/dx 1.2 shows differences that
-follow no power law (it converges to about 1.5 %) and cubic_o4's errors
-are small and change sign, so their levels are bounded by 3x their data
-range; h/dx 1.5 converges at an observed order above 2 (Fs = 3 by Eça &
-Hoekstra's range, used at order 1), a bound several times its error.
+6, 4, 3, 2 mm) and every request is planned and met, but at 16-86x the
+cost of the sweep's cheapest sufficient setting for 5 % and below: the
+calibration of h/dx 1.2 shows differences that follow no power law (it
+converges to about 1.7 %), cubic_o4's errors are small and change sign
+(2.5, 0.4, 0.3, 0.8, 0.2 %: no power law, bounded by 3x their range),
+and h/dx 1.5 converges at an observed order above 2.1 (Fs = 3 by Eça &
+Hoekstra's range) that the planner uses at order 1, so its bound is
+3-20x the error achieved.
 """
 
 
 HEADER = """# Accuracy on demand: the planner's honesty checks
 
 Regenerate with `{command}` (from the repository root, with the
-package installed; `--scenes strip,gravity,piston` picks scenes). Runs use
-{threads} thread(s). **Timings were taken on a shared 2-core machine under
+package installed by scripts/setup.sh; `--scenes strip,gravity,piston`
+picks scenes). Runs use {threads} thread(s). **Timings were taken on a shared 2-core machine under
 load from other jobs (load averages below); wall times depend on that
 load, CPU times much less: compare the CPU predictions.**
 
@@ -724,18 +730,21 @@ actual error per probe and window: **ratio in [1, 3] in at least 90 % of
 the cases**.
 
 How the planner decides (python/sphsolid/plan.py, docs/planner.md):
-effects from one coarse run with none; a calibration ladder per candidate
-setting (kernels, h/dx, integrators and effects the library offers),
-refined for the most promising; error model E = C dx^q fitted by least
-squares on the differences of consecutive levels over every level
-(Eça & Hoekstra), with their safety factor (1.25 for an order in
-[0.5, 2.1] and a good fit, else 3; data that show no convergence bounded
-by 3x their range), at most 2x below the finest calibrated spacing; a
-floor where two settings differ by an amount that does not shrink with
-refinement or that their own predicted errors do not explain; cost from the calibration runs' process CPU time (particle-steps
-per CPU second of each setting at the requested threads) and a timing of
-a few steps at the chosen spacing, wall time from the calibration's
-wall/CPU ratio. *CPU cost / cheapest* prices every run at its setting's
+effects from one coarse run with none per integrator and kernel family;
+a calibration ladder per candidate setting (kernels at h/dx 1.2 and 1.5,
+cubic_o4 at its own h/dx 1.65 and static platen inset, integrators and
+the effects found), refined for the most promising and for those that
+extrapolate with the large safety factor; error model E = C dx^q fitted
+by least squares on the differences of consecutive levels (Eça &
+Hoekstra), the order used at most 1, with their safety factor (1.25 for
+an observed order in [0.5, 2.1] and a good fit, else 3; data that show
+no convergence bounded by 3x their range), at most 2x below the finest
+calibrated spacing; a floor where two settings differ by an amount that
+does not shrink with refinement or that their own predicted errors do
+not explain (unless a setting closer to both says otherwise); cost from
+the calibration runs' process CPU time (per setting, at the requested
+threads) and a timing of a few steps at the chosen spacing, wall time
+from the calibration's wall/CPU ratio. *CPU cost / cheapest* prices every run at its setting's
 CPU seconds per particle-step measured in the sweep, so that a setting
 with cheaper steps (the leapfrog's one evaluation per step) counts as
 cheaper; *particle-steps / cheapest* ignores that.
