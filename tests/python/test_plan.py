@@ -92,6 +92,23 @@ def test_error_model_uses_at_most_the_formal_order():
     assert np.exp(np.mean(np.log(d / diffs))) == pytest.approx(1.0, abs=1e-9)
 
 
+def test_planner_fits_calibration_levels_at_most_at_the_formal_order():
+    # the planner's own fit of a setting's calibration levels whose
+    # differences fall at order 2: the model it prices uses order 1
+    t = np.linspace(0, 1, 200)
+    limit = np.sin(2 * np.pi * t) + 2.0
+    spacings = [4e-3, 3e-3, 2e-3, 1.5e-3]
+    setting = planner.Setting.make()
+    cand = planner.Candidate(setting, [
+        planner.LadderRun(setting, dx, int(1e3 / (dx * 1e3) ** 2), 100,
+                          1e-7, 1.0, 1e-5, cpu=0.5) for dx in spacings])
+    cand.smoothed = [{"A": limit + 0.02 * (dx * 1e3) ** 2 * np.cos(3 * t)}
+                     for dx in spacings]
+    planner._fit_candidate(cand, "max", 2.0, 1)
+    assert cand.model.observed_order == pytest.approx(2.0, abs=0.02)
+    assert cand.model.order == planner.FORMAL_ORDER == 1.0
+
+
 def test_error_model_without_convergence_is_bounded_by_the_data_range():
     # differences that do not shrink (a noise floor, or not yet
     # asymptotic): no power law to extrapolate; at the calibrated spacings
