@@ -602,7 +602,10 @@ SPH_API sph_status sph_build_paper_scene(sph_sim *sim, double dx, double piston_
  * Two ways to call it:
  *  - sph_rates_evaluate: one call, a full list (b in list(a) iff a in
  *    list(b) for local a and b; a ghost b is listed in a's row only).  Each
- *    pair of locals is still computed once.
+ *    pair of locals is still computed once, except a pair whose indices are
+ *    far apart (in chunks of the pair pass at least two apart; a chunk is
+ *    n_local/64 rows, at least 256 in 2D and 4096 in 3D): each of its rows
+ *    computes it for its own particle, so that no pair terms are stored.
  *  - sph_rates_pairs, then sph_rates_finish: for Newton's third law across
  *    processes (LAMMPS newton_pair on).  sph_rates_pairs takes a half list
  *    (every pair at most once over all rows and all processes; rows sorted

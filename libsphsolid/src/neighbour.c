@@ -1,10 +1,14 @@
 /*
  * Neighbour search: a cell list with cells at least as wide as the cutoff
  * 2h + skin, turned into a half neighbour list in CSR form (O(N)): row a
- * holds the neighbours b > a, so each pair is listed once.  Each row is
- * sorted by index so the order of the pair sums, and with it every
- * rounding, does not depend on when the list was built or on the threads.
- * The list is rebuilt when any particle may have moved more than skin/2.
+ * holds the neighbours b > a, so each pair is listed once, and in addition
+ * the neighbours b < a at least two chunks of the pair pass before a
+ * (rates_chunk_rows): such a pair is computed in both rows, each for its
+ * own particle, so that the pair pass stores no terms for particles it
+ * cannot write at once (rates.c).  Each row is sorted by index so the
+ * order of the pair sums, and with it every rounding, does not depend on
+ * when the list was built or on the threads.  The list is rebuilt when any
+ * particle may have moved more than skin/2.
  */
 #include <math.h>
 #include <stdio.h>
@@ -73,10 +77,14 @@ static int compare_int(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Visit the neighbours b > a of particle a within rc; fill `out` if not
- * NULL.  Returns the count. */
-static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2, int *out)
+/* Visit the neighbours of particle a within rc that its row lists (b > a,
+ * or b < a at least two chunks of `chunk` rows before a's); fill `out` if
+ * not NULL.  Returns the count. */
+static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2, size_t chunk,
+                   int *out)
 {
+    const size_t ca = a / chunk;
+    const size_t far_below = ca >= 1 ? (ca - 1) * chunk : 0; /* b < far_below: listed */
     const int dim = sim->dim;
     const double *xa = sim->x + a * (size_t)dim;
     long c[3] = {0, 0, 0}, nbr[3][3];
@@ -98,7 +106,7 @@ static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2, int 
                     key += (size_t)g->ncell[0] * (size_t)g->ncell[1] * (size_t)nbr[2][iz];
                 for (size_t m = g->start[key]; m < g->start[key + 1]; ++m) {
                     const size_t b = (size_t)g->members[m];
-                    if (b <= a)
+                    if (b == a || (b < a && b >= far_below))
                         continue;
                     const double *xb = sim->x + b * (size_t)dim;
                     double r2 = 0.0;
@@ -257,12 +265,13 @@ sph_status neighbour_build(sph_sim *sim)
     free(cell_index);
 
     const double rc2 = rc * rc;
+    const size_t chunk = rates_chunk_rows(dim, n);
     const long nl_n = (long)n;
     const int threads = sim_threads(sim);
     (void)threads; /* unused without OpenMP */
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (long a = 0; a < nl_n; ++a)
-        counts[a] = scan(sim, &g, (size_t)a, rc2, NULL);
+        counts[a] = scan(sim, &g, (size_t)a, rc2, chunk, NULL);
 
     size_t *offsets = realloc(nl->offsets, (n + 1) * sizeof *offsets);
     if (!offsets) {
@@ -291,10 +300,11 @@ sph_status neighbour_build(sph_sim *sim)
     }
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (long a = 0; a < nl_n; ++a)
-        scan(sim, &g, (size_t)a, rc2, nl->indices + offsets[a]);
+        scan(sim, &g, (size_t)a, rc2, chunk, nl->indices + offsets[a]);
     free(g.start);
     free(g.members);
     nl->n = n;
+    nl->chunk = chunk;
     nl->displacement_bound = 0.0;
     nl->valid = 1;
     return SPH_OK;

@@ -25,12 +25,18 @@
  * size depends only on the number of particles, never on the threads.  A
  * chunk adds the terms of its pairs directly to the sums of particles in
  * itself and the next chunk; chunks of even index run together, then those
- * of odd index, so no two running chunks write the same particle.  Terms
- * for any other particle (a pair reaching further in index, a ghost) are
- * appended to the chunk's "far" list and added after the pass, in chunk
- * order.  Every sum therefore runs in an order fixed by the list and the
- * chunk bounds alone: results are bitwise the same on any number of
- * threads.  Rows are sorted by index and pairs beyond the support add exact
+ * of odd index, so no two running chunks write the same particle.  A pair
+ * of local particles further apart (at least two chunks) is listed in both
+ * rows when the list allows it (the handle's own list, built so by
+ * neighbour.c, and any full list): each row computes the pair and adds the
+ * terms of its own particle only, so nothing is stored, at the price of
+ * computing such pairs twice (the terms are odd or even in r_ab and v_ab,
+ * so both rows compute them bitwise alike and Newton's third law holds to
+ * the bit).  Otherwise (a caller's half list, a ghost) the terms for the
+ * other particle are appended to the chunk's "far" list and added after the
+ * pass, in chunk order.  Every sum therefore runs in an order fixed by the
+ * list and the chunk bounds alone: results are bitwise the same on any
+ * number of threads.  Rows are sorted by index and pairs beyond the support add exact
  * zeros, so the extra pairs of the skin do not change any sum either:
  * results do not depend on when the list was rebuilt.
  *
@@ -84,7 +90,8 @@ typedef struct engine {
     double inv_W_dx;
     int pass; /* PASS_CONTINUITY | PASS_MOMENTUM */
     /* pair pass */
-    int full;       /* full list: a pair with b < a is skipped */
+    int full;       /* full list: a pair with b < a is skipped unless far */
+    int reverse;    /* a far pair of locals is in both rows (no far records) */
     int ghost_sums; /* keep the terms of ghosts (b >= n_local) */
     size_t chunk;   /* rows per chunk */
     long n_chunks;
@@ -247,6 +254,8 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
     const int *list;
     int count;
     neighbours_of(e, a, &list, &count);
+    /* a neighbour b < far_below is at least two chunks before a */
+    const size_t far_below = b0 >= e->chunk ? b0 - e->chunk : 0;
     for (int k0 = 0; k0 < count; k0 += PAIR_BLOCK) {
         const int kn = count - k0 < PAIR_BLOCK ? count - k0 : PAIR_BLOCK;
         /* gathered per-pair inputs */
@@ -259,8 +268,8 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
         int nk = 0;
         for (int kk = 0; kk < kn; ++kk) {
             const int b = list[k0 + kk];
-            if (e->full && (size_t)b < a)
-                continue; /* a full list: the pair is in b's row */
+            if (e->full && (size_t)b < a && (size_t)b >= far_below)
+                continue; /* a full list: the pair is computed in b's row */
             const int k = nk++;
             bidx[k] = b;
             double r_ab[3];
@@ -394,6 +403,8 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
                 if (xsph)
                     for (int i = 0; i < dim; ++i)
                         su[b * zu + (size_t)i] -= m_a * s[i][k];
+            } else if (e->reverse && b < n_local) {
+                /* a far pair listed in both rows: b's row adds b's terms */
             } else if (b < n_local || e->ghost_sums) {
                 double t[1 + 3 + 9 + 6 + 3];
                 double *o = t;
@@ -733,6 +744,7 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     }
     e->pass = call->pass ? call->pass : PASS_ALL;
     e->full = !call->half;
+    e->reverse = e->full || call->far_in_both_rows;
     e->ghost_sums = call->partial != NULL;
     e->chunk = rates_chunk_rows(sim->dim, call->n_local);
     e->n_chunks = (long)((call->n_local + e->chunk - 1) / e->chunk);
@@ -922,6 +934,12 @@ sph_status rates_of_handle(sph_sim *sim, int pass)
     call.neighbours = &nb;
     call.periodic = 1;
     call.half = 1;
+    call.far_in_both_rows = 1;
+    if (sim->nl.chunk != rates_chunk_rows(sim->dim, sim->n))
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "the neighbour list was built for chunks of %zu rows, the pair pass "
+                        "uses %zu",
+                        sim->nl.chunk, rates_chunk_rows(sim->dim, sim->n));
     return rates_run(sim, &call);
 }
 

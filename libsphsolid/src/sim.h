@@ -42,12 +42,15 @@ typedef struct probe {
 } probe;
 
 /* Half neighbour list in CSR form: row a holds the particles b > a closer
- * than 2h + skin when built, sorted by index (each pair once). */
+ * than 2h + skin when built, and those b < a closer than that whose chunk
+ * of the pair pass (`chunk` rows) is at least two before a's, sorted by
+ * index (neighbour.c). */
 typedef struct neighbour_list {
     size_t *offsets; /* n + 1 */
     int *indices;
     size_t capacity; /* of indices */
     size_t n;        /* particles when built */
+    size_t chunk;    /* rows per chunk of the pair pass when built */
     double skin;
     double displacement_bound; /* upper bound of any displacement since built */
     int valid;
@@ -170,6 +173,9 @@ typedef struct rate_call {
     int periodic; /* apply minimum image with sim's domain */
     double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
     int half;        /* the list holds each pair once (else full) */
+    int far_in_both_rows; /* a half list that also holds, in row a, every
+                             local b < a at least two chunks of the pair
+                             pass before a (neighbour.c) */
     double *partial; /* if set: the pair pass only, its sums for all
                                n_total particles written here (ghosts too) */
     int pass;        /* PASS_*: the rates computed (0: all) */

@@ -10,13 +10,16 @@ typedef struct rates_buf {
 } rates_buf;
 
 /* The simulation's own (half) list made full: each pair in both rows,
- * rows sorted. */
+ * rows sorted (the entries b < a of the handle's list, the far pairs it
+ * lists in both rows, are taken from the other row). */
 static void full_list(const sph_sim *sim, size_t **offsets, int **indices)
 {
     const size_t n = sim->n;
     size_t *off = calloc(n + 1, sizeof *off);
     for (size_t a = 0; a < n; ++a)
         for (size_t k = sim->nl.offsets[a]; k < sim->nl.offsets[a + 1]; ++k) {
+            if ((size_t)sim->nl.indices[k] < a)
+                continue;
             off[a + 1]++;
             off[(size_t)sim->nl.indices[k] + 1]++;
         }
@@ -28,11 +31,13 @@ static void full_list(const sph_sim *sim, size_t **offsets, int **indices)
     for (size_t a = 0; a < n; ++a) /* a ascending: rows stay sorted */
         for (size_t k = sim->nl.offsets[a]; k < sim->nl.offsets[a + 1]; ++k) {
             const int b = sim->nl.indices[k];
-            idx[fill[b]++] = (int)a;
+            if ((size_t)b > a)
+                idx[fill[b]++] = (int)a;
         }
     for (size_t a = 0; a < n; ++a)
         for (size_t k = sim->nl.offsets[a]; k < sim->nl.offsets[a + 1]; ++k)
-            idx[fill[a]++] = sim->nl.indices[k];
+            if ((size_t)sim->nl.indices[k] > a)
+                idx[fill[a]++] = sim->nl.indices[k];
     free(fill);
     *offsets = off;
     *indices = idx;
