@@ -24,12 +24,13 @@ int sph_memory_parts(const sph_sim *sim, const char **names, size_t *bytes, int 
             part[2] += n * (dim + 1 + nc) * sizeof(double);
         if (sim->dx_dt)
             part[2] += n * dim * sizeof(double);
-        part[3] = sim->scratch_n * (ns + 2) * sizeof(double);
+        part[3] = sim->scratch_n * sim->pair_data_per * sizeof(double);
         if (sim->stress_R)
             part[3] += sim->scratch_n * ns * sizeof(double);
         part[4] = sim->sum_scratch_n * sizeof(double) + rates_far_bytes(sim);
-        if (sim->nl.offsets)
-            part[5] = (sim->nl.n + 1) * sizeof(size_t) + sim->nl.capacity * sizeof(int);
+        if (sim->nl.offsets32 || sim->nl.offsets)
+            part[5] = (sim->nl.n + 1) * (sim->nl.offsets32 ? sizeof(uint32_t) : sizeof(size_t)) +
+                      sim->nl.capacity * sizeof(int);
         part[6] = sizeof *sim + (size_t)sim->n_materials * sizeof(material) +
                   (size_t)sim->n_bodies * sizeof(body) + (size_t)sim->n_probes * sizeof(probe);
     }

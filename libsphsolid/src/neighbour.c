@@ -80,8 +80,7 @@ static int compare_int(const void *a, const void *b)
 /* Visit the neighbours of particle a within rc that its row lists (b > a,
  * or b < a at least two chunks of `chunk` rows before a's); fill `out` if
  * not NULL.  Returns the count. */
-static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2, size_t chunk,
-                   int *out)
+static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2, size_t chunk, int *out)
 {
     const size_t ca = a / chunk;
     const size_t far_below = ca >= 1 ? (ca - 1) * chunk : 0; /* b < far_below: listed */
@@ -273,19 +272,36 @@ sph_status neighbour_build(sph_sim *sim)
     for (long a = 0; a < nl_n; ++a)
         counts[a] = scan(sim, &g, (size_t)a, rc2, chunk, NULL);
 
-    size_t *offsets = realloc(nl->offsets, (n + 1) * sizeof *offsets);
-    if (!offsets) {
+    /* row starts in 32 bits when the entries allow it (4 bytes a particle
+     * less), else in size_t */
+    size_t total = 0;
+    for (size_t a = 0; a < n; ++a)
+        total += counts[a];
+    const int narrow = total <= UINT32_MAX;
+    void *starts = narrow ? realloc(nl->offsets32, (n + 1) * sizeof(uint32_t))
+                          : realloc(nl->offsets, (n + 1) * sizeof(size_t));
+    if (!starts) {
         free(g.start);
         free(g.members);
         free(counts);
         return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate neighbour offsets");
     }
-    nl->offsets = offsets;
-    offsets[0] = 0;
-    for (size_t a = 0; a < n; ++a)
-        offsets[a + 1] = offsets[a] + counts[a];
+    if (narrow) {
+        nl->offsets32 = starts;
+        free(nl->offsets);
+        nl->offsets = NULL;
+        nl->offsets32[0] = 0;
+        for (size_t a = 0; a < n; ++a)
+            nl->offsets32[a + 1] = nl->offsets32[a] + (uint32_t)counts[a];
+    } else {
+        nl->offsets = starts;
+        free(nl->offsets32);
+        nl->offsets32 = NULL;
+        nl->offsets[0] = 0;
+        for (size_t a = 0; a < n; ++a)
+            nl->offsets[a + 1] = nl->offsets[a] + counts[a];
+    }
     free(counts);
-    const size_t total = offsets[n];
     if (total > nl->capacity || !nl->indices) {
         /* exact at the first build; room to grow on later ones */
         const size_t cap = nl->indices ? total + total / 16 + 16 : total;
@@ -300,7 +316,7 @@ sph_status neighbour_build(sph_sim *sim)
     }
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (long a = 0; a < nl_n; ++a)
-        scan(sim, &g, (size_t)a, rc2, chunk, nl->indices + offsets[a]);
+        scan(sim, &g, (size_t)a, rc2, chunk, nl->indices + neighbour_row(nl, (size_t)a));
     free(g.start);
     free(g.members);
     nl->n = n;
@@ -312,6 +328,7 @@ sph_status neighbour_build(sph_sim *sim)
 
 void neighbour_free(neighbour_list *nl)
 {
+    free(nl->offsets32);
     free(nl->offsets);
     free(nl->indices);
     memset(nl, 0, sizeof *nl);

@@ -58,8 +58,10 @@
 /* The per-particle sums of the pair pass: each an array with its own
  * stride (doubles from one particle to the next).  A far-list record and a
  * row of the public partial-sum buffer hold them one after the other, at
- * `offset`. */
-enum { SUM_RHO, SUM_DV, SUM_L, SUM_M, SUM_U, N_SUMS };
+ * `offset`.  The velocity gradient L (dim x dim, row-major) is one sum
+ * there; summed in the rate arrays, its first ncomp components are SUM_L
+ * (in dS_dt) and the rest (3 in 3D) SUM_L2 (in scratch). */
+enum { SUM_RHO, SUM_DV, SUM_L, SUM_L2, SUM_M, SUM_U, N_SUMS };
 
 typedef struct sums {
     double *p[N_SUMS];
@@ -76,12 +78,16 @@ typedef struct engine {
     size_t xs; /* doubles between particles in x and v */
     const int *material_of;
     const material *materials;
+    const uint32_t *offsets32;
     const size_t *offsets;
     const int *indices;
     const int *const *lists;
     const int *counts;
-    const double *pair_data; /* nsym + 2 doubles: volume, sigma/rho^2, c0 */
-    const double *R;         /* nsym per particle, or NULL */
+    const double *pair_data; /* pstride doubles: volume, sigma/rho^2, c0 (if
+                                not the same for every material) */
+    int pstride;
+    double c0_all;   /* the sound speed of every material, or 0 */
+    const double *R; /* nsym per particle, or NULL */
     double h, inv_h, w_norm, f_norm;
     double box[3], half_box[3];
     int periodic_axis[3];
@@ -137,7 +143,10 @@ size_t rates_chunk_rows(int dim, size_t n)
 
 static inline void neighbours_of(const engine *e, size_t a, const int **list, int *count)
 {
-    if (e->offsets) {
+    if (e->offsets32) {
+        *list = e->indices + e->offsets32[a];
+        *count = (int)(e->offsets32[a + 1] - e->offsets32[a]);
+    } else if (e->offsets) {
         *list = e->indices + e->offsets[a];
         *count = (int)(e->offsets[a + 1] - e->offsets[a]);
     } else {
@@ -216,12 +225,20 @@ static ALWAYS_INLINE void set_column(double (*a)[PAIR_BLOCK], int k, int rows, c
         a[i][k] = in[i];
 }
 
+/* Component c of particle b's sum of L: in sL if c < nL, else in sL2. */
+static ALWAYS_INLINE double *L_at(double *sL, size_t zL, double *sL2, size_t zL2, int nL, size_t b,
+                                  int c)
+{
+    return c < nL ? sL + b * zL + (size_t)c : sL2 + b * zL2 + (size_t)(c - nL);
+}
+
 static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t dend, far_list *far,
                                    const int dim, const int kernel, const int split, const int pass)
 {
     const int periodic = e->periodic;
     const int nsym = dim == 2 ? 3 : 6;
-    const int pstride = nsym + 2;
+    const int pstride = e->pstride;
+    const double c0_all = e->c0_all;
     const int cont = pass & PASS_CONTINUITY, mom = pass & PASS_MOMENTUM;
     const int viscosity = mom && e->fx.viscosity;
     const int stress = !mom || !e->R ? 0 : e->fx.stress_exponent == 4.0 ? 1 : 2;
@@ -233,15 +250,18 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
     const double *Pa = e->pair_data + a * (size_t)pstride;
     const double m_a = e->mass[a], V_a = Pa[0];
     const double rho_a = e->rho[a];
-    const double c_a = Pa[1 + nsym];
+    const double c_a = c0_all > 0.0 ? c0_all : Pa[1 + nsym];
     const double *Ra = stress ? e->R + a * (size_t)nsym : NULL;
     double *const sr = e->acc.p[SUM_RHO], *const sv = e->acc.p[SUM_DV];
-    double *const sL = e->acc.p[SUM_L], *const sM = e->acc.p[SUM_M], *const su = e->acc.p[SUM_U];
+    double *const sL = e->acc.p[SUM_L], *const sL2 = e->acc.p[SUM_L2];
+    double *const sM = e->acc.p[SUM_M], *const su = e->acc.p[SUM_U];
     /* strides: compile-time constants for the sums in the rate arrays
      * (sums_in_rates), one record for the partial-sum buffer */
     const size_t zr = split ? (size_t)e->acc.record : 1;
     const size_t zv = split ? (size_t)e->acc.record : (size_t)dim;
-    const size_t zL = split ? (size_t)e->acc.record : dim == 2 ? 4 : 9;
+    const int nL = split ? dim * dim : dim == 2 ? 4 : 6; /* components of L in sL */
+    const size_t zL = split ? (size_t)e->acc.record : (size_t)nL;
+    const size_t zL2 = split ? (size_t)e->acc.record : (size_t)(dim * dim - nL);
     const size_t zM = split ? (size_t)e->acc.record : (size_t)nsym;
     const size_t zu = split ? (size_t)e->acc.record : (size_t)dim;
     const int record = e->acc.record;
@@ -288,7 +308,7 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
             if (viscosity || xsph)
                 rho_mean[k] = 0.5 * (rho_a + e->rho[b]);
             if (viscosity)
-                c_mean[k] = 0.5 * (c_a + Pb[1 + nsym]);
+                c_mean[k] = c0_all > 0.0 ? c0_all : 0.5 * (c_a + Pb[1 + nsym]);
             if (stress) {
                 const double *Rb = e->R + (size_t)b * (size_t)nsym;
                 for (int c = 0; c < nsym; ++c)
@@ -392,7 +412,8 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
                     sr[b * zr] += m_a * tc[k];
                     for (int i = 0; i < dim; ++i)
                         for (int j = 0; j < dim; ++j)
-                            sL[b * zL + (size_t)(i * dim + j)] -= V_a * vr[i][k] * gW[j][k];
+                            *L_at(sL, zL, sL2, zL2, nL, b, i * dim + j) -=
+                                V_a * vr[i][k] * gW[j][k];
                 }
                 if (mom)
                     for (int i = 0; i < dim; ++i)
@@ -432,7 +453,7 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
         sr[a * zr] += drho;
         for (int i = 0; i < dim; ++i)
             for (int j = 0; j < dim; ++j)
-                sL[a * zL + (size_t)(i * dim + j)] += L[i][j];
+                *L_at(sL, zL, sL2, zL2, nL, a, i * dim + j) += L[i][j];
     }
     if (mom)
         for (int i = 0; i < dim; ++i)
@@ -546,17 +567,18 @@ static void finish_particle(const engine *e, size_t a)
         return;
     e->drho_dt[a] = s->p[SUM_RHO][a * s->stride[SUM_RHO]];
     double grad_v[3][3] = {{0.0}};
-    const double *sL = s->p[SUM_L] + a * s->stride[SUM_L];
+    const int nL = s->width[SUM_L];
     for (int i = 0; i < dim; ++i)
         for (int j = 0; j < dim; ++j)
-            grad_v[i][j] = sL[i * dim + j];
+            grad_v[i][j] = *L_at(s->p[SUM_L], s->stride[SUM_L], s->p[SUM_L2], s->stride[SUM_L2], nL,
+                                 a, i * dim + j);
     if (s->width[SUM_M]) {
         double Mc[6];
         for (int c = 0; c < e->nsym; ++c)
             Mc[c] = s->p[SUM_M][a * s->stride[SUM_M] + (size_t)c];
         correct_velocity_gradient(dim, Mc, grad_v);
     }
-    /* (in 2D the sums of L may share dS_dt: L was read above) */
+    /* (the sums of L may share dS_dt: L was read above) */
     jaumann_stress_rate(dim, e->materials[e->material_of[a]].mu, grad_v,
                         e->S + a * (size_t)e->ncomp, e->dS_dt + a * (size_t)e->ncomp);
     if (s->width[SUM_U] && e->dx_dt) {
@@ -614,7 +636,7 @@ static void pass_pair_data(const engine *e, double *pair_data, double *R)
     if (!(e->pass & PASS_MOMENTUM)) {
 #pragma omp parallel for schedule(static) num_threads(e->threads)
         for (long a = 0; a < n; ++a)
-            pair_data[(size_t)a * (nsym + 2)] = e->mass[a] / e->rho[a];
+            pair_data[(size_t)a * (size_t)e->pstride] = e->mass[a] / e->rho[a];
         return;
     }
 #pragma omp parallel for schedule(static) num_threads(e->threads)
@@ -623,24 +645,46 @@ static void pass_pair_data(const engine *e, double *pair_data, double *R)
         const double rho = e->rho[a];
         const double P = eos_pressure(m->c0_squared, rho, m->rho0);
         const double *S = e->S + (size_t)a * ncomp;
-        double *pd = pair_data + (size_t)a * (nsym + 2);
+        double *pd = pair_data + (size_t)a * (size_t)e->pstride;
         pd[0] = e->mass[a] / rho;
         stress_over_rho2(dim, S, P, rho, pd + 1);
-        pd[1 + nsym] = m->c0;
+        if (e->pstride > nsym + 1)
+            pd[1 + nsym] = m->c0;
         if (R)
             artificial_stress_tensor(dim, S, P, rho, e->fx.stress_epsilon, R + (size_t)a * nsym);
     }
 }
 
+/* The sound speed of every material if they all have the same (then a
+ * pair's mean sound speed is it, bitwise, and the pair data need not hold
+ * it), else 0. */
+static double uniform_c0(const sph_sim *sim)
+{
+    for (int k = 1; k < sim->n_materials; ++k)
+        if (sim->materials[k].c0 != sim->materials[0].c0)
+            return 0.0;
+    return sim->n_materials > 0 ? sim->materials[0].c0 : 0.0;
+}
+
+/* Doubles per particle of the pair data. */
+static int pair_data_width(const sph_sim *sim)
+{
+    return sim->nsym + (uniform_c0(sim) > 0.0 ? 1 : 2);
+}
+
 static sph_status grow_scratch(sph_sim *sim, size_t n)
 {
-    if (n <= sim->scratch_n && (!sim->fx.artificial_stress || sim->stress_R))
+    const size_t per = (size_t)pair_data_width(sim);
+    if (n <= sim->scratch_n && per <= sim->pair_data_per &&
+        (!sim->fx.artificial_stress || sim->stress_R))
         return SPH_OK;
     const size_t cap = n > sim->scratch_n ? n : sim->scratch_n;
-    double *pd = realloc(sim->pair_data, cap * (size_t)(sim->nsym + 2) * sizeof(double));
+    const size_t width = per > sim->pair_data_per ? per : sim->pair_data_per;
+    double *pd = realloc(sim->pair_data, cap * width * sizeof(double));
     if (!pd)
         return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate rate scratch for %zu particles", cap);
     sim->pair_data = pd;
+    sim->pair_data_per = width;
     if (sim->fx.artificial_stress) {
         double *R = realloc(sim->stress_R, cap * (size_t)sim->nsym * sizeof(double));
         if (!R)
@@ -724,7 +768,8 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     e->material_of = call->material;
     e->materials = sim->materials;
     if (call->neighbours) {
-        e->offsets = call->neighbours->offsets;
+        e->offsets32 = call->offsets32;
+        e->offsets = call->offsets32 ? NULL : call->neighbours->offsets;
         e->indices = call->neighbours->indices;
         e->lists = call->neighbours->lists;
         e->counts = call->neighbours->counts;
@@ -735,6 +780,8 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     e->w_norm = sigma / pow(sim->h, sim->dim);
     e->f_norm = sigma / pow(sim->h, sim->dim + 2);
     e->fx = sim->fx;
+    e->c0_all = uniform_c0(sim);
+    e->pstride = pair_data_width(sim);
     e->inv_W_dx = 1.0 / (kernel_w(sim->kernel, sim->dim, sim->dx_ref / sim->h) * e->w_norm);
     for (int i = 0; i < sim->dim; ++i) {
         e->periodic_axis[i] = call->periodic && sim->periodic[i];
@@ -800,11 +847,15 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
         return pairs_run(sim, &e);
     }
     /* The sums live in the rate arrays where they fit: drho, dv, u in
-     * drho_dt, dv_dt, dx_dt, and L in dS_dt when it has room (2D); the rest
-     * (L in 3D, M) in scratch. */
-    const int L_in_dS = dim == 2; /* dS_dt has 4 doubles per particle in 2D */
+     * drho_dt, dv_dt, dx_dt, and of L the first ncomp components in dS_dt
+     * (all 4 in 2D, 6 of 9 in 3D); the rest (3 of L in 3D, M) in scratch. */
+    if (e.acc.width[SUM_L] > ncomp) {
+        e.acc.width[SUM_L2] = e.acc.width[SUM_L] - ncomp;
+        e.acc.width[SUM_L] = ncomp;
+        e.acc.offset[SUM_L2] = e.acc.offset[SUM_L] + ncomp;
+    }
     const size_t n = call->n_local;
-    const size_t L_doubles = L_in_dS || !e.acc.width[SUM_L] ? 0 : n * 9,
+    const size_t L_doubles = n * (size_t)e.acc.width[SUM_L2],
                  M_doubles = n * (size_t)e.acc.width[SUM_M];
     if ((st = grow_sum_scratch(sim, L_doubles + M_doubles)))
         return st;
@@ -812,8 +863,10 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
     e.acc.stride[SUM_RHO] = 1;
     e.acc.p[SUM_DV] = call->dv_dt;
     e.acc.stride[SUM_DV] = (size_t)dim;
-    e.acc.p[SUM_L] = L_in_dS ? call->dS_dt : sim->sum_scratch;
-    e.acc.stride[SUM_L] = L_in_dS ? (size_t)ncomp : 9;
+    e.acc.p[SUM_L] = call->dS_dt;
+    e.acc.stride[SUM_L] = (size_t)ncomp;
+    e.acc.p[SUM_L2] = sim->sum_scratch;
+    e.acc.stride[SUM_L2] = (size_t)e.acc.width[SUM_L2];
     e.acc.p[SUM_M] = sim->sum_scratch + L_doubles;
     e.acc.stride[SUM_M] = (size_t)sim->nsym;
     e.acc.p[SUM_U] = xsph ? call->dx_dt : NULL;
@@ -932,6 +985,7 @@ sph_status rates_of_handle(sph_sim *sim, int pass)
     const sph_rates r = {sim->dv_dt, sim->drho_dt, sim->dS_dt, sim->fx.xsph ? sim->dx_dt : NULL};
     rates_into(&call, &r);
     call.neighbours = &nb;
+    call.offsets32 = sim->nl.offsets32;
     call.periodic = 1;
     call.half = 1;
     call.far_in_both_rows = 1;

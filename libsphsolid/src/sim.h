@@ -3,6 +3,7 @@
 #define SPHSOLID_SIM_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "effects.h"
 #include "sphsolid.h"
@@ -46,7 +47,8 @@ typedef struct probe {
  * of the pair pass (`chunk` rows) is at least two before a's, sorted by
  * index (neighbour.c). */
 typedef struct neighbour_list {
-    size_t *offsets; /* n + 1 */
+    uint32_t *offsets32; /* n + 1 row starts, when all fit in 32 bits */
+    size_t *offsets;     /* n + 1 row starts otherwise (else NULL) */
     int *indices;
     size_t capacity; /* of indices */
     size_t n;        /* particles when built */
@@ -116,7 +118,9 @@ struct sph_sim {
 
     /* scratch of the rate engine, sized to scratch_n particles */
     size_t scratch_n;
-    double *pair_data;    /* per particle: volume, then sigma/rho^2 */
+    double *pair_data;    /* per particle: volume, sigma/rho^2 and, unless
+                             every material has the same, c0 (rates.c) */
+    size_t pair_data_per; /* doubles per particle allocated in pair_data */
     double *stress_R;     /* artificial stress, when on */
     double *sum_scratch;  /* pair sums without room in the rate arrays */
     size_t sum_scratch_n; /* doubles */
@@ -161,6 +165,11 @@ sph_status caller_arrays(sph_sim *sim, const char *fn, size_t n, const int *mate
 
 /* neighbour.c */
 sph_status neighbour_build(sph_sim *sim);
+/* Where row a of the list starts in its indices. */
+static inline size_t neighbour_row(const neighbour_list *nl, size_t a)
+{
+    return nl->offsets32 ? nl->offsets32[a] : nl->offsets[a];
+}
 void neighbour_free(neighbour_list *nl);
 
 /* rates.c */
@@ -170,15 +179,16 @@ typedef struct rate_call {
     size_t stride; /* of x and v */
     const int *material;
     const sph_neighbours *neighbours;
-    int periodic; /* apply minimum image with sim's domain */
+    const uint32_t *offsets32; /* row starts instead of neighbours->offsets */
+    int periodic;              /* apply minimum image with sim's domain */
     double *dv_dt, *drho_dt, *dS_dt, *dx_dt;
-    int half;        /* the list holds each pair once (else full) */
+    int half;             /* the list holds each pair once (else full) */
     int far_in_both_rows; /* a half list that also holds, in row a, every
                              local b < a at least two chunks of the pair
                              pass before a (neighbour.c) */
-    double *partial; /* if set: the pair pass only, its sums for all
+    double *partial;      /* if set: the pair pass only, its sums for all
                                n_total particles written here (ghosts too) */
-    int pass;        /* PASS_*: the rates computed (0: all) */
+    int pass;             /* PASS_*: the rates computed (0: all) */
 } rate_call;
 enum {
     PASS_CONTINUITY = SPH_RATES_CONTINUITY, /* drho/dt, dS/dt, XSPH velocity */

@@ -17,7 +17,7 @@ static void full_list(const sph_sim *sim, size_t **offsets, int **indices)
     const size_t n = sim->n;
     size_t *off = calloc(n + 1, sizeof *off);
     for (size_t a = 0; a < n; ++a)
-        for (size_t k = sim->nl.offsets[a]; k < sim->nl.offsets[a + 1]; ++k) {
+        for (size_t k = neighbour_row(&sim->nl, a); k < neighbour_row(&sim->nl, a + 1); ++k) {
             if ((size_t)sim->nl.indices[k] < a)
                 continue;
             off[a + 1]++;
@@ -29,18 +29,37 @@ static void full_list(const sph_sim *sim, size_t **offsets, int **indices)
     size_t *fill = malloc(n * sizeof *fill);
     memcpy(fill, off, n * sizeof *fill);
     for (size_t a = 0; a < n; ++a) /* a ascending: rows stay sorted */
-        for (size_t k = sim->nl.offsets[a]; k < sim->nl.offsets[a + 1]; ++k) {
+        for (size_t k = neighbour_row(&sim->nl, a); k < neighbour_row(&sim->nl, a + 1); ++k) {
             const int b = sim->nl.indices[k];
             if ((size_t)b > a)
                 idx[fill[b]++] = (int)a;
         }
     for (size_t a = 0; a < n; ++a)
-        for (size_t k = sim->nl.offsets[a]; k < sim->nl.offsets[a + 1]; ++k)
+        for (size_t k = neighbour_row(&sim->nl, a); k < neighbour_row(&sim->nl, a + 1); ++k)
             if ((size_t)sim->nl.indices[k] > a)
                 idx[fill[a]++] = sim->nl.indices[k];
     free(fill);
     *offsets = off;
     *indices = idx;
+}
+
+/* The simulation's own list as a caller's half list: each pair once, in
+ * the row of its smaller index (the second listing of its far pairs left
+ * out). */
+static sph_neighbours half_list(const sph_sim *sim, size_t **offsets, int **indices)
+{
+    const size_t n = sim->n;
+    size_t *off = calloc(n + 1, sizeof *off);
+    int *idx = malloc((neighbour_row(&sim->nl, n) + 1) * sizeof *idx);
+    for (size_t a = 0; a < n; ++a) {
+        off[a + 1] = off[a];
+        for (size_t k = neighbour_row(&sim->nl, a); k < neighbour_row(&sim->nl, a + 1); ++k)
+            if ((size_t)sim->nl.indices[k] > a)
+                idx[off[a + 1]++] = sim->nl.indices[k];
+    }
+    *offsets = off;
+    *indices = idx;
+    return (sph_neighbours){.offsets = off, .indices = idx};
 }
 
 /* The handle's own particles as caller-owned ones (no ghosts). */
@@ -274,6 +293,145 @@ static void momentum_of_isolated_body_is_conserved(void **state)
     }
 }
 
+/* The rates of the handle's own particles, copied out. */
+static rates_buf handle_rates(sph_sim *sim)
+{
+    check(sim, sph_run(sim, 0));
+    check(sim, rates_of_handle(sim, PASS_ALL));
+    const size_t n = sim->n;
+    rates_buf r = {malloc(2 * n * sizeof(double)), malloc(n * sizeof(double)),
+                   malloc(4 * n * sizeof(double))};
+    memcpy(r.dv, sim->dv_dt, 2 * n * sizeof(double));
+    memcpy(r.drho, sim->drho_dt, n * sizeof(double));
+    memcpy(r.dS, sim->dS_dt, 4 * n * sizeof(double));
+    return r;
+}
+
+static double largest(const double *a, size_t n)
+{
+    double m = 0.0;
+    for (size_t k = 0; k < n; ++k)
+        m = fmax(m, fabs(a[k]));
+    return m;
+}
+
+/* A block numbered at random: most of its pairs lie in chunks of the pair
+ * pass at least two apart, which the handle's list holds in both rows, each
+ * row adding its own particle's terms.  Its rates are those of the same
+ * block numbered in lattice order (where few pairs are that far apart) to
+ * round-off, particle by particle; bitwise those of a full list through the
+ * public entry point; to round-off those of a half list (whose far terms are
+ * stored and added after the pass); the pair forces cancel; 1 and 2 threads
+ * agree bitwise. */
+static void far_pairs_are_computed_in_both_rows(void **state)
+{
+    (void)state;
+    const int nx = 40, ny = 30;
+    const size_t n = (size_t)nx * (size_t)ny;
+    const double dx = 1e-3;
+    const char *effects[][2] = {{"kernel_correction", ""},
+                                {"artificial_viscosity", "alpha=1 beta=2"},
+                                {"artificial_stress", "epsilon=0.3 n=4"}};
+    sph_sim *ref = free_block_2d(nx, ny, dx);
+    for (int k = 0; k < 3; ++k)
+        check(ref, sph_effect(ref, effects[k][0], effects[k][1]));
+    perturb(ref, 17u);
+    /* the same particles in a random order */
+    size_t *perm = malloc(n * sizeof *perm);
+    unsigned seed = 5u;
+    for (size_t k = 0; k < n; ++k)
+        perm[k] = k;
+    for (size_t k = n - 1; k > 0; --k) {
+        const size_t j = (size_t)(uniform(&seed) * (double)(k + 1)) % (k + 1);
+        const size_t t = perm[k];
+        perm[k] = perm[j];
+        perm[j] = t;
+    }
+    double *pos = malloc(2 * n * sizeof *pos);
+    for (size_t k = 0; k < n; ++k)
+        memcpy(pos + 2 * k, ref->x + 2 * perm[k], 2 * sizeof(double));
+    sph_sim *sim = new_sim(2);
+    int mat, body;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    check(sim, sph_add_particles(sim, "shuffled", mat, n, pos, NULL, dx, &body));
+    for (int k = 0; k < 3; ++k)
+        check(sim, sph_effect(sim, effects[k][0], effects[k][1]));
+    for (size_t k = 0; k < n; ++k) {
+        const size_t a = perm[k];
+        memcpy(sim->v + 2 * k, ref->v + 2 * a, 2 * sizeof(double));
+        memcpy(sim->S + 4 * k, ref->S + 4 * a, 4 * sizeof(double));
+        sim->rho[k] = ref->rho[a];
+        assert_true(sim->mass[k] == ref->mass[a]);
+    }
+    check(sim, sph_set_threads(sim, 1));
+    rates_buf one = handle_rates(sim);
+    size_t twice = 0;
+    for (size_t a = 0; a < n; ++a)
+        for (size_t k = neighbour_row(&sim->nl, a); k < neighbour_row(&sim->nl, a + 1); ++k)
+            twice += (size_t)sim->nl.indices[k] < a;
+    assert_true(twice > neighbour_row(&sim->nl, n) / 4); /* most pairs are far */
+
+    /* the lattice order, particle by particle */
+    rates_buf lattice = handle_rates(ref);
+    const double sv = largest(lattice.dv, 2 * n), sr = largest(lattice.drho, n),
+                 sS = largest(lattice.dS, 4 * n);
+    for (size_t k = 0; k < n; ++k) {
+        const size_t a = perm[k];
+        for (int i = 0; i < 2; ++i)
+            assert_close(one.dv[2 * k + i], lattice.dv[2 * a + i], 1e-12 * sv, "dv/dt");
+        assert_close(one.drho[k], lattice.drho[a], 1e-12 * sr, "drho/dt");
+        for (int c = 0; c < 4; ++c)
+            assert_close(one.dS[4 * k + c], lattice.dS[4 * a + c], 1e-12 * sS, "dS/dt");
+    }
+    /* the pair forces cancel */
+    double F[2] = {0, 0}, Fabs = 0;
+    for (size_t a = 0; a < n; ++a)
+        for (int i = 0; i < 2; ++i) {
+            F[i] += sim->mass[a] * one.dv[2 * a + i];
+            Fabs += fabs(sim->mass[a] * one.dv[2 * a + i]);
+        }
+    assert_close(F[0], 0.0, 1e-13 * Fabs, "total force x");
+    assert_close(F[1], 0.0, 1e-13 * Fabs, "total force y");
+    /* a full list: bitwise */
+    rates_buf full = evaluate(sim);
+    assert_memory_equal(full.dv, one.dv, 2 * n * sizeof(double));
+    assert_memory_equal(full.drho, one.drho, n * sizeof(double));
+    assert_memory_equal(full.dS, one.dS, 4 * n * sizeof(double));
+    /* a half list (far records): to round-off */
+    size_t *half_offsets;
+    int *half_indices;
+    sph_neighbours half = half_list(sim, &half_offsets, &half_indices);
+    sph_particles all = handle_particles(sim);
+    double *partial = calloc(n * sph_rates_partial_size(sim), sizeof *partial);
+    rates_buf h = {calloc(2 * n, sizeof(double)), calloc(n, sizeof(double)),
+                   calloc(4 * n, sizeof(double))};
+    sph_rates hr = {.dv_dt = h.dv, .drho_dt = h.drho, .dS_dt = h.dS};
+    check(sim, sph_rates_pairs(sim, &all, &half, partial));
+    check(sim, sph_rates_finish(sim, &all, partial, &hr));
+    for (size_t k = 0; k < 2 * n; ++k)
+        assert_close(h.dv[k], one.dv[k], 1e-12 * sv, "dv/dt, half list");
+    for (size_t k = 0; k < 4 * n; ++k)
+        assert_close(h.dS[k], one.dS[k], 1e-12 * sS, "dS/dt, half list");
+    /* 2 threads: bitwise */
+    check(sim, sph_set_threads(sim, 2));
+    rates_buf two = handle_rates(sim);
+    assert_memory_equal(two.dv, one.dv, 2 * n * sizeof(double));
+    assert_memory_equal(two.drho, one.drho, n * sizeof(double));
+    assert_memory_equal(two.dS, one.dS, 4 * n * sizeof(double));
+    free_rates(one);
+    free_rates(two);
+    free_rates(full);
+    free_rates(h);
+    free_rates(lattice);
+    free(partial);
+    free(half_offsets);
+    free(half_indices);
+    free(perm);
+    free(pos);
+    sph_destroy(sim);
+    sph_destroy(ref);
+}
+
 /* The pair loop has the usual exponent n = 4 compiled in and takes any
  * other n through pow: n = 4 and n = 4 (1 + 1e-12) give the same rates to
  * a few 1e-12. */
@@ -469,7 +627,9 @@ static void split_evaluation_over_two_processes(void **state)
     double *partial = calloc(n * P, sizeof *partial);
     double *dv1 = calloc(2 * n, sizeof *dv1), *drho1 = calloc(n, sizeof *drho1);
     double *dS1 = calloc(4 * n, sizeof *dS1), *u1 = calloc(2 * n, sizeof *u1);
-    sph_neighbours half = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
+    size_t *half_offsets;
+    int *half_indices;
+    sph_neighbours half = half_list(sim, &half_offsets, &half_indices);
     sph_rates one = {.dv_dt = dv1, .drho_dt = drho1, .dS_dt = dS1, .dx_dt = u1};
     check(sim, sph_rates_pairs(sim, &all, &half, partial));
     check(sim, sph_rates_finish(sim, &all, partial, &one));
@@ -522,12 +682,12 @@ static void split_evaluation_over_two_processes(void **state)
         }
         /* rows of the locals: pairs whose smaller index this process owns */
         poff[k] = calloc(nloc[k] + 1, sizeof(size_t));
-        pidx[k] = malloc((sim->nl.offsets[n] + 1) * sizeof(int));
+        pidx[k] = malloc((half_offsets[n] + 1) * sizeof(int));
         size_t e = 0;
         for (size_t l = 0; l < nloc[k]; ++l) {
             const size_t a = global[k][l];
-            for (size_t q = sim->nl.offsets[a]; q < sim->nl.offsets[a + 1]; ++q)
-                pidx[k][e++] = (int)local_of[sim->nl.indices[q]];
+            for (size_t q = half_offsets[a]; q < half_offsets[a + 1]; ++q)
+                pidx[k][e++] = (int)local_of[half_indices[q]];
             poff[k][l + 1] = e;
         }
         part[k] = calloc(n * P, sizeof(double));
@@ -606,6 +766,8 @@ static void split_evaluation_over_two_processes(void **state)
         free(part[k]);
     }
     free(owner);
+    free(half_offsets);
+    free(half_indices);
     free(local_of);
     free(got_dv);
     free(got_drho);
@@ -651,7 +813,9 @@ static void passes_add_up_to_the_whole_evaluation(void **state)
     assert_int_equal(Pc + Pm, P);
     assert_int_equal(sph_rates_pass_size(sim, 0), 0);
     sph_particles all = handle_particles(sim);
-    sph_neighbours half = {.offsets = sim->nl.offsets, .indices = sim->nl.indices};
+    size_t *half_offsets;
+    int *half_indices;
+    sph_neighbours half = half_list(sim, &half_offsets, &half_indices);
     double *partial = calloc(n * P, sizeof *partial);
     double *buf[2][4];
     for (int k = 0; k < 2; ++k) {
@@ -701,6 +865,8 @@ static void passes_add_up_to_the_whole_evaluation(void **state)
         for (int q = 0; q < 4; ++q)
             free(buf[k][q]);
     free(partial);
+    free(half_offsets);
+    free(half_indices);
     sph_destroy(sim);
 }
 
@@ -860,6 +1026,7 @@ int main(void)
         cmocka_unit_test(rigid_rotation_builds_no_stress),
         cmocka_unit_test(jaumann_rate_keeps_stress_magnitude_under_rotation),
         cmocka_unit_test(momentum_of_isolated_body_is_conserved),
+        cmocka_unit_test(far_pairs_are_computed_in_both_rows),
         cmocka_unit_test(artificial_stress_exponent_paths_agree),
         cmocka_unit_test(strided_entry_points_match_the_dense_ones),
         cmocka_unit_test(split_evaluation_over_two_processes),
