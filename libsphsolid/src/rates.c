@@ -11,8 +11,8 @@
  * at one state give bitwise the rates of the whole evaluation.
  *
  * Passes (OpenMP only here):
- *   1. per particle: volume m/rho, sigma/rho^2 and, if on, the artificial
- *      stress R (over local and ghost particles);
+ *   1. per particle: sigma/rho^2 and, if on, the artificial stress R (over
+ *      local and ghost particles; the volumes m/rho are computed per pair);
  *   2. the pair pass over a half list (each pair once): for every pair the
  *      symmetric terms (continuity, velocity gradient, momentum with
  *      viscosity and artificial stress, the kernel-correction matrix M,
@@ -83,8 +83,8 @@ typedef struct engine {
     const int *indices;
     const int *const *lists;
     const int *counts;
-    const double *pair_data; /* pstride doubles: volume, sigma/rho^2, c0 (if
-                                not the same for every material) */
+    const double *pair_data; /* pstride doubles: sigma/rho^2, c0 (if not the
+                                same for every material) */
     int pstride;
     double c0_all;   /* the sound speed of every material, or 0 */
     const double *R; /* nsym per particle, or NULL */
@@ -248,9 +248,8 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
     const double *xa = e->x + a * e->xs;
     const double *va = e->v + a * e->xs;
     const double *Pa = e->pair_data + a * (size_t)pstride;
-    const double m_a = e->mass[a], V_a = Pa[0];
-    const double rho_a = e->rho[a];
-    const double c_a = c0_all > 0.0 ? c0_all : Pa[1 + nsym];
+    const double m_a = e->mass[a], rho_a = e->rho[a], V_a = m_a / rho_a;
+    const double c_a = c0_all > 0.0 || !mom ? c0_all : Pa[nsym];
     const double *Ra = stress ? e->R + a * (size_t)nsym : NULL;
     double *const sr = e->acc.p[SUM_RHO], *const sv = e->acc.p[SUM_DV];
     double *const sL = e->acc.p[SUM_L], *const sL2 = e->acc.p[SUM_L2];
@@ -280,7 +279,8 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
         const int kn = count - k0 < PAIR_BLOCK ? count - k0 : PAIR_BLOCK;
         /* gathered per-pair inputs */
         int bidx[PAIR_BLOCK];
-        double r[3][PAIR_BLOCK], vr[3][PAIR_BLOCK], mb[PAIR_BLOCK], Vb[PAIR_BLOCK];
+        double r[3][PAIR_BLOCK], vr[3][PAIR_BLOCK], mb[PAIR_BLOCK], rhob[PAIR_BLOCK],
+            Vb[PAIR_BLOCK];
         double T[6][PAIR_BLOCK], RR[6][PAIR_BLOCK], rho_mean[PAIR_BLOCK], c_mean[PAIR_BLOCK];
         /* per-pair terms */
         double gW[3][PAIR_BLOCK], tc[PAIR_BLOCK], f[3][PAIR_BLOCK], W[PAIR_BLOCK];
@@ -301,20 +301,24 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
                 vr[i][k] = va[i] - vb[i];
             }
             mb[k] = e->mass[b];
-            Vb[k] = Pb[0];
+            rhob[k] = e->rho[b];
             if (mom)
                 for (int c = 0; c < nsym; ++c)
-                    T[c][k] = Pa[1 + c] + Pb[1 + c];
-            if (viscosity || xsph)
-                rho_mean[k] = 0.5 * (rho_a + e->rho[b]);
+                    T[c][k] = Pa[c] + Pb[c];
             if (viscosity)
-                c_mean[k] = c0_all > 0.0 ? c0_all : 0.5 * (c_a + Pb[1 + nsym]);
+                c_mean[k] = c0_all > 0.0 ? c0_all : 0.5 * (c_a + Pb[nsym]);
             if (stress) {
                 const double *Rb = e->R + (size_t)b * (size_t)nsym;
                 for (int c = 0; c < nsym; ++c)
                     RR[c][k] = Ra[c] + Rb[c];
             }
         }
+        if (cont) /* volumes m/rho (rounded as when they were stored) */
+            for (int k = 0; k < nk; ++k)
+                Vb[k] = mb[k] / rhob[k];
+        if (viscosity || xsph)
+            for (int k = 0; k < nk; ++k)
+                rho_mean[k] = 0.5 * (rho_a + rhob[k]);
         /* kernel gradient and continuity */
         for (int k = 0; k < nk; ++k) {
             double q2 = 0.0;
@@ -627,18 +631,14 @@ static void sums_in_buffer(sums *s, double *buffer)
         s->stride[q] = (size_t)s->record;
     }
 }
-/* Pass 1: per-particle factors of the pair terms (the continuity pass
- * needs the volumes only). */
+/* Pass 1: per-particle factors of the momentum terms (the continuity pass
+ * needs none: the volumes m/rho are computed per pair). */
 static void pass_pair_data(const engine *e, double *pair_data, double *R)
 {
     const int dim = e->dim, nsym = e->nsym, ncomp = e->ncomp;
     const long n = (long)e->n_total;
-    if (!(e->pass & PASS_MOMENTUM)) {
-#pragma omp parallel for schedule(static) num_threads(e->threads)
-        for (long a = 0; a < n; ++a)
-            pair_data[(size_t)a * (size_t)e->pstride] = e->mass[a] / e->rho[a];
+    if (!(e->pass & PASS_MOMENTUM))
         return;
-    }
 #pragma omp parallel for schedule(static) num_threads(e->threads)
     for (long a = 0; a < n; ++a) {
         const material *m = &e->materials[e->material_of[a]];
@@ -646,10 +646,9 @@ static void pass_pair_data(const engine *e, double *pair_data, double *R)
         const double P = eos_pressure(m->c0_squared, rho, m->rho0);
         const double *S = e->S + (size_t)a * ncomp;
         double *pd = pair_data + (size_t)a * (size_t)e->pstride;
-        pd[0] = e->mass[a] / rho;
-        stress_over_rho2(dim, S, P, rho, pd + 1);
-        if (e->pstride > nsym + 1)
-            pd[1 + nsym] = m->c0;
+        stress_over_rho2(dim, S, P, rho, pd);
+        if (e->pstride > nsym)
+            pd[nsym] = m->c0;
         if (R)
             artificial_stress_tensor(dim, S, P, rho, e->fx.stress_epsilon, R + (size_t)a * nsym);
     }
@@ -669,7 +668,7 @@ static double uniform_c0(const sph_sim *sim)
 /* Doubles per particle of the pair data. */
 static int pair_data_width(const sph_sim *sim)
 {
-    return sim->nsym + (uniform_c0(sim) > 0.0 ? 1 : 2);
+    return sim->nsym + (uniform_c0(sim) > 0.0 ? 0 : 1);
 }
 
 static sph_status grow_scratch(sph_sim *sim, size_t n)

@@ -118,8 +118,8 @@ struct sph_sim {
 
     /* scratch of the rate engine, sized to scratch_n particles */
     size_t scratch_n;
-    double *pair_data;    /* per particle: volume, sigma/rho^2 and, unless
-                             every material has the same, c0 (rates.c) */
+    double *pair_data;    /* per particle: sigma/rho^2 and, unless every
+                             material has the same, c0 (rates.c) */
     size_t pair_data_per; /* doubles per particle allocated in pair_data */
     double *stress_R;     /* artificial stress, when on */
     double *sum_scratch;  /* pair sums without room in the rate arrays */

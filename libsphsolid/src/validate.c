@@ -49,8 +49,8 @@ static double bytes_per_particle(const sph_sim *sim)
                            + (2 * dim + 1 + nc)    /* saved state + xsph */
                            + dim                   /* x_saved */
                            + (2 * dim + 1 + nc)    /* rates */
-                           + (2 * ns + 2)          /* pair data (+ artificial stress) */
-                           + (dim == 3 ? 9 : 0);   /* pair sums of L (3D) */
+                           + (2 * ns + 1)          /* pair data (+ artificial stress) */
+                           + (dim == 3 ? 3 : 0);   /* pair sums of L (3D) */
     const double r = 2.0 * 1.125 * sim->h_over_dx; /* (2h + skin)/dx */
     const double neighbours = sim->dim == 2 ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
     return doubles * sizeof(double) + 2 * sizeof(int)        /* body, material */
