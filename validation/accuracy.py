@@ -634,11 +634,16 @@ def write_document(path: Path, results: dict, args) -> None:
     path.write_text("\n".join(parts))
 
 
-#: The measured run time of ``--full --scenes strip`` (the full mode was
-#: not run to the end on the other scenes).
+#: The measured run times of ``--full --scenes strip`` and ``--full
+#: --scenes gravity`` (the full mode was not run on the piston).
 FULL_STRIP = ("6.4 minutes wall (37 s of CPU; 18 settings calibrated, "
               "one failed; load average 10 on 2 cores), with the same plans "
-              "as the quick mode")
+              "as the quick mode; its gravity part (`--full --scenes "
+              "gravity`, nice 19) 36 minutes wall (233 s of CPU; 80 "
+              "calibration and 90 sweep runs, load average 11): every "
+              "request planned with Wendland C2 and met (achieved 7.2, 4.1, "
+              "2.4, 1.6 % for 10, 5, 3, 2 %, max norm), 1.2-1.6x the sweep's "
+              "cheapest sufficient setting for 10 and 5 %, 4-7x below")
 QUICK_NOTE = """**Quick mode** (`--quick`, one command: {elapsed}). Finite-element
 reference at 1 mm (its series is kept in docs/accuracy); candidates the
 leapfrog with the cubic spline at h/dx 1.2 and 1.5 (with the effects
@@ -654,11 +659,12 @@ both h/dx, cubic_o4 at its own) with both integrators and the
 kernel-correction variants (about 20 settings), no budget per planned
 run, calibration budget 1800 s, piston sweep to 0.5 mm, piston estimates
 at 2, 1.5 and 1 mm. Its strip part alone (`--full --scenes strip`)
-took {full_strip}; the piston's
+took {full_strip} (their documents: accuracy/full_strip.md and
+accuracy/full_gravity.md); the piston's
 sweep alone is about 20 settings x 0.5 mm runs of 40-80 CPU s each, and
 its planned runs are unbounded (the finest requests need 0.2-0.3 mm,
-minutes to an hour each): the full mode takes hours and was not run to
-the end.
+minutes to an hour each): the full mode takes hours and was not run on
+the piston.
 """
 
 READING = """How to read the tables. *refused (sweep also missed)*: the
