@@ -9,6 +9,24 @@
 #include "kernel.h"
 #include "sim.h"
 
+/* Minimum-image squared distance between a point and a position xb. */
+static double distance2(const sph_sim *sim, const double *point, const double *xb)
+{
+    double r2 = 0.0;
+    for (int i = 0; i < sim->dim; ++i) {
+        double d = point[i] - xb[i];
+        if (sim->has_domain && sim->periodic[i]) {
+            const double L = sim->hi[i] - sim->lo[i];
+            if (d > 0.5 * L)
+                d -= L;
+            else if (d < -0.5 * L)
+                d += L;
+        }
+        r2 += d * d;
+    }
+    return r2;
+}
+
 /* Add the kernel-weighted contributions of particles [0, n) at `point`:
  * sums = (sum w, sum w vm, sum w P, sum w S...), w = V_b W(p - r_b). */
 static void probe_accumulate(const sph_sim *sim, size_t n, const double *x, size_t stride,
@@ -19,18 +37,7 @@ static void probe_accumulate(const sph_sim *sim, size_t n, const double *x, size
     const double h = sim->h, support2 = 4.0 * h * h;
     const double norm = kernel_sigma(sim->kernel, dim) / pow(h, dim);
     for (size_t b = 0; b < n; ++b) {
-        double r2 = 0.0;
-        for (int i = 0; i < dim; ++i) {
-            double d = point[i] - x[b * stride + i];
-            if (sim->has_domain && sim->periodic[i]) {
-                const double L = sim->hi[i] - sim->lo[i];
-                if (d > 0.5 * L)
-                    d -= L;
-                else if (d < -0.5 * L)
-                    d += L;
-            }
-            r2 += d * d;
-        }
+        const double r2 = distance2(sim, point, x + b * stride);
         if (r2 >= support2)
             continue;
         const material *m = &sim->materials[material_of[b]];
@@ -59,25 +66,6 @@ static void probe_finish(const sph_sim *sim, const double *sums, double *values)
         values[2 + c] = sums[3 + c] / sums[0] - (c < 3 ? values[1] : 0.0);
 }
 
-/* Minimum-image squared distance of particle b from a point. */
-static double distance2(const sph_sim *sim, const double *point, size_t b)
-{
-    const int dim = sim->dim;
-    double r2 = 0.0;
-    for (int i = 0; i < dim; ++i) {
-        double d = point[i] - sim->x[b * (size_t)dim + (size_t)i];
-        if (sim->has_domain && sim->periodic[i]) {
-            const double L = sim->hi[i] - sim->lo[i];
-            if (d > 0.5 * L)
-                d -= L;
-            else if (d < -0.5 * L)
-                d += L;
-        }
-        r2 += d * d;
-    }
-    return r2;
-}
-
 /* The particles that can be within 2h of p's point while the current
  * neighbour list is valid: those within 2h + skin now.  Every particle
  * moves less than skin/2 during the list's life (the run driver rebuilds
@@ -93,7 +81,7 @@ static int probe_near(sph_sim *sim, probe *p)
     p->n_near = 0;
     p->near_list = 0;
     for (size_t b = 0; b < sim->n; ++b) {
-        if (!(distance2(sim, p->point, b) < reach2))
+        if (!(distance2(sim, p->point, sim->x + b * (size_t)sim->dim) < reach2))
             continue;
         if (p->n_near == p->near_capacity) {
             const size_t cap = p->near_capacity ? 2 * p->near_capacity : 64;
