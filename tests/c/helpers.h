@@ -52,6 +52,16 @@ static inline sph_sim *new_sim(int dim)
     return sim;
 }
 
+/* A 2D handle for particles held by the caller (the low-level calls on
+ * external arrays): the paper material as `*material`, spacing 1 mm. */
+static inline sph_sim *external_particles_2d(int *material)
+{
+    sph_sim *sim = new_sim(2);
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, material));
+    check(sim, sph_set_spacing(sim, 1e-3));
+    return sim;
+}
+
 /* A free 2D block of nx x ny particles of spacing dx centred on the origin,
  * paper material. */
 static inline sph_sim *free_block_2d(int nx, int ny, double dx)

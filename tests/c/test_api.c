@@ -310,10 +310,8 @@ static int stop_at_five(const sph_sim *sim, void *user)
 static void failing_low_level_calls_leave_a_message(void **state)
 {
     (void)state;
-    sph_sim *sim = new_sim(2);
     int m;
-    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &m));
-    check(sim, sph_set_spacing(sim, 1e-3));
+    sph_sim *sim = external_particles_2d(&m);
     double x[2] = {0}, v[2] = {0}, rho = PAPER_RHO0, S[4] = {0}, saved[7];
     double dv[2] = {0}, drho = 0, dS[4] = {0};
     sph_rates r = {.dv_dt = dv, .drho_dt = &drho, .dS_dt = dS, .dx_dt = NULL};

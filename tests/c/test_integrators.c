@@ -359,10 +359,8 @@ static void leapfrog_moves_prescribed_bodies_exactly(void **state)
 static void leapfrog_kick_on_caller_arrays_applies_the_watchdog(void **state)
 {
     (void)state;
-    sph_sim *sim = new_sim(2);
     int m;
-    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &m));
-    check(sim, sph_set_spacing(sim, 1e-3));
+    sph_sim *sim = external_particles_2d(&m);
     check(sim, sph_set_watchdog(sim, 0.1, 0.9, 1.1));
     const int material[3] = {m, m, m};
     for (int kind = 0; kind < 3; ++kind) {
