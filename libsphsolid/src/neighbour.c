@@ -111,12 +111,8 @@ static size_t scan(const sph_sim *sim, const grid *g, size_t a, double rc2, size
                     double r2 = 0.0;
                     for (int i = 0; i < dim; ++i) {
                         double d = xa[i] - xb[i];
-                        if (g->periodic[i]) {
-                            if (d > 0.5 * g->box[i])
-                                d -= g->box[i];
-                            else if (d < -0.5 * g->box[i])
-                                d += g->box[i];
-                        }
+                        if (g->periodic[i])
+                            d = nearest_image(d, g->box[i], 0.5 * g->box[i]);
                         r2 += d * d;
                     }
                     if (r2 < rc2) {

@@ -17,10 +17,7 @@ static double distance2(const sph_sim *sim, const double *point, const double *x
         double d = point[i] - xb[i];
         if (sim->has_domain && sim->periodic[i]) {
             const double L = sim->hi[i] - sim->lo[i];
-            if (d > 0.5 * L)
-                d -= L;
-            else if (d < -0.5 * L)
-                d += L;
+            d = nearest_image(d, L, 0.5 * L);
         }
         r2 += d * d;
     }

@@ -163,12 +163,8 @@ static inline double separation(const engine *e, const double *xa, size_t b, con
     double r2 = 0.0;
     for (int i = 0; i < dim; ++i) {
         double d = xa[i] - xb[i];
-        if (periodic && e->periodic_axis[i]) {
-            if (d > e->half_box[i])
-                d -= e->box[i];
-            else if (d < -e->half_box[i])
-                d += e->box[i];
-        }
+        if (periodic && e->periodic_axis[i])
+            d = nearest_image(d, e->box[i], e->half_box[i]);
         r_ab[i] = d;
         r2 += d * d;
     }

@@ -163,6 +163,14 @@ sph_status sph_need(sph_sim *sim, const void *p, const char *fn, const char *nam
 sph_status caller_arrays(sph_sim *sim, const char *fn, size_t n, const int *material_of,
                          const char *names, const void *const *arrays, int count);
 
+/* The nearest periodic image of a separation component d along an axis of
+ * length L (half = L / 2): the one shift the neighbour search, the rate
+ * engine and the probes apply along a periodic axis. */
+static inline double nearest_image(double d, double L, double half)
+{
+    return d > half ? d - L : d < -half ? d + L : d;
+}
+
 /* neighbour.c */
 sph_status neighbour_build(sph_sim *sim);
 /* Where row a of the list starts in its indices. */
