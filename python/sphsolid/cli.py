@@ -529,14 +529,19 @@ def _error_estimate(args, probes, planned):
     if not getattr(args, "error_estimate", False) or len(probes.times) < 2:
         return None
     from .estimate import ErrorEstimate
+    # a plan's calibration of its setting gives the order (when it is
+    # well determined); without one, the two-grid rule
     estimate = ErrorEstimate(
         probes, threads=args.threads,
-        integrator=planned.setting.integrator if planned else None)
+        integrator=planned.setting.integrator if planned else None,
+        calibration=planned.calibration if planned else None)
     print("error estimate: shadow runs at 2dx and 4dx ...", flush=True)
     estimate.compute()
     worst = max(estimate.relative(n) for n in probes.names)
+    calibrated = ("" if estimate.calibrated is None else
+                  f", calibrated {estimate.calibrated:.2f}")
     print(f"error estimate: observed order "
-          f"{estimate.observed_order['von_mises']:.2f} (used "
+          f"{estimate.observed_order['von_mises']:.2f}{calibrated} (used "
           f"{estimate.order['von_mises']:.2f}, Fs "
           f"{estimate.safety['von_mises']:g})"
           f", largest band {worst * 100:.2f} % of the peak (von Mises); "

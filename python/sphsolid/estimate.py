@@ -20,12 +20,29 @@ prescribes Fs = 3 for such two-grid estimates, with the scheme's formal
 order: 1 here (the artificial viscosity and the kernel sums at the free
 surface are first order); an observed order above it (up to 2) is used
 when the shadows show it. Fs = 3 with p = 1 covers true orders down to
-about 0.42 (3 / (2^1 - 1) >= 1 / (2^0.42 - 1)). A plan's fitted order
-(``order=``, from a ladder of several levels) is used with Fs = 1.25 as
-a three-grid GCI when it is in [0.5, 2.1], else with Fs = 3 bounded to
-[0.5, 2]; then only the 2 dx shadow runs. The estimate sees the error
-that shrinks with dx; a bias that does not (see :mod:`sphsolid.plan`,
-the floor) is not in it.
+about 0.42 (3 / (2^1 - 1) >= 1 / (2^0.42 - 1)), and is 3-6x the error of
+a setting that converges at order 1 or faster (cubic_o4 on the project's
+scenes).
+
+A calibration (``calibration=``: the error model a plan fitted for the
+run's setting, from a ladder of four or more levels; or ``order=``, a
+calibrated order) replaces the two-grid rule when it is well determined
+in Eça & Hoekstra's sense: observed order in [0.5, 2.1], a good fit
+(safety factor 1.25 in the model) and convergence observed. Then
+
+    Fs = 1.25,  p = min(q_cal, q_obs, 1) bounded below by 0.5,
+
+the three-grid GCI with the calibrated order, lowered to the shadows'
+observed order where they show slower convergence (their triplet reaches
+coarser than the ladder) and to the formal order 1 that the planner's
+predictions use as well (cubic_o4's differences on the strip fall at
+order 1.8 over 1.4-0.47 mm while its error falls at 0.8-1.1), and not
+below 0.5, the lower end of the range over which the calibration was
+accepted (at p = 0.5 the factor Fs / (2^p - 1) is 3.0, the two-grid
+rule's). A calibration that is not well determined (an order outside
+[0.5, 2.1], scattered or anomalous levels) is not used. The estimate
+sees the error that shrinks with dx; a bias that does not (see
+:mod:`sphsolid.plan`, the floor) is not in it.
 
 The shadow scenes are the run's scene rebuilt with every block body at the
 coarser spacing (same extents, materials, motions, effects, h/dx, kernel,
@@ -46,21 +63,54 @@ from . import metrics
 from ._lib import UnsupportedError
 
 __all__ = ["ErrorEstimate", "coarsened", "SAFETY", "SAFETY_TWO_GRID",
-           "gci_factor"]
+           "gci_factor", "calibrated_order"]
 
 
-def gci_factor(order: float | None, given: bool = False
+def gci_factor(observed: float | None, calibrated: float | None = None
                ) -> tuple[float, float]:
-    """(safety factor, order used) of the per-run estimate for an
-    observed order from the shadows (``given`` False) or a plan's fitted
-    order (``given`` True); see the module docstring."""
-    if given:
-        if 0.5 <= order <= 2.1:
-            return SAFETY, float(order)
-        return SAFETY_TWO_GRID, float(np.clip(order, 0.5, MAX_ORDER))
-    if order is None or not math.isfinite(order):
+    """(safety factor, order used) of the per-run estimate: ``observed``
+    is the shadows' observed order (nan or None when unknown),
+    ``calibrated`` a well-determined calibrated order (see
+    :func:`calibrated_order`) or None; see the module docstring."""
+    known = observed is not None and math.isfinite(observed)
+    if calibrated is not None:
+        q = min(float(calibrated), FORMAL_ORDER)
+        if known:
+            q = min(q, float(observed))
+        return SAFETY, max(q, LOW_ORDER)
+    if not known:
         return SAFETY_TWO_GRID, FORMAL_ORDER
-    return SAFETY_TWO_GRID, float(np.clip(order, FORMAL_ORDER, MAX_ORDER))
+    return SAFETY_TWO_GRID, float(np.clip(observed, FORMAL_ORDER, MAX_ORDER))
+
+
+def calibrated_order(calibration=None, order: float | None = None
+                     ) -> float | None:
+    """The calibrated order when it is well determined, else None.
+
+    ``calibration`` is a plan's error model for the run's setting (a
+    :class:`sphsolid.plan.ErrorModel` or its ``to_dict()``, as in the
+    ``error_model`` of plan.json): well determined when its observed order
+    is in [0.5, 2.1], its safety factor is 1.25 (a good fit, Eça &
+    Hoekstra) and it is not anomalous (convergence observed). ``order``
+    is a calibrated order given by hand: well determined when in
+    [0.5, 2.1]."""
+    if calibration is not None:
+        get = (calibration.get if isinstance(calibration, dict)
+               else lambda key, default=None: getattr(calibration, key,
+                                                      default))
+        q = get("observed_order")
+        if q is None:
+            q = get("order")
+        if (q is None or not math.isfinite(float(q))
+                or get("anomalous", False)
+                or float(get("safety", SAFETY_TWO_GRID)) > SAFETY
+                or not LOW_ORDER <= float(q) <= HIGH_ORDER):
+            return None
+        return float(q)
+    if order is not None and math.isfinite(order) \
+            and LOW_ORDER <= order <= HIGH_ORDER:
+        return float(order)
+    return None
 
 #: GCI safety factors (Roache 1998): three or more grids in the
 #: asymptotic range / two grids or grids outside it.
@@ -68,6 +118,9 @@ SAFETY, SAFETY_TWO_GRID = 1.25, 3.0
 #: Formal order of the scheme (first-order artificial viscosity and free
 #: surface kernel sums) and the highest order the estimate uses.
 FORMAL_ORDER, MAX_ORDER = 1.0, 2.0
+#: Range of calibrated orders with the small safety factor (Eça &
+#: Hoekstra 2014, for a scheme of formal order up to 2).
+LOW_ORDER, HIGH_ORDER = 0.5, 2.1
 
 
 def _coarse_body(body, factor: float):
@@ -113,9 +166,14 @@ class ErrorEstimate:
     probes : Probes
         The run's probes, attached to its dynamics (the run must be done
         before :meth:`compute`).
+    calibration : ErrorModel or dict, optional
+        The error model a plan fitted for the run's setting (``Plan``'s
+        :attr:`~sphsolid.plan.Plan.calibration`, the ``error_model`` of
+        plan.json): used when well determined (:func:`calibrated_order`).
     order : float, optional
-        Observed order to use (e.g. a plan's); default: measured from a
-        second shadow run at 4 dx.
+        A calibrated order given by hand instead (used when in
+        [0.5, 2.1]). Either way the shadows at 2 dx and 4 dx both run: the
+        observed order of their triplet can lower the one used.
     scene_factory : callable(dx) -> Scene, optional
         Builds the shadow scenes; default :func:`coarsened`.
     threads : int, optional
@@ -132,10 +190,17 @@ class ErrorEstimate:
 
     def __init__(self, probes, order: float | None = None,
                  scene_factory=None, threads: int | None = None,
-                 integrator: str | None = None):
+                 integrator: str | None = None, calibration=None,
+                 shadows: dict | None = None):
         self.probes = probes
+        #: shadow series per coarsening factor ({2.0: ..., 4.0: ...}):
+        #: pass another estimate's ``shadows`` of the same run to reuse
+        #: its shadow runs with another calibration
+        self.shadows = shadows if shadows is not None else {}
         self.scene = probes.scene
         self.order_given = order
+        #: the well-determined calibrated order, or None (two-grid rule)
+        self.calibrated = calibrated_order(calibration, order)
         self.scene_factory = scene_factory
         self.threads = threads
         self.integrator = integrator
@@ -147,6 +212,11 @@ class ErrorEstimate:
 
     # ------------------------------------------------------------ runs
     def _shadow(self, factor: float) -> dict:
+        if factor not in self.shadows:
+            self.shadows[factor] = self._run_shadow(factor)
+        return self.shadows[factor]
+
+    def _run_shadow(self, factor: float) -> dict:
         from .probes import Probes
         if self.scene_factory is not None:
             shadow = self.scene_factory(self.dx * factor)
@@ -193,20 +263,15 @@ class ErrorEstimate:
         f1 = smoothed(fine)
         f2 = smoothed(self._shadow(2.0))
         observed, factors = {}, {}
-        if self.order_given is None:
-            f4 = smoothed(self._shadow(4.0))
-            for v in self.probes.values:
-                d1 = max(metrics.deviation(f1[n][v], f2[n][v], "max")
-                         for n in f1)
-                d2 = max(metrics.deviation(f2[n][v], f4[n][v], "max")
-                         for n in f1)
-                observed[v] = (math.log2(d2 / d1) if d1 > 0 and d2 > 0
-                               else math.nan)
-                factors[v] = gci_factor(observed[v])
-        else:
-            for v in self.probes.values:
-                observed[v] = float(self.order_given)
-                factors[v] = gci_factor(observed[v], given=True)
+        f4 = smoothed(self._shadow(4.0))
+        for v in self.probes.values:
+            d1 = max(metrics.deviation(f1[n][v], f2[n][v], "max")
+                     for n in f1)
+            d2 = max(metrics.deviation(f2[n][v], f4[n][v], "max")
+                     for n in f1)
+            observed[v] = (math.log2(d2 / d1) if d1 > 0 and d2 > 0
+                           else math.nan)
+            factors[v] = gci_factor(observed[v], self.calibrated)
         #: observed order per value (nan when the shadows do not differ)
         self.observed_order = observed
         self.safety = {v: f for v, (f, _) in factors.items()}
@@ -284,6 +349,8 @@ class ErrorEstimate:
                 [self.observed_order[v] for v in p.values])
             g.attrs["safety_factor"] = np.array(
                 [self.safety[v] for v in p.values])
+            g.attrs["calibrated_order"] = (math.nan if self.calibrated is None
+                                           else self.calibrated)
             g.attrs["smoothing_s"] = metrics.SMOOTHING
             g.attrs["shadow_seconds"] = self.shadow_seconds
             g.create_dataset("step", data=p.steps.astype(np.int64))

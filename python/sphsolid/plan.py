@@ -1132,6 +1132,10 @@ class Plan:
     calibration_seconds: float = 0.0
     scene: str = ""
     effects_examined: bool = True
+    #: the error model of the chosen setting (``ErrorModel.to_dict()``):
+    #: the calibration a run's error estimate uses
+    #: (:class:`sphsolid.estimate.ErrorEstimate`)
+    calibration: dict | None = None
 
     # ------------------------------------------------------------ output
     def to_dict(self) -> dict:
@@ -1148,6 +1152,7 @@ class Plan:
                 "error_upper": self.error_upper,
                 "predicted_seconds": self.predicted_seconds,
                 "predicted_cpu_seconds": self.predicted_cpu_seconds,
+                "error_model": self.calibration,
                 "particles": self.particles, "steps": self.steps,
                 "reason": self.reason,
                 "best_reachable_error": self.best_reachable_error,
@@ -1179,7 +1184,8 @@ class Plan:
                    predicted_seconds=data.get("predicted_seconds"),
                    predicted_cpu_seconds=data.get("predicted_cpu_seconds"),
                    particles=data.get("particles"), steps=data.get("steps"),
-                   scene=data.get("scene", ""))
+                   scene=data.get("scene", ""),
+                   calibration=data.get("error_model"))
         plan.findings = [Finding(**f) for f in data.get("effects", [])]
         if settings:
             plan.setting = Setting.from_dict(settings)
@@ -1638,6 +1644,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
         result.predicted_seconds = best.seconds
         result.predicted_cpu_seconds = best.cpu_seconds
         result.particles, result.steps = best.particles, best.steps
+        result.calibration = best.model.to_dict()
     else:
         result.best_reachable_error, result.reason = _refusal(
             usable, error, max_seconds, scene_factory, until)

@@ -390,6 +390,13 @@ def test_plan_file_round_trip(strip_plan, tmp_path):
     assert loaded.predicted_seconds == pytest.approx(
         strip_plan.predicted_seconds)
     assert loaded.predicted_error == pytest.approx(strip_plan.predicted_error)
+    # the chosen setting's error model travels with the plan: a run's
+    # error estimate takes its order from it
+    chosen = next(c for c in strip_plan.candidates
+                  if c.setting == strip_plan.setting)
+    assert loaded.calibration["observed_order"] == pytest.approx(
+        chosen.model.observed_order)
+    assert loaded.calibration["safety"] == chosen.model.safety
 
 
 def test_bad_requests_name_the_value():
@@ -467,3 +474,109 @@ def test_cli_runs_a_plan_and_writes_error_columns(tmp_path):
         columns = len(plain_header[2:]) // 3
         assert g["value"].shape == (len(rows) - 1, 3, columns)
         assert math.isfinite(float(np.ravel(g.attrs["order"])[0]))
+
+
+class _SyntheticProbes:
+    """A run's probe series without a run: f(dx) = f* + C dx^p g(t) at
+    two probes (what :class:`sphsolid.estimate.ErrorEstimate` reads)."""
+
+    def __init__(self, order, dx=1e-3):
+        self.times = np.linspace(0.0, 60e-6, 241)
+        self.steps = np.arange(len(self.times))
+        self.names, self.values = ["P", "Q"], ["von_mises"]
+        self.points = {"P": (0.0, 0.0), "Q": (0.0, 1.0)}
+        self.scene = type("S", (), {"bodies": []})()
+        t = self.times
+        self.limit = {"P": 1e8 * np.sin(2 * np.pi * t / 50e-6),
+                      "Q": 5e7 * (1 - np.cos(2 * np.pi * t / 40e-6))}
+        shape = {"P": np.cos(2 * np.pi * t / 30e-6) + 0.5,
+                 "Q": np.sin(2 * np.pi * t / 45e-6) - 0.2}
+        # small differences (0.1 % of the peak at 1 mm): the relative
+        # deviations of the triplet then carry p to 1e-3
+        self.level = lambda f: {n: {"von_mises": self.limit[n] + 1e5 * (
+            f * dx * 1e3) ** order * shape[n]} for n in self.names}
+        self.error = {n: np.abs(self.level(1.0)[n]["von_mises"]
+                                - self.limit[n]) for n in self.names}
+
+    def __getitem__(self, name):
+        return self.level(1.0)[name]
+
+
+def _synthetic_estimate(true_order, **calibration):
+    from sphsolid.estimate import ErrorEstimate
+    probes = _SyntheticProbes(true_order)
+    # the shadows at 2 dx and 4 dx are the same synthetic series: no runs
+    shadows = {f: probes.level(f) for f in (2.0, 4.0)}
+    est = ErrorEstimate(probes, shadows=shadows, **calibration).compute()
+    grid = metrics.time_grid(0.0, float(probes.times[-1]))
+    ratio = []
+    for n in probes.names:
+        err = metrics.smooth(grid, np.interp(grid, probes.times,
+                                             probes.error[n]))
+        band = np.interp(grid, probes.times, est.bands[n]["von_mises"])
+        ratio.append(np.max(band) / np.max(err))
+    return est, ratio
+
+
+@pytest.mark.parametrize("true_order", [0.6, 0.8, 1.0, 1.5, 2.0])
+def test_error_estimate_order_from_the_shadows_and_a_calibration(true_order):
+    # f(dx) = f* + C dx^p g: the shadows' triplet (dx, 2dx, 4dx) observes
+    # p exactly, and the band Fs |f_dx - f_2dx| / (2^q - 1) over the error
+    # C dx^p |g| is Fs (2^p - 1) / (2^q - 1) for the order q used
+    from sphsolid.estimate import FORMAL_ORDER
+    two_grid, ratio = _synthetic_estimate(true_order)
+    assert two_grid.observed_order["von_mises"] == pytest.approx(
+        true_order, abs=0.01)
+    assert two_grid.calibrated is None
+    assert two_grid.safety["von_mises"] == 3.0
+    used = min(max(true_order, 1.0), 2.0)
+    assert two_grid.order["von_mises"] == pytest.approx(used, abs=0.01)
+    expected = 3.0 * (2 ** true_order - 1) / (2 ** used - 1)
+    assert ratio == pytest.approx([expected] * 2, rel=0.01)
+    # a well-determined calibration of the same order (a plan's error
+    # model: Fs 1.25, order in [0.5, 2.1], not anomalous) gives the
+    # three-grid GCI at that order, capped at the formal order 1: a bound
+    # (ratio >= 1) at every order, within [1, 3] up to order 1.77
+    # (1.25 (2^p - 1) <= 3); the order-2 series is bounded 3.75x
+    model = {"observed_order": true_order, "order": min(true_order, 1.0),
+             "safety": 1.25, "anomalous": False}
+    calibrated, ratio = _synthetic_estimate(true_order, calibration=model)
+    assert calibrated.calibrated == pytest.approx(true_order)
+    assert calibrated.safety["von_mises"] == 1.25
+    q = min(true_order, FORMAL_ORDER)
+    assert calibrated.order["von_mises"] == pytest.approx(q, abs=0.01)
+    for r in ratio:
+        assert r == pytest.approx(1.25 * (2 ** true_order - 1)
+                                  / (2 ** q - 1), rel=0.01)
+        assert r >= 1.0
+        assert r <= 3.0 or true_order > 1.77
+
+
+def test_error_estimate_lowers_a_calibrated_order_to_the_shadows():
+    # the calibration says order 1 but this run's shadows converge at 0.6:
+    # at the calibrated order the band would be 1.25 (2^0.6 - 1) = 0.65 of
+    # the error; the order used is the shadows' and the band bounds it
+    model = {"observed_order": 1.0, "safety": 1.25, "anomalous": False}
+    est, ratio = _synthetic_estimate(0.6, calibration=model)
+    assert est.order["von_mises"] == pytest.approx(0.6, abs=0.01)
+    assert ratio == pytest.approx([1.25, 1.25], rel=0.01)
+    assert min(ratio) >= 1.0
+    # ... but not below 0.5, the lower end of the calibrated range (the
+    # two-grid rule's factor: 1.25 / (2^0.5 - 1) = 3.0)
+    est, ratio = _synthetic_estimate(0.3, calibration=model)
+    assert est.order["von_mises"] == 0.5
+
+
+@pytest.mark.parametrize("model", [
+    {"observed_order": 0.3, "safety": 3.0, "anomalous": False},
+    {"observed_order": 2.5, "safety": 3.0, "anomalous": False},
+    {"observed_order": 1.0, "safety": 3.0, "anomalous": False},
+    {"observed_order": 0.1, "safety": 3.0, "anomalous": True},
+    {"observed_order": 1.0, "safety": 1.25, "anomalous": True}])
+def test_error_estimate_ignores_a_calibration_that_is_not_determined(model):
+    # an order outside [0.5, 2.1], a poor fit or no convergence: the
+    # two-grid rule (Fs = 3, the shadows' order bounded to [1, 2])
+    est, ratio = _synthetic_estimate(1.0, calibration=model)
+    assert est.calibrated is None
+    assert est.safety["von_mises"] == 3.0
+    assert ratio == pytest.approx([3.0, 3.0], rel=0.01)
