@@ -17,7 +17,7 @@ import time as wallclock
 
 import numpy as np
 
-__all__ = ["available", "piston_fe", "static_pattern"]
+__all__ = ["available", "piston_fe", "save_series", "static_pattern"]
 
 
 def available() -> bool:
@@ -87,9 +87,12 @@ def _stress_sampler(basis, points, lam, mu, delta=1e-5):
 
 def piston_fe(element_size: float, until: float, dt: float, grid,
               points: dict, K: float, mu: float, rho0: float,
-              speed: float = 1.5e-3) -> dict:
+              speed: float = 1.5e-3, progress=None, every: int = 500) -> dict:
     """Newmark run to ``until`` [s]; von Mises [Pa] at ``points`` sampled
-    on ``grid`` [s] (linear interpolation between steps)."""
+    on ``grid`` [s] (linear interpolation between steps). ``progress``,
+    if given, is called every ``every`` steps and at the end with the
+    time reached and the result so far (the series filled up to that
+    time), so that a long run can report and keep its partial series."""
     from scipy.sparse.linalg import splu
     basis, Kmat, Mmat, fixed, top_y, lam = _setup(element_size, K, mu, rho0)
     ndof = Kmat.shape[0]
@@ -98,7 +101,11 @@ def piston_fe(element_size: float, until: float, dt: float, grid,
     A = (Kmat + Mmat / (beta * dt * dt)).tocsr()
     A_ff = A[free][:, free].tocsc()
     A_fd = A[free][:, fixed]
-    lu = splu(A_ff)
+    # A is symmetric positive definite: a symmetric fill-reducing
+    # ordering without pivoting keeps the factors 2-3 times smaller than
+    # the default column ordering (same solution to round-off)
+    lu = splu(A_ff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+              options={"SymmetricMode": True})
     sample = _stress_sampler(basis, list(points.values()), lam, mu)
     u = np.zeros(ndof)
     v = np.zeros(ndof)
@@ -110,7 +117,13 @@ def piston_fe(element_size: float, until: float, dt: float, grid,
     prev_vm = sample(u)
     start = wallclock.perf_counter()
     steps = int(math.ceil(until / dt - 1e-9))
-    for _ in range(steps):
+
+    def result(done):
+        return {"element_size": element_size, "dt": dt, "dofs": ndof,
+                "steps": done, "wall": wallclock.perf_counter() - start,
+                "filled": k,
+                "vm": {name: out[i] for i, name in enumerate(points)}}
+    for step in range(1, steps + 1):
         t_new = t + dt
         u_d = np.zeros(ndof)
         u_d[top_y] = -speed * t_new
@@ -128,9 +141,9 @@ def piston_fe(element_size: float, until: float, dt: float, grid,
             out[:, k] = (1 - w) * prev_vm + w * vm
             k += 1
         prev_vm, t = vm, t_new
-    return {"element_size": element_size, "dt": dt, "dofs": ndof,
-            "steps": steps, "wall": wallclock.perf_counter() - start,
-            "vm": {name: out[i] for i, name in enumerate(points)}}
+        if progress is not None and (step % every == 0 or step == steps):
+            progress(t, result(step))
+    return result(steps)
 
 
 def static_pattern(element_size: float, points: dict, K: float, mu: float,
@@ -149,3 +162,64 @@ def static_pattern(element_size: float, points: dict, K: float, mu: float,
                       -Kc[free][:, fixed] @ u[fixed])
     vm = _stress_sampler(basis, list(points.values()), lam, mu)(u)
     return {name: float(vm[i]) for i, name in enumerate(points)}
+
+
+def save_series(path, grid, result) -> None:
+    """Write the series of :func:`piston_fe` (``result``, possibly partial:
+    the grid up to the time reached) to ``path`` (npz: grid, A, B, C, wall,
+    dt, dofs, steps, element_size). Written to a temporary file and renamed,
+    so a failed write leaves the last good file."""
+    from pathlib import Path
+    path = Path(path)
+    k = result.get("filled", len(grid))
+    tmp = path.with_name(path.name + ".part.npz")
+    np.savez_compressed(tmp, grid=np.asarray(grid)[:k],
+                        wall=result["wall"], dt=result["dt"],
+                        dofs=result["dofs"], steps=result["steps"],
+                        element_size=result["element_size"],
+                        **{n: v[:k] for n, v in result["vm"].items()})
+    tmp.replace(path)
+
+
+def main(argv=None) -> int:
+    """``python -m validation.fe_reference --size 5e-4 --until 1e-3 --out
+    docs/accuracy/fe_piston_0.5mm.npz``: one FE series of the paper's
+    piston test at A, B, C on a 0.1 us grid, with the step the other series
+    use (0.25 us x size / 2 mm, times ``--dt-factor``); the partial series
+    is written every ``--every`` steps."""
+    import argparse
+    from sphsolid import scenes
+    from sphsolid.probes import PAPER_PROBES
+    parser = argparse.ArgumentParser(description=main.__doc__.split(":")[0])
+    parser.add_argument("--size", type=float, required=True,
+                        help="element size [m]")
+    parser.add_argument("--until", type=float, default=0.3e-3)
+    parser.add_argument("--dt-factor", type=float, default=1.0)
+    parser.add_argument("--every", type=int, default=500)
+    parser.add_argument("--out", required=True)
+    args = parser.parse_args(argv)
+    for name in ("size", "until", "dt_factor"):
+        value = getattr(args, name)
+        if not (math.isfinite(value) and value > 0):
+            parser.error(f"--{name.replace('_', '-')} must be positive, "
+                         f"got {value!r}")
+    if not available():
+        parser.error("needs scikit-fem and scipy (pip install scikit-fem)")
+    rock = scenes.paper_material()
+    grid = np.linspace(0.0, args.until, int(round(args.until / 1e-7)) + 1)
+    dt = 0.25e-6 * args.size / 2e-3 * args.dt_factor
+
+    def progress(t, result):
+        save_series(args.out, grid, result)
+        print(f"t = {t * 1e6:.1f} us, {result['steps']} steps, "
+              f"{result['wall']:.0f} s", flush=True)
+    r = piston_fe(args.size, args.until, dt, grid, PAPER_PROBES, rock.K,
+                  rock.mu, rock.rho0, scenes.PISTON_SPEED, progress=progress,
+                  every=args.every)
+    print(f"{args.out}: {r['dofs']} dofs, {r['steps']} steps of "
+          f"{dt * 1e6:g} us, {r['wall']:.0f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -4,7 +4,10 @@
     python -m validation.order --experiments strip specimen \
         --out docs/validation/order --doc docs/validation.md
     (--dx 2e-3 1e-3 5e-4 by default; --only LABEL ... runs some again and
-    merges them into DIR/order.json; --series keeps the probe series)
+    merges them into DIR/order.json; --series keeps the probe series in
+    --series-dir, and --rescore scores the kept series again against the
+    FE series of --fe, e.g. after a finer one was computed with
+    ``python -m validation.fe_reference``)
 
 The error of the issue's metric (von Mises at the probes, both series
 smoothed with a 1 us Gaussian, worst probe's RMS deviation over the
@@ -20,8 +23,14 @@ reference's RMS, 0-0.3 ms) falls at about first order from 2 to 1 to
   the piston's speed ramped up smoothly over a time T (a C2 quintic ramp;
   the exact answer is then a staircase of smooth fronts, below) and the
   same runs measured with a wider smoothing (post-processing only);
-- *the reference's own resolution*: the specimen against the 2 mm and the
-  1 mm finite-element series.
+- *the reference's own resolution*: the specimen against the 2, 1 and
+  0.5 mm finite-element series, and those series' own convergence (their
+  differences, observed order and Richardson estimate of the finest one's
+  error, ``fe_self``).
+
+The specimen runs that reach 1 ms are also scored over 0-1 ms, the
+metric's second window. Each row gives the orders between successive
+spacings and the least-squares slope over all of them.
 
 Exact answer of the strip (linear acoustics, uniaxial strain): the piston
 moving down at V(t) sends a front down; the fixed plate and the piston
@@ -40,6 +49,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import time as wallclock
 from pathlib import Path
 
@@ -54,6 +64,8 @@ from sphsolid.probes import PAPER_PROBES, Probes
 from . import decomposition, end_placement
 
 WINDOW = decomposition.WINDOW
+#: the metric's long window (0-1 ms), scored for the runs that reach it
+LONG = 1e-3
 STRIP_PROBES = decomposition.STRIP_PROBES
 
 
@@ -201,17 +213,72 @@ def _signed(reference):
     return lambda grid: {n: factor * v for n, v in reference(grid).items()}
 
 
-def fe_self(paths) -> list:
-    """The FE series against each other in the metric (worst probe)."""
-    grid = metrics.time_grid(0.0, WINDOW)
-    series = {p.stem: decomposition.fe_reference(p)(grid) for p in paths
-              if p.exists()}
-    names = sorted(series, key=lambda n: -float(n.split("_")[-1][:-2]))
-    return [{"pair": f"{a} vs {b}",
-             **{norm: metrics.worst_deviation(series[a], series[b], grid,
-                                              norm)
-                for norm in ("max", "rms")}}
-            for i, a in enumerate(names) for b in names[i + 1:]]
+def fe_series(path):
+    """An FE series of ``fe_reference.main`` (or ``accuracy.fe_reference``):
+    (reference function of the time grid, the time it reaches [s])."""
+    data = np.load(path)
+    grid = data["grid"]
+    series = {n: data[n] for n in "ABC"}
+    return (lambda g: {n: np.interp(g, grid, v) for n, v in series.items()},
+            float(grid[-1]))
+
+
+def _stem(path) -> str:
+    """fe_piston_0.5mm from .../fe_piston_0.5mm.npz (Path.stem would cut
+    at the size's decimal point of an already stripped name)."""
+    name = Path(path).name
+    return name[:-4] if name.endswith(".npz") else name
+
+
+def _size(path) -> float:
+    """Element size [mm] from fe_piston_<size>mm[.npz]."""
+    return float(str(path).split("fe_piston_")[-1].split("mm")[0])
+
+
+def fe_self(paths, extra=()) -> dict:
+    """The FE series against each other in the metric (worst probe), over
+    0-0.3 ms and, where both reach it, 0-1 ms: successive sizes, each
+    against the finest, and the ``extra`` pairs (label, path, path) (e.g.
+    a series at half the step against the same mesh); the observed order
+    of the RMS deviation between successive sizes and the Richardson
+    estimate of the finest series' own RMS deviation from the converged
+    answer, d / (2^p - 1) with d and p its last difference and order."""
+    series = {_stem(p): fe_series(p) for p in paths if Path(p).exists()}
+    names = sorted(series, key=lambda n: -_size(n))
+    pairs = [(f"{a} vs {b}", a, b) for a, b in zip(names, names[1:])]
+    pairs += [(f"{a} vs {names[-1]}", a, names[-1]) for a in names[:-2]]
+    for label, a, b in extra:
+        if Path(a).exists() and Path(b).exists():
+            series[_stem(a)] = fe_series(a)
+            series[_stem(b)] = fe_series(b)
+            pairs.append((label, _stem(a), _stem(b)))
+    out = {"pairs": [], "windows": {}}
+    for label, a, b in pairs:
+        row = {"pair": label}
+        for window in (WINDOW, LONG):
+            if min(series[a][1], series[b][1]) < window * (1 - 1e-9):
+                continue
+            grid = metrics.time_grid(0.0, window)
+            tag = "" if window == WINDOW else " 1ms"
+            for norm in ("max", "rms"):
+                row[norm + tag] = metrics.worst_deviation(
+                    series[a][0](grid), series[b][0](grid), grid, norm)
+        out["pairs"].append(row)
+    for tag in ("", " 1ms"):
+        steps = [r.get("rms" + tag) for r in out["pairs"][:len(names) - 1]]
+        sizes = [_size(n) for n in names]
+        if len(steps) < 2 or None in steps:
+            continue
+        p = [float(np.log2(steps[i] / steps[i + 1]))
+             for i in range(len(steps) - 1)]
+        sizes_used = [sizes[i + 1] for i in range(len(steps))]
+        out["windows"][tag or " 0.3ms"] = {
+            "orders": p, "finest": names[-1],
+            "richardson": float(steps[-1] / (2 ** p[-1] - 1)),
+            "richardson_previous": float(steps[-1] * 2 ** p[-1]
+                                         / (2 ** p[-1] - 1)),
+            "sizes": sizes_used}
+    return out
 
 
 def strip_reference(rise=0.0):
@@ -223,6 +290,11 @@ def orders(dxs, errors) -> list:
     """Observed order between successive spacings."""
     return [float(np.log(errors[i] / errors[i + 1])
                   / np.log(dxs[i] / dxs[i + 1])) for i in range(len(dxs) - 1)]
+
+
+def fitted_order(dxs, errors) -> float:
+    """Least-squares slope of log(error) against log(dx)."""
+    return float(np.polyfit(np.log(dxs), np.log(errors), 1)[0])
 
 
 #: Strip experiments: label -> (preset, options of strip_run)
@@ -257,24 +329,70 @@ SPECIMEN = {
     "waves, M = 1, dt/2": ("waves", {"dt_factor": 0.5,
                                      "smoothing_ratio": 1.6525}),
     "paper, dt/2": ("paper", {"dt_factor": 0.5}),
+    "fronts": ("fronts", {"until": LONG}),
+    "fronts, step 1/4": ("fronts", {"dt_factor": 0.5, "until": LONG}),
 }
+#: the FE series the specimen is scored against, finest first
+FE_SERIES = tuple(Path(f"docs/accuracy/fe_piston_{s}mm.npz")
+                  for s in ("0.5", "1", "2"))
+FE_NAMES = tuple(f"fe_piston_{s}mm" for s in ("0.5", "1", "2"))
 SIGMAS = (1e-6, 2e-6, 4e-6)
+
+
+def score(kind, run, refs, rise=0.0) -> dict:
+    """The errors of one run: per reference (name -> (function of the time
+    grid, the time it reaches)), smoothing and norm over 0-0.3 ms, and
+    with the 1 us smoothing over 0-1 ms where the run and the reference
+    reach it (keys ending in " 1ms"); for the strip also the RMS
+    deviation of the signed sigma_yy."""
+    e = {}
+    if kind == "strip" and "syy" in run:
+        e["exact-syy rms 1us"] = deviation(
+            {"times": run["times"], "vm": run["syy"]},
+            _signed(strip_reference(rise)), "rms")
+    for rname, (ref, end) in refs.items():
+        for sigma in SIGMAS:
+            for norm in ("max", "rms"):
+                e[f"{rname} {norm} {sigma * 1e6:g}us"] = deviation(
+                    run, ref, norm, sigma)
+        if min(end, float(run["times"][-1])) >= LONG - 1e-6:
+            for norm in ("max", "rms"):
+                e[f"{rname} {norm} 1us 1ms"] = deviation(
+                    run, ref, norm, window=LONG)
+    return e
+
+
+def series_path(directory: Path, kind, label, dx) -> Path:
+    """Where ``--series`` keeps a run's probe series."""
+    return directory / (f"{kind}_{label.replace(' ', '_')}"
+                        f"_{dx * 1e3:g}mm.npz".replace("/", ""))
+
+
+def _fe_refs(paths) -> dict:
+    return {_stem(p): fe_series(p) for p in paths if Path(p).exists()}
+
+
+def _fmt_orders(values) -> str:
+    return ", ".join(f"{v:.2f}" for v in values)
 
 
 def table(rows) -> str:
     """Markdown tables of the saved experiments (``order.json``): RMS and
-    max deviation (1 us smoothing) per spacing, the observed orders, CPU
-    seconds, and for the strip where the error sits at the finest
-    spacing."""
+    max deviation (1 us smoothing) per spacing, the observed orders
+    (between successive spacings, and the least-squares slope over all),
+    CPU seconds, and for the strip where the error sits at the finest
+    spacing; the 0-1 ms window for the runs that reach it; the FE series
+    against each other."""
     lines = []
-    for kind, refs in (("strip", ("exact",)),
-                       ("specimen", ("fe_piston_1mm", "fe_piston_2mm"))):
+    fe_names = list(FE_NAMES)
+    for kind, refs in (("strip", ("exact",)), ("specimen", fe_names)):
         chosen = [r for r in rows if r["kind"] == kind]
         if not chosen:
             continue
         dxs = chosen[0]["dx"]
         mm = " / ".join(f"{d * 1e3:g}" for d in dxs)
         head = (f"| {kind} | reference | RMS % ({mm} mm) | RMS orders | "
+                f"RMS order, least squares | "
                 f"RMS orders, 2 / 4 us smoothing | max % | max orders | "
                 f"CPU s |")
         if kind == "strip":
@@ -288,15 +406,16 @@ def table(rows) -> str:
                 if None in e["rms"]:
                     continue
                 o = {n: orders(r["dx"], e[n]) for n in e}
-                wide = [", ".join(f"{v:.2f}" for v in orders(r["dx"], [
+                wide = [_fmt_orders(orders(r["dx"], [
                     x["errors"][f"{ref} rms {w}us"] for x in r["runs"]]))
                     for w in (2, 4)]
                 line = (f"| {r['label']} | {ref} | "
                         + " / ".join(f"{100 * v:.3g}" for v in e["rms"])
-                        + " | " + ", ".join(f"{v:.2f}" for v in o["rms"])
+                        + " | " + _fmt_orders(o["rms"])
+                        + f" | {fitted_order(r['dx'], e['rms']):.2f}"
                         + " | " + " / ".join(wide)
                         + " | " + " / ".join(f"{100 * v:.3g}" for v in e["max"])
-                        + " | " + ", ".join(f"{v:.2f}" for v in o["max"])
+                        + " | " + _fmt_orders(o["max"])
                         + " | " + " / ".join(f"{x['cpu']:.1f}"
                                              for x in r["runs"]) + " |")
                 if kind == "strip":
@@ -309,12 +428,46 @@ def table(rows) -> str:
                         f"{x['shares']['ahead']:.2f}" for x in r["runs"]) + " |"
                 lines.append(line)
         lines.append("")
+    long_rows = []
+    for r in (r for r in rows if r["kind"] == "specimen"):
+        for ref in fe_names:
+            e = {n: [x["errors"].get(f"{ref} {n} 1us 1ms") for x in r["runs"]]
+                 for n in ("rms", "max")}
+            if None in e["rms"]:
+                continue
+            mm = " / ".join(f"{d * 1e3:g}" for d in r["dx"])
+            long_rows.append(
+                f"| {r['label']} | {ref} | "
+                + " / ".join(f"{100 * v:.3g}" for v in e["rms"])
+                + " | " + _fmt_orders(orders(r["dx"], e["rms"]))
+                + f" | {fitted_order(r['dx'], e['rms']):.2f}"
+                + " | " + " / ".join(f"{100 * v:.3g}" for v in e["max"])
+                + " | " + _fmt_orders(orders(r["dx"], e["max"])) + " |")
+    if long_rows:
+        lines += [f"| specimen, 0-1 ms | reference | RMS % ({mm} mm) | "
+                  "RMS orders | RMS order, least squares | max % | "
+                  "max orders |", "|---|---|---|---|---|---|---|"]
+        lines += long_rows + [""]
     fe = [r for r in rows if r["kind"] == "fe"]
     if fe:
-        lines += ["| FE series against each other | max % | RMS % |",
-                  "|---|---|---|"]
-        lines += [f"| {q['pair']} | {100 * q['max']:.3g} | "
-                  f"{100 * q['rms']:.3g} |" for q in fe[0]["pairs"]]
+        fe = fe[0]
+        lines += ["| FE series against each other | max % (0-0.3 ms) | "
+                  "RMS % (0-0.3 ms) | max % (0-1 ms) | RMS % (0-1 ms) |",
+                  "|---|---|---|---|---|"]
+        cell = lambda q, k: f"{100 * q[k]:.3g}" if k in q else ""  # noqa
+        lines += [f"| {q['pair']} | {cell(q, 'max')} | {cell(q, 'rms')} | "
+                  f"{cell(q, 'max 1ms')} | {cell(q, 'rms 1ms')} |"
+                  for q in fe["pairs"]]
+        lines.append("")
+        for window, w in fe.get("windows", {}).items():
+            sizes = " / ".join(f"{s:g}" for s in w["sizes"])
+            lines.append(
+                f"FE over 0-{window.strip()}: observed RMS orders "
+                f"{_fmt_orders(w['orders'])} (differences ending at "
+                f"{sizes} mm); Richardson estimate of the RMS deviation "
+                f"from the converged answer: {w['finest']} "
+                f"{100 * w['richardson']:.2g} %, the next coarser "
+                f"{100 * w['richardson_previous']:.2g} %.")
         lines.append("")
     return "\n".join(lines)
 
@@ -332,17 +485,48 @@ def main(argv=None):
                         help="run nothing: the tables from DIR/order.json")
     parser.add_argument("--series", action="store_true",
                         help="also save each run's probe series (npz)")
+    parser.add_argument("--series-dir", type=Path, default=None,
+                        help="where --series keeps them (default: --out)")
+    parser.add_argument("--rescore", action="store_true",
+                        help="run nothing: score the specimen runs kept by "
+                        "--series again against the FE series of --fe "
+                        "(after a finer one was added)")
     parser.add_argument("--doc", type=Path, default=None,
                         help="also write the tables between <!-- order:begin "
                         "--> and <!-- order:end --> of this file "
                         "(docs/validation.md)")
-    parser.add_argument("--fe", nargs="+", type=Path,
-                        default=[Path("docs/accuracy/fe_piston_1mm.npz"),
-                                 Path("docs/accuracy/fe_piston_2mm.npz")])
+    parser.add_argument("--fe", nargs="+", type=Path, default=list(FE_SERIES))
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
+    series_dir = args.series_dir or args.out
+    series_dir.mkdir(parents=True, exist_ok=True)
+    path = args.out / "order.json"
+    fe_refs = _fe_refs(args.fe)
+    if args.rescore:
+        saved = json.loads(path.read_text()) if path.exists() else []
+        for row in saved:
+            if row["kind"] != "specimen" or (args.only
+                                             and row["label"] not in args.only):
+                continue
+            for r in row["runs"]:
+                f = series_path(series_dir, "specimen", row["label"], r["dx"])
+                if not f.exists():
+                    print(f"{f}: no series kept, {row['label']} at "
+                          f"{r['dx'] * 1e3:g} mm not rescored", flush=True)
+                    continue
+                data = np.load(f)
+                r["errors"] = score("specimen", {
+                    "times": data["times"],
+                    "vm": {n: data[n] for n in "ABC"}}, fe_refs)
+            errs = {}
+            for r in row["runs"]:
+                for key, value in r["errors"].items():
+                    errs.setdefault(key, []).append(value)
+            row["orders"] = {k: orders(row["dx"], v) for k, v in errs.items()
+                             if len(v) == len(row["dx"])}
+        path.write_text(json.dumps(saved, indent=1))
     rows = []
-    for kind in [] if args.tables_only else args.experiments:
+    for kind in [] if args.tables_only or args.rescore else args.experiments:
         experiments = STRIP if kind == "strip" else SPECIMEN
         for label, (preset, options) in experiments.items():
             if args.only and label not in args.only:
@@ -356,31 +540,23 @@ def main(argv=None):
                     dx, preset, **options)
                 if args.series:
                     np.savez_compressed(
-                        args.out / f"{kind}_{label.replace(' ', '_')}"
-                        f"_{dx * 1e3:g}mm.npz".replace("/", ""),
+                        series_path(series_dir, kind, label, dx),
                         times=run["times"], **run["vm"])
                 shares = None
                 if kind == "strip":
-                    refs = {"exact": strip_reference(rise)}
+                    refs = {"exact": (strip_reference(rise), np.inf)}
                     shares = front_share(run, rise)
                 else:
-                    refs = {p.stem: decomposition.fe_reference(p)
-                            for p in args.fe if p.exists()}
-                e = {}
-                if kind == "strip":
-                    e["exact-syy rms 1us"] = deviation(
-                        {"times": run["times"], "vm": run["syy"]},
-                        _signed(strip_reference(rise)), "rms")
-                for rname, ref in refs.items():
-                    for sigma in SIGMAS:
-                        for norm in ("max", "rms"):
-                            e[f"{rname} {norm} {sigma * 1e6:g}us"] = deviation(
-                                run, ref, norm, sigma)
+                    refs = fe_refs
+                e = score(kind, run, refs, rise)
                 row["runs"].append({"dx": dx, "cpu": run["cpu"],
                                     "shares": shares,
                                     "wall": run["wall"], "steps": run["steps"],
                                     "particle_steps": run["steps"]
-                                    * run["particles"], "errors": e})
+                                    * run["particles"],
+                                    "until": float(run["times"][-1]),
+                                    "load": os.getloadavg()[0],
+                                    "errors": e})
                 for key, value in e.items():
                     errs.setdefault(key, []).append(value)
                 print(json.dumps({"label": label, "dx": dx,
@@ -393,18 +569,21 @@ def main(argv=None):
             print(json.dumps({"label": label, "orders": {
                 k: [round(o, 2) for o in v] for k, v in row["orders"].items()
                 if "rms" in k}}), flush=True)
-            path = args.out / "order.json"
             old = json.loads(path.read_text()) if path.exists() else []
             old = [r for r in old if not (r["kind"] == kind
                                           and r["label"] == label)]
             path.write_text(json.dumps(old + [row], indent=1))
-    path = args.out / "order.json"
-    fe_paths = [Path(f"docs/accuracy/fe_piston_{s}mm.npz") for s in (4, 2, 1)]
-    if all(p.exists() for p in fe_paths):
+    fe_paths = [Path(f"docs/accuracy/fe_piston_{s}mm.npz")
+                for s in ("4", "2", "1", "0.5")]
+    if all(p.exists() for p in fe_paths[:3]):
         old = json.loads(path.read_text()) if path.exists() else []
         old = [r for r in old if r["kind"] != "fe"]
+        extra = [(f"fe_piston_{s}mm at half its step vs fe_piston_{s}mm",
+                  Path(f"docs/accuracy/fe_piston_{s}mm_half_step.npz"),
+                  Path(f"docs/accuracy/fe_piston_{s}mm.npz"))
+                 for s in ("2", "1")]
         path.write_text(json.dumps(old + [{"kind": "fe", "label": "fe",
-                                           "pairs": fe_self(fe_paths)}],
+                                           **fe_self(fe_paths, extra)}],
                                    indent=1))
     if path.exists():
         text = table(json.loads(path.read_text()))
