@@ -49,6 +49,7 @@ FixSPHSolidState::FixSPHSolidState(LAMMPS *lmp, int narg, char **arg) :
   create_attribute = 1;
   comm_forward = 3 + 3 + 1 + ncomp;    // with positions and velocities
   forward_motion = false;
+  forward_stress = true;
   maxexchange = 2 * (1 + ncomp) + nsaved;
 
   grow_arrays(atom->nmax);
@@ -165,14 +166,16 @@ int FixSPHSolidState::pack_forward_comm(int n, int *list, double *buf, int pbc_f
       buf[m++] = v[j][1] + (vshift ? dvy : 0.0);
       buf[m++] = v[j][2] + (vshift ? dvz : 0.0);
       buf[m++] = rho[j];
-      for (int k = 0; k < ncomp; k++) buf[m++] = S[j][k];
+      if (forward_stress)
+        for (int k = 0; k < ncomp; k++) buf[m++] = S[j][k];
     }
     return m;
   }
   for (int ii = 0; ii < n; ii++) {
     const int j = list[ii];
     buf[m++] = rho[j];
-    for (int k = 0; k < ncomp; k++) buf[m++] = S[j][k];
+    if (forward_stress)
+      for (int k = 0; k < ncomp; k++) buf[m++] = S[j][k];
   }
   return m;
 }
@@ -186,13 +189,15 @@ void FixSPHSolidState::unpack_forward_comm(int n, int first, double *buf)
       for (int d = 0; d < 3; d++) x[i][d] = buf[m++];
       for (int d = 0; d < 3; d++) v[i][d] = buf[m++];
       rho[i] = buf[m++];
-      for (int k = 0; k < ncomp; k++) S[i][k] = buf[m++];
+      if (forward_stress)
+        for (int k = 0; k < ncomp; k++) S[i][k] = buf[m++];
     }
     return;
   }
   for (int i = first; i < first + n; i++) {
     rho[i] = buf[m++];
-    for (int k = 0; k < ncomp; k++) S[i][k] = buf[m++];
+    if (forward_stress)
+      for (int k = 0; k < ncomp; k++) S[i][k] = buf[m++];
   }
 }
 

@@ -64,8 +64,10 @@ class FixSPHSolidState : public Fix {
 
   /* Forward communication sends rho and S; with forward_motion also the
    * positions and velocities (as comm->forward_comm() would), so that the
-   * second rate evaluation of a step needs one ghost exchange, not two. */
-  bool forward_motion;
+   * second rate evaluation of a step needs one ghost exchange, not two.
+   * Without forward_stress S stays behind (the continuity pass does not
+   * read the ghosts' stress). */
+  bool forward_motion, forward_stress;
 
  private:
   int dim, ncomp, nsaved;

@@ -4,9 +4,13 @@
  * No equation of the model appears here: the rates come from the
  * library's pair pass (sph_rates_pairs) over LAMMPS's half list and its
  * finish (sph_rates_finish); this file only moves data between LAMMPS's
- * arrays and the library's layout.  With newton_pair on, the partial sums
- * of ghost atoms are sent back to their owners between the two (reverse
- * communication, as the MACHDYN and SPH packages do for their pair sums).
+ * arrays and the library's layout.  Each pair is computed once over all
+ * ranks: a pair of an owned and a ghost atom is listed on both ranks
+ * (LAMMPS's half list with newton off), and the atom IDs of the two pick
+ * the rank that computes it, so that pairs across a subdomain boundary
+ * split evenly between the ranks on either side; the partial sums of
+ * ghost atoms are then sent back to their owners between the two passes
+ * (reverse communication, whatever the newton setting).
  */
 #include "pair_sphsolid.h"
 
@@ -42,7 +46,7 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
     Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false), sim(nullptr),
     state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0), nrates(-1),
-    partial_size(0), pass_size(0), compute_pass(SPH_RATES_ALL)
+    partial_size(0), pass_size(0), compute_pass(SPH_RATES_ALL), pairs_computed(0)
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -332,9 +336,11 @@ void PairSPHSolid::init_style()
                "pair sphsolid needs the velocities of ghost atoms: add 'comm_modify vel yes'");
   if (!atom->tag_enable) error->all(FLERR, "pair sphsolid needs atom IDs (atom_modify id yes)");
 
-  // a half list: with newton_pair on each pair is listed on one rank only
-  // and the ghosts' partial sums are sent back (comm_reverse doubles each)
-  neighbor->add_request(this);
+  // a half list in which a pair with a ghost is listed on both ranks
+  // (newton off, whatever the newton setting): convert_list() keeps it on
+  // one of them, and the ghosts' partial sums are sent back (comm_reverse
+  // doubles each, with newton on or off)
+  neighbor->add_request(this, NeighConst::REQ_NEWTON_OFF);
   cached_build = -1;               // materials of the types may have changed
   compute_pass = SPH_RATES_ALL;    // until an integrator fix asks for less (its init follows)
 
@@ -344,6 +350,7 @@ void PairSPHSolid::init_style()
   support = sph_support_radius(sim);
   partial_size = (int) sph_rates_pass_size(sim, SPH_RATES_ALL);
   comm_reverse = partial_size;    // the largest pass; each sends only its own sums
+  comm_reverse_off = partial_size;
 
   state_fix = dynamic_cast<FixSPHSolidState *>(modify->get_fix_by_id(STATE_FIX_ID));
   if (!state_fix) {
@@ -523,12 +530,44 @@ void PairSPHSolid::grow_scratch()
 }
 
 /* ----------------------------------------------------------------------
+   Which of the two ranks that list a pair of owned atom i and ghost j
+   computes it: the one owning the atom of the smaller ID, or of the larger,
+   by one bit of a hash of the two IDs.  Both ranks decide alike, so each
+   pair is computed once, and the pairs across a subdomain boundary split
+   about evenly between its two sides whatever the lattice (a rule such as
+   LAMMPS's newton on, by coordinates, gives them all to one side).  An atom
+   near its own periodic image (equal IDs) computes the pair with the image
+   above it (z, then y, then x), as LAMMPS does.
+------------------------------------------------------------------------- */
+
+static inline uint64_t mix_ids(uint64_t a, uint64_t b)
+{
+  uint64_t h = a * 0x9E3779B97F4A7C15ULL + b;    // splitmix64's finaliser
+  h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  h = (h ^ (h >> 27)) * 0x94D049BB133111EBULL;
+  return h ^ (h >> 31);
+}
+
+bool PairSPHSolid::computes_pair_with_ghost(int i, int j) const
+{
+  const tagint ti = atom->tag[i], tj = atom->tag[j];
+  if (ti != tj) {
+    const bool smaller_computes = mix_ids(std::min(ti, tj), std::max(ti, tj)) & 1;
+    return (ti < tj) == smaller_computes;
+  }
+  const double *xi = atom->x[i], *xj = atom->x[j];
+  if (xj[2] != xi[2]) return xj[2] > xi[2];
+  if (xj[1] != xi[1]) return xj[1] > xi[1];
+  return xj[0] > xi[0];
+}
+
+/* ----------------------------------------------------------------------
    LAMMPS's half list as CSR rows sorted by index, as the library's own
    list is: a pair of owned atoms goes to the row of the smaller index, a
-   pair with a ghost stays in the owned atom's row.  Neighbour data are then
-   read in memory order and most pair terms land in nearby rows.
-   Special-bond bits in the top of the indices are stripped.  Only on a new
-   list.
+   pair with a ghost stays in the owned atom's row, if this rank computes
+   it (computes_pair_with_ghost).  Neighbour data are then read in memory
+   order and most pair terms land in nearby rows.  Special-bond bits in the
+   top of the indices are stripped.  Only on a new list.
 ------------------------------------------------------------------------- */
 
 void PairSPHSolid::convert_list()
@@ -542,13 +581,17 @@ void PairSPHSolid::convert_list()
     const int *jlist = list->firstneigh[i];
     for (int jj = 0; jj < list->numneigh[i]; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      neighbour_counts[j < nlocal && j < i ? j : i]++;
+      if (j < nlocal)
+        neighbour_counts[std::min(i, j)]++;
+      else if (computes_pair_with_ghost(i, j))
+        neighbour_counts[i]++;
     }
   }
   neighbour_offsets.resize((size_t) nlocal + 1);
   neighbour_offsets[0] = 0;
   for (int i = 0; i < nlocal; i++)
     neighbour_offsets[i + 1] = neighbour_offsets[i] + neighbour_counts[i];
+  pairs_computed = neighbour_offsets[nlocal];
   neighbour_indices.resize(std::max<size_t>(neighbour_offsets[nlocal], 1));
   std::vector<size_t> fill(neighbour_offsets.begin(), neighbour_offsets.end() - 1);
   for (int ii = 0; ii < inum; ii++) {
@@ -556,9 +599,9 @@ void PairSPHSolid::convert_list()
     const int *jlist = list->firstneigh[i];
     for (int jj = 0; jj < list->numneigh[i]; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      if (j < nlocal && j < i)
-        neighbour_indices[fill[j]++] = i;
-      else
+      if (j < nlocal)
+        neighbour_indices[fill[std::min(i, j)]++] = std::max(i, j);
+      else if (computes_pair_with_ghost(i, j))
         neighbour_indices[fill[i]++] = j;
     }
   }
@@ -572,10 +615,13 @@ void PairSPHSolid::convert_list()
 void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
 {
   // density and deviatoric stress of the ghosts, and with_motion their
-  // positions and velocities too, in one exchange
+  // positions and velocities too, in one exchange (the stress only for a
+  // pass that reads it: the momentum pass)
   state_fix->forward_motion = with_motion;
+  state_fix->forward_stress = (pass & SPH_RATES_MOMENTUM) != 0;
   comm->forward_comm(state_fix);
   state_fix->forward_motion = false;
+  state_fix->forward_stress = true;
 
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
@@ -625,14 +671,13 @@ void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
   rates.dS_dt = rate_dS.data();
   rates.dx_dt = xsph ? rate_dx.data() : nullptr;
 
-  // pair sums on owned and ghost atoms; with newton_pair on the ghosts'
-  // sums belong to their owners (with it off, every pair with a ghost is
-  // also listed on the ghost's own rank, and the ghosts' sums are unused)
-  // (a pass computes, and sends back, only its own sums: pass_size doubles)
+  // pair sums on owned and ghost atoms; the ghosts' sums belong to their
+  // owners (a pass computes, and sends back, only its own sums: pass_size
+  // doubles per atom)
   pass_size = (int) sph_rates_pass_size(sim, pass);
   sph_status status = sph_rates_pass_pairs(sim, pass, &particles, &neighbours, partial.data());
   if (status == SPH_OK) {
-    if (force->newton_pair) comm->reverse_comm(this, pass_size);
+    comm->reverse_comm(this, pass_size);
     status = sph_rates_pass_finish(sim, pass, &particles, partial.data(), &rates);
   }
   if (status != SPH_OK) {
@@ -680,6 +725,26 @@ void PairSPHSolid::compute(int eflag, int vflag)
   for (int i = 0; i < nlocal; i++) {
     const double m = mass_of(i);
     for (int d = 0; d < dim; d++) f[i][d] += m * rate_dv[(size_t) i * dim + d];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   end of a run: the pairs each rank computes (the work balance of the
+   subdomains; LAMMPS's "Neighs" counts the pairs with ghosts on both ranks)
+------------------------------------------------------------------------- */
+
+void PairSPHSolid::finish()
+{
+  bigint mine = pairs_computed, total = 0, largest = 0, least = 0;
+  MPI_Allreduce(&mine, &total, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  MPI_Allreduce(&mine, &largest, 1, MPI_LMP_BIGINT, MPI_MAX, world);
+  MPI_Allreduce(&mine, &least, 1, MPI_LMP_BIGINT, MPI_MIN, world);
+  if (comm->me == 0) {
+    const double average = (double) total / comm->nprocs;
+    utils::logmesg(lmp,
+                   "pair sphsolid: {} pairs computed, per rank {:.6g} ave {} max {} min "
+                   "(largest / average {:.4f})\n",
+                   total, average, largest, least, average > 0.0 ? largest / average : 1.0);
   }
 }
 

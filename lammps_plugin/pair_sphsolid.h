@@ -1,9 +1,9 @@
 /* -*- c++ -*-
  * pair_sphsolid.h - pair style sphsolid: the SPH elastic solid of libsphsolid.
  *
- * A translation layer: LAMMPS's atoms, ghost atoms and full neighbour list
- * go in, sph_rates_evaluate() computes every rate, and the accelerations
- * come back as forces (f = m dv/dt).  The density and deviatoric stress
+ * A translation layer: LAMMPS's atoms, ghost atoms and half neighbour list
+ * go in, the library's pair pass and finish compute every rate, and the
+ * accelerations come back as forces (f = m dv/dt).  The density and deviatoric stress
  * rates are kept for the integrator (fix sphsolid/heun).  Materials come
  * from pair_coeff per atom type; effects (artificial viscosity, artificial
  * stress, XSPH, damping) are pair_style keywords, off by default.
@@ -52,6 +52,7 @@ class PairSPHSolid : public Pair {
   void init_style() override;
   double init_one(int, int) override;
   double memory_usage() override;
+  void finish() override;
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
 
@@ -140,11 +141,13 @@ class PairSPHSolid : public Pair {
   int partial_size;               // doubles per atom of the pair sums (all rates)
   int pass_size;                  // of the pass being evaluated (reverse comm)
   int compute_pass;               // the rates compute() evaluates
+  bigint pairs_computed;          // pairs in this rank's rows (the last list)
   std::vector<double> partial;    // pair sums of owned and ghost atoms
 
   void allocate();
   void grow_scratch();
   void convert_list();
+  bool computes_pair_with_ghost(int i, int j) const;
   void fail(sph_sim *, sph_status, const std::string &what, bool destroy);
   void initialise_state();
 };

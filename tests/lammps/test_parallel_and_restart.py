@@ -8,6 +8,7 @@
 """
 from __future__ import annotations
 
+import re
 import textwrap
 
 import numpy as np
@@ -48,14 +49,23 @@ def test_two_ranks_reproduce_serial_probe_histories(tmp_path, plugin, load, tole
         assert np.abs(a[:, cols] - b[:, cols]).max() / peak < tolerance
 
 
-def test_newton_pair_off_and_on_agree_on_two_ranks(tmp_path, plugin):
-    # newton_pair on (LAMMPS's default): each pair with a ghost is computed
-    # on one rank and the ghost's partial sums are sent back to its owner;
-    # off: computed on both ranks, ghost sums unused.  Both equal one rank
-    # to round-off; a lost reverse communication (or a double count) shows
-    # at the 1e-3 level in the probe histories.
+PAIRS_LINE = re.compile(r"pair sphsolid: (\d+) pairs computed, per rank (\S+) ave (\d+) max "
+                        r"(\d+) min")
+
+
+def test_each_pair_once_split_evenly_with_newton_off_and_on(tmp_path, plugin):
+    # Whatever the newton setting, a pair of an owned and a ghost atom is
+    # listed on both ranks (a half list built with newton off), computed on
+    # the one the atom IDs pick, and the ghost's partial sums are sent back
+    # to its owner.  So on 2 ranks every pair of the serial run is computed
+    # exactly once (a pair kept on both sides or on neither changes the
+    # total), the pairs across the cut split evenly (LAMMPS's newton-on
+    # rule gives them all to the lower rank: 15922 against 15459 pairs at
+    # 2 mm, largest / average 1.015), and the probe histories equal one
+    # rank's to round-off (a lost reverse communication or a double count
+    # shows at the 1e-3 level).
     variables = {"dx": 0.002, "t_end": 5.0e-5, "every": 10, "probes": "p.txt"}
-    runs = {}
+    runs, pairs = {}, {}
     for name, newton, ranks in [("serial", "on", 1), ("on", "on", 2), ("off", "off", 2)]:
         work = tmp_path / name
         work.mkdir()
@@ -63,8 +73,16 @@ def test_newton_pair_off_and_on_agree_on_two_ranks(tmp_path, plugin):
         deck.write_text(f"newton {newton}\ninclude {PISTON_DECK}\n")
         run_deck(deck, work, variables, plugin, ranks=ranks)
         log = (work / "log.lammps").read_text()
-        assert f"attributes: half, newton {newton}" in log
+        assert "attributes: half, newton off" in log
+        total, average, largest, least = PAIRS_LINE.search(log).groups()
+        pairs[name] = (int(total), float(average), int(largest), int(least))
         runs[name] = read_probes(work / "p.txt")
+    serial_total = pairs["serial"][0]
+    assert serial_total > 30000
+    for name in ("on", "off"):
+        total, average, largest, least = pairs[name]
+        assert total == serial_total, name
+        assert largest + least == total and largest / average < 1.002, name
     a = runs["serial"]
     assert len(a) == 10
     for name in ("on", "off"):
