@@ -69,11 +69,10 @@ def test_each_pair_once_split_evenly_with_newton_off_and_on(tmp_path, plugin):
     for name, newton, ranks in [("serial", "on", 1), ("on", "on", 2), ("off", "off", 2)]:
         work = tmp_path / name
         work.mkdir()
-        deck = work / "in.deck"
-        deck.write_text(f"newton {newton}\ninclude {PISTON_DECK}\n")
-        run_deck(deck, work, variables, plugin, ranks=ranks)
+        run_deck(PISTON_DECK, work, dict(variables, newton=newton), plugin, ranks=ranks)
         log = (work / "log.lammps").read_text()
         assert "attributes: half, newton off" in log
+        assert f"newton          {newton}" in log
         total, average, largest, least = PAIRS_LINE.search(log).groups()
         pairs[name] = (int(total), float(average), int(largest), int(least))
         runs[name] = read_probes(work / "p.txt")
