@@ -257,6 +257,7 @@ def run_checks(scene: Scene, threads, log, quick, requests=REQUESTS) -> dict:
                 "cpu": run.cpu,
                 "particle_steps": run.particles * run.steps,
                 **{norm: scene.error(run, norm) for norm in NORMS}})
+    self_certify(scene, settings, cache, sweep_rows, threads)
     # CPU seconds per particle-step of each setting (median over its sweep
     # runs of 10^5 particle-steps or more): the cost of a run in CPU time
     # is its particle-steps times its setting's rate
@@ -277,6 +278,15 @@ def run_checks(scene: Scene, threads, log, quick, requests=REQUESTS) -> dict:
             best = min(meeting, key=lambda s: s["particle_steps"])
             fastest = min(meeting, key=lambda s: s["wall"])
             cheapest_cpu = min(meeting, key=lambda s: s["cpu_cost"])
+            known = [w for w in meeting
+                     if (w.get("certified") or {}).get(row["norm"]) is not None
+                     and w["certified"][row["norm"]] <= row["request"]]
+            if known:
+                least = min(known, key=lambda w: w["particle_steps"])
+                row.update(certified_cheapest=least["setting"],
+                           certified_cheapest_dx=least["dx"],
+                           certified_cheapest_particle_steps=least[
+                               "particle_steps"])
             row.update(sweep_cheapest=best["setting"],
                        sweep_cheapest_dx=best["dx"],
                        sweep_cheapest_particle_steps=best["particle_steps"],
@@ -302,6 +312,59 @@ def run_checks(scene: Scene, threads, log, quick, requests=REQUESTS) -> dict:
             "calibrations": calibrations,
             "findings": [f.to_dict() for f in
                          next(iter(plans.values())).findings]}
+
+
+def self_certify(scene: Scene, settings, cache, sweep_rows, threads) -> None:
+    """What self-convergence alone certifies in the sweep: for each sweep
+    run with three coarser sweep levels of its setting, the planner's
+    error model (:func:`sphsolid.plan.fit_error_model`: Eça & Hoekstra,
+    order at most 1, the differences of the four levels ending at it, on
+    its own scale, over the checks' window) and its upper bound at that
+    spacing, per norm, as ``certified`` in the sweep row (None where the
+    sweep has fewer coarser levels or the levels do not differ). This is
+    the most any planner that sees only the user's scene could promise for
+    that run (without a floor from other settings); the sweep's errors
+    against the trusted answer are what no planner sees."""
+    spec = scene.spec
+    t0, t1 = scene.window
+    grid = metrics.time_grid(t0, t1)
+    for setting in settings:
+        levels = []
+        for dx in scene.sweep:
+            key = (float(f"{dx:.6g}"), setting, float(scene.until),
+                   spec.quantity, threads)
+            run = cache.get(key)
+            if run is None or run.failed:
+                continue
+            levels.append((dx, {n: metrics.smooth(grid, metrics.on_grid(
+                run.times, run.series[n], grid)) for n in run.series}))
+        for row in sweep_rows:
+            if row["setting"] != setting.label():
+                continue
+            row["certified"] = {norm: None for norm in NORMS}
+            index = [i for i, (dx, _) in enumerate(levels)
+                     if dx == row["dx"]]
+            if not index or index[0] < 3:
+                continue
+            four = levels[index[0] - 3:index[0] + 1]
+            for norm in NORMS:
+                scales = {n: metrics.scale_of(v, norm)
+                          for n, v in four[-1][1].items()}
+
+                def distance(a, b):
+                    return max(metrics.deviation(a[n], b[n], norm,
+                                                 scales[n]) for n in a)
+                series = [v for _, v in four]
+                diffs = [distance(a, b) for a, b in zip(series, series[1:])]
+                spread = max(distance(series[i], series[j])
+                             for i in range(4) for j in range(i + 1, 4))
+                try:
+                    model = planner.fit_error_model(
+                        [dx for dx, _ in four], diffs, 0.0, spread=spread,
+                        max_order=planner.FORMAL_ORDER)
+                except ValueError:
+                    continue
+                row["certified"][norm] = model.upper(row["dx"])
 
 
 def nearest_calibration(calibrations, setting, norm, dx):
@@ -426,6 +489,9 @@ def scene_text(name, result) -> str:
                     if "sweep_cheapest_particle_steps" in r else None)
             cost_cpu = (r["cpu_cost"] / r["sweep_cheapest_cpu_cost"]
                         if r.get("sweep_cheapest_cpu_cost") else None)
+            known = (r["particle_steps"]
+                     / r["certified_cheapest_particle_steps"]
+                     if r.get("certified_cheapest_particle_steps") else None)
             rows.append([
                 r["norm"], f"{r['request'] * 100:g} %", r["setting"],
                 f"{r['dx'] * 1e3:.3g}", _pct(r["predicted_error"]),
@@ -442,7 +508,10 @@ def scene_text(name, result) -> str:
                 "-" if cost_cpu is None else
                 f"{cost_cpu:.2f}" + ("" if cost_cpu <= 1.5 else " **"),
                 "-" if "sweep_cheapest" not in r else
-                f"{r['sweep_cheapest']} @ {r['sweep_cheapest_dx'] * 1e3:g}"])
+                f"{r['sweep_cheapest']} @ {r['sweep_cheapest_dx'] * 1e3:g}",
+                "-" if known is None else f"{known:.2f} ("
+                f"{r['certified_cheapest']} @ "
+                f"{r['certified_cheapest_dx'] * 1e3:g})"])
         else:
             rows.append([r["norm"], f"{r['request'] * 100:g} %",
                          "refused: " + r["reason"].replace("|", "/"),
@@ -450,25 +519,34 @@ def scene_text(name, result) -> str:
                          "refused", "-", "-", "-", "-", "-", "-",
                          "-" if "sweep_cheapest" not in r else
                          f"{r['sweep_cheapest']} @ "
-                         f"{r['sweep_cheapest_dx'] * 1e3:g}"])
+                         f"{r['sweep_cheapest_dx'] * 1e3:g}",
+                         "-" if "certified_cheapest" not in r else
+                         f"({r['certified_cheapest']} @ "
+                         f"{r['certified_cheapest_dx'] * 1e3:g})"])
     text = _table(["norm", "request", "planned setting", "dx [mm]",
                    "predicted", "upper", "achieved", "<= request",
                    "predicted wall [s]", "measured wall [s]", "wall error",
                    "CPU predicted / measured [s]",
                    "particle-steps / cheapest", "CPU cost / cheapest",
-                   "cheapest in the sweep (dx mm)"], rows)
+                   "cheapest in the sweep (dx mm)",
+                   "particle-steps / cheapest self-certified (setting @ dx "
+                   "mm)"], rows)
     sweep = result.get("sweep") or []
     if sweep:
         text += ("\nThe exhaustive sweep (every setting the planner "
                  "considered at the sweep's spacings; errors against the "
                  "trusted answer):\n\n" + _table(
                      ["setting", "dx [mm]", "particle-steps", "CPU [s]",
-                      "max", "RMS"],
+                      "max", "RMS", "self-certified bound max",
+                      "self-certified bound RMS"],
                      [[w["setting"], f"{w['dx'] * 1e3:g}",
                        f"{w['particle_steps']:.3g}",
                        f"{w['cpu']:.3g}" if w.get("cpu") is not None
                        and math.isfinite(w["cpu"]) else "-",
-                       _pct(w["max"]), _pct(w["rms"])] for w in sweep]))
+                       _pct(w["max"]), _pct(w["rms"]),
+                       _pct((w.get("certified") or {}).get("max")),
+                       _pct((w.get("certified") or {}).get("rms"))]
+                      for w in sweep]))
     cost = result.get("planning")
     if cost:
         text += (f"\nWhat planning cost (all {len(result['rows'])} requests "
@@ -496,8 +574,9 @@ def summary_text(results, titles) -> str:
              "| scene | planned | achieved <= request | refused "
              "(sweep also missed) | wall within +-30 % | CPU within "
              "+-30 % | particle-steps <= 1.5x cheapest | CPU cost <= 1.5x "
-             "cheapest | estimate ratio in [1, 3] |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "cheapest | particle-steps <= 1.5x cheapest self-certified "
+             "| estimate ratio in [1, 3] |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for name in ("piston", "strip", "gravity"):
         if name not in results:
             continue
@@ -519,6 +598,11 @@ def summary_text(results, titles) -> str:
                        for r in planned)
         compared = sum(r.get("sweep_cheapest_particle_steps") is not None
                        for r in planned)
+        certified = [r for r in planned
+                     if r.get("certified_cheapest_particle_steps")]
+        known = sum(r["particle_steps"]
+                    <= 1.5 * r["certified_cheapest_particle_steps"]
+                    for r in certified)
         cases = results[name].get("estimate") or []
         inside = sum(1 <= c["ratio"] <= 3 for c in cases)
         # per setting: how many inside, how many above 3 (too cautious)
@@ -538,7 +622,8 @@ def summary_text(results, titles) -> str:
             f"| {name} | {len(planned)} of {len(rows)} | {met} of "
             f"{len(planned)} | {len(refused)} ({justified}) | {wall} of "
             f"{len(planned)} | {cpu} of {len(planned)} | {cost} of "
-            f"{compared} | {cost_cpu} of {compared} | "
+            f"{compared} | {cost_cpu} of {compared} | {known} of "
+            f"{len(certified)} | "
             + (f"{inside} of {len(cases)} ({100 * inside / len(cases):.0f} "
                f"%; {detail})" if cases else "not run (section means are not point "
                "probes)" if name == "gravity" else "not run") + " |")
