@@ -619,6 +619,11 @@ SPH_API sph_status sph_build_paper_scene(sph_sim *sim, double dx, double piston_
  *    Without ghosts shared by processes (one process, or newton_pair off
  *    with each local-ghost pair listed on both sides) the ghost sums are
  *    simply not used.
+ *  - sph_rates_pass_half (below): one call, a half list for the local
+ *    pairs (each once) in which each pair of a local and a ghost particle
+ *    is listed in the local particle's row, and on the ghost's own process
+ *    too: the rates of the n_local particles, the ghosts' terms dropped,
+ *    no partial sums and no reverse communication.
  * Results do not depend on the number of threads (bitwise).
  */
 typedef struct sph_particles {
@@ -686,6 +691,15 @@ SPH_API sph_status sph_rates_pass_pairs(sph_sim *sim, int pass, const sph_partic
                                         const sph_neighbours *half_list, double *partial);
 SPH_API sph_status sph_rates_pass_finish(sph_sim *sim, int pass, const sph_particles *particles,
                                          const double *partial, sph_rates *rates);
+/* One pass (or SPH_RATES_ALL) over a half list, finished: each pair of
+ * local particles listed once (best in the row of the smaller index), each
+ * pair of a local particle a and a ghost listed in a's row; a's rates get
+ * the pair's terms, the ghost's are dropped (its own process lists the
+ * pair too).  The rates equal those of sph_rates_pass_pairs +
+ * sph_rates_pass_finish when the ghosts' sums reach their owners (to
+ * round-off: the order of the sums differs). */
+SPH_API sph_status sph_rates_pass_half(sph_sim *sim, int pass, const sph_particles *particles,
+                                       const sph_neighbours *half_list, sph_rates *rates);
 
 /* Improved Euler stages on external arrays of n particles (dim, ncomp
  * from sim).  Stage 1 (predict): saves y_n into `saved` (v, rho, S:

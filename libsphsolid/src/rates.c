@@ -99,6 +99,7 @@ typedef struct engine {
     int full;       /* full list: a pair with b < a is skipped unless far */
     int reverse;    /* a far pair of locals is in both rows (no far records) */
     int ghost_sums; /* keep the terms of ghosts (b >= n_local) */
+    int split;      /* the sums in one record per particle (sums_in_buffer) */
     size_t chunk;   /* rows per chunk */
     long n_chunks;
     sums acc;
@@ -517,7 +518,7 @@ static const chunk_fn chunk_variants[][3][2][2] = {SPH_KERNELS(CHUNK_ENTRY)};
  * records in chunk order (each thread adds those of its own particles). */
 static void pass_pairs(const engine *e, int kernel, size_t n_sums)
 {
-    const chunk_fn run = chunk_variants[kernel][e->pass - 1][e->ghost_sums][e->dim - 2];
+    const chunk_fn run = chunk_variants[kernel][e->pass - 1][e->split][e->dim - 2];
     const long n_chunks = e->n_chunks;
 #pragma omp parallel num_threads(e->threads)
     {
@@ -788,6 +789,7 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     e->full = !call->half;
     e->reverse = e->full || call->far_in_both_rows;
     e->ghost_sums = call->partial != NULL;
+    e->split = call->partial != NULL || call->local_records;
     e->chunk = rates_chunk_rows(sim->dim, call->n_local);
     e->n_chunks = (long)((call->n_local + e->chunk - 1) / e->chunk);
     sums largest; /* far lists sized for the records of every pass */
@@ -840,6 +842,18 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
     if (call->partial) {
         sums_in_buffer(&e.acc, call->partial);
         return pairs_run(sim, &e);
+    }
+    if (call->local_records) {
+        /* the sums of the locals in one record each (the pair loop reads
+         * and writes fewer cache lines than with the sums spread over the
+         * rate arrays), then the finish */
+        if ((st = grow_sum_scratch(sim, call->n_local * (size_t)e.acc.record)))
+            return st;
+        sums_in_buffer(&e.acc, sim->sum_scratch);
+        if ((st = pairs_run(sim, &e)))
+            return st;
+        pass_finish(&e);
+        return SPH_OK;
     }
     /* The sums live in the rate arrays where they fit: drho, dv, u in
      * drho_dt, dv_dt, dx_dt, and of L the first ncomp components in dS_dt
@@ -995,7 +1009,7 @@ sph_status rates_of_handle(sph_sim *sim, int pass)
 /* The public calls on caller arrays: one evaluation (rates from
  * neighbours), the pair pass (partial sums from a half list) and the
  * finish (rates from the partial sums). */
-enum { CALL_EVALUATE, CALL_PAIRS, CALL_FINISH };
+enum { CALL_EVALUATE, CALL_PAIRS, CALL_FINISH, CALL_HALF };
 
 /* Checks the handle and the arguments of call `kind` (each pointer it uses
  * must be given), sets up the call on the caller's particles and runs it.
@@ -1005,9 +1019,10 @@ static sph_status public_call(sph_sim *sim, int kind, int pass, const sph_partic
                               const double *sums_in)
 {
     static const char *const names[] = {"sph_rates_evaluate", "sph_rates_pairs",
-                                        "sph_rates_finish"};
+                                        "sph_rates_finish", "sph_rates_pass_half"};
     static const char *const needs[] = {"particles, neighbours and rates",
-                                        "particles and neighbours", "particles and rates"};
+                                        "particles and neighbours", "particles and rates",
+                                        "particles, neighbours and rates"};
     const char *fn = names[kind];
     if (!sim)
         return SPH_ERR_ARGUMENT;
@@ -1019,7 +1034,8 @@ static sph_status public_call(sph_sim *sim, int kind, int pass, const sph_partic
         (kind != CALL_FINISH && (st = check_neighbours(sim, fn, p, nb))) ||
         (kind != CALL_PAIRS && (st = check_rates(sim, fn, pass, p, rates))))
         return st;
-    if (kind != CALL_EVALUATE && (kind == CALL_PAIRS ? p->n_total : p->n_local) > 0 &&
+    if ((kind == CALL_PAIRS || kind == CALL_FINISH) &&
+        (kind == CALL_PAIRS ? p->n_total : p->n_local) > 0 &&
         !(kind == CALL_PAIRS ? (const double *)sums : sums_in))
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "%s: partial is NULL; it holds %s * sph_rates_pass_size() doubles", fn,
@@ -1028,11 +1044,18 @@ static sph_status public_call(sph_sim *sim, int kind, int pass, const sph_partic
     rate_call call = call_on(p->n_local, p->n_total, state, stride, p->material, pass);
     call.neighbours = nb;
     call.half = kind != CALL_EVALUATE;
+    call.local_records = kind == CALL_HALF;
     call.partial = sums;
     if (rates)
         rates_into(&call, rates);
     st = kind == CALL_FINISH ? finish_run(sim, &call, sums_in) : rates_run(sim, &call);
     return st ? st : sph_ok(sim);
+}
+
+sph_status sph_rates_pass_half(sph_sim *sim, int pass, const sph_particles *p,
+                               const sph_neighbours *half, sph_rates *rates)
+{
+    return public_call(sim, CALL_HALF, pass, p, half, rates, NULL, NULL);
 }
 
 sph_status sph_rates_evaluate(sph_sim *sim, const sph_particles *p, const sph_neighbours *nb,

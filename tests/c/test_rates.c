@@ -321,7 +321,8 @@ static double largest(const double *a, size_t n)
  * block numbered in lattice order (where few pairs are that far apart) to
  * round-off, particle by particle; bitwise those of a full list through the
  * public entry point; to round-off those of a half list (whose far terms are
- * stored and added after the pass); the pair forces cancel; 1 and 2 threads
+ * stored and added after the pass), as partial sums or finished in one call
+ * (sph_rates_pass_half); the pair forces cancel; 1 and 2 threads
  * agree bitwise. */
 static void far_pairs_are_computed_in_both_rows(void **state)
 {
@@ -412,6 +413,14 @@ static void far_pairs_are_computed_in_both_rows(void **state)
         assert_close(h.dv[k], one.dv[k], 1e-12 * sv, "dv/dt, half list");
     for (size_t k = 0; k < 4 * n; ++k)
         assert_close(h.dS[k], one.dS[k], 1e-12 * sS, "dS/dt, half list");
+    /* the half list finished in one call (sph_rates_pass_half): the same */
+    check(sim, sph_rates_pass_half(sim, SPH_RATES_ALL, &all, &half, &hr));
+    for (size_t k = 0; k < 2 * n; ++k)
+        assert_close(h.dv[k], one.dv[k], 1e-12 * sv, "dv/dt, sph_rates_pass_half");
+    for (size_t k = 0; k < n; ++k)
+        assert_close(h.drho[k], one.drho[k], 1e-12 * sr, "drho/dt, sph_rates_pass_half");
+    for (size_t k = 0; k < 4 * n; ++k)
+        assert_close(h.dS[k], one.dS[k], 1e-12 * sS, "dS/dt, sph_rates_pass_half");
     /* 2 threads: bitwise */
     check(sim, sph_set_threads(sim, 2));
     rates_buf two = handle_rates(sim);
@@ -752,6 +761,104 @@ static void split_evaluation_over_two_processes(void **state)
             print_error("%s: two processes differ by %g of the largest value\n", name[q],
                         diff / scale);
         assert_true(diff <= 1e-12 * scale);
+    }
+
+    /* sph_rates_pass_half: each process lists its local pairs once and
+     * every pair of a local and a ghost in the local's row (the pair is
+     * listed by both processes), and drops the ghosts' terms: the same
+     * rates with no sums exchanged, whole or in its two passes. */
+    for (int k = 0; k < 2; ++k) {
+        for (size_t l = 0; l < n; ++l)
+            local_of[global[k][l]] = l;
+        size_t *hoff = calloc(nloc[k] + 1, sizeof *hoff);
+        for (int fill = 0; fill < 2; ++fill) {
+            size_t *at = fill ? calloc(nloc[k], sizeof *at) : NULL;
+            for (size_t a = 0; a < n; ++a)
+                for (size_t q = half_offsets[a]; q < half_offsets[a + 1]; ++q) {
+                    const size_t b = (size_t)half_indices[q];
+                    const size_t la = local_of[a], lb = local_of[b];
+                    const int mine_a = owner[a] == k, mine_b = owner[b] == k;
+                    size_t row[2];
+                    size_t other[2];
+                    int rows = 0;
+                    if (mine_a && mine_b) {
+                        row[rows] = la < lb ? la : lb;
+                        other[rows++] = la < lb ? lb : la;
+                    } else if (mine_a || mine_b) {
+                        row[rows] = mine_a ? la : lb;
+                        other[rows++] = mine_a ? lb : la;
+                    }
+                    for (int r = 0; r < rows; ++r) {
+                        if (fill)
+                            pidx[k][hoff[row[r]] + at[row[r]]++] = (int)other[r];
+                        else
+                            hoff[row[r] + 1]++;
+                    }
+                }
+            if (!fill)
+                for (size_t l = 0; l < nloc[k]; ++l)
+                    hoff[l + 1] += hoff[l];
+            free(at);
+        }
+        sph_particles pk = {.n_local = nloc[k],
+                            .n_total = n,
+                            .x = px[k],
+                            .v = pv[k],
+                            .rho = prho[k],
+                            .S = pS[k],
+                            .mass = pm[k],
+                            .material = pmat[k]};
+        sph_neighbours hk = {.offsets = hoff, .indices = pidx[k]};
+        double *rdv = malloc(2 * n * sizeof(double)), *rdrho = malloc(n * sizeof(double));
+        double *rdS = malloc(4 * n * sizeof(double)), *ru = malloc(2 * n * sizeof(double));
+        for (int passes = 0; passes < 2; ++passes) {
+            if (passes) {
+                sph_rates cont = {.drho_dt = rdrho, .dS_dt = rdS, .dx_dt = ru};
+                sph_rates mom = {.dv_dt = rdv};
+                check(sim, sph_rates_pass_half(sim, SPH_RATES_CONTINUITY, &pk, &hk, &cont));
+                check(sim, sph_rates_pass_half(sim, SPH_RATES_MOMENTUM, &pk, &hk, &mom));
+            } else {
+                sph_rates rk = {.dv_dt = rdv, .drho_dt = rdrho, .dS_dt = rdS, .dx_dt = ru};
+                check(sim, sph_rates_pass_half(sim, SPH_RATES_ALL, &pk, &hk, &rk));
+            }
+            const double *mine[4] = {rdv, rdrho, rdS, ru};
+            const size_t width[4] = {2, 1, 4, 2};
+            for (int q = 0; q < 4; ++q) {
+                double scale = 0.0, diff = 0.0;
+                for (size_t l = 0; l < nloc[k]; ++l)
+                    for (size_t c = 0; c < width[q]; ++c) {
+                        const double w = want[q][global[k][l] * width[q] + c];
+                        scale = fmax(scale, fabs(w));
+                        diff = fmax(diff, fabs(w - mine[q][l * width[q] + c]));
+                    }
+                assert_true(scale > 0.0);
+                if (diff > 1e-12 * scale)
+                    print_error("%s: process %d, sph_rates_pass_half (%s) differs by %g of the "
+                                "largest value\n",
+                                name[q], k, passes ? "two passes" : "whole", diff / scale);
+                assert_true(diff <= 1e-12 * scale);
+            }
+        }
+        free(rdv);
+        free(rdrho);
+        free(rdS);
+        free(ru);
+        free(hoff);
+    }
+    /* one process: the half list through sph_rates_pass_half gives the
+     * rates of the full-list evaluation */
+    {
+        sph_rates rk = {.dv_dt = dv1, .drho_dt = drho1, .dS_dt = dS1, .dx_dt = u1};
+        check(sim, sph_rates_pass_half(sim, SPH_RATES_ALL, &all, &half, &rk));
+        const double *got1[4] = {dv1, drho1, dS1, u1};
+        for (int q = 0; q < 4; ++q) {
+            double scale = 0.0, diff = 0.0;
+            for (size_t i = 0; i < len[q]; ++i) {
+                scale = fmax(scale, fabs(want[q][i]));
+                diff = fmax(diff, fabs(want[q][i] - got1[q][i]));
+            }
+            assert_true(diff <= 1e-12 * scale);
+        }
     }
     for (int k = 0; k < 2; ++k) {
         free(global[k]);
