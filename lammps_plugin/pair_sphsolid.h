@@ -136,9 +136,9 @@ class PairSPHSolid : public Pair {
   std::vector<size_t> neighbour_offsets;    // CSR rows of the owned atoms
   std::vector<int> neighbour_indices, neighbour_counts;
   std::vector<double> rate_dv, rate_drho, rate_dS, rate_dx;
-  int compute_pass;               // the rates compute() evaluates
-  bigint pairs_computed;          // pairs in this rank's rows (the last list)
-  bigint ghost_pairs;             // of them, pairs with a ghost atom
+  int compute_pass;         // the rates compute() evaluates
+  bigint pairs_computed;    // pairs in this rank's rows (the last list)
+  bigint ghost_pairs;       // of them, pairs with a ghost atom
 
   void allocate();
   void grow_scratch();

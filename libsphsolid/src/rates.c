@@ -1018,8 +1018,8 @@ static sph_status public_call(sph_sim *sim, int kind, int pass, const sph_partic
                               const sph_neighbours *nb, const sph_rates *rates, double *sums,
                               const double *sums_in)
 {
-    static const char *const names[] = {"sph_rates_evaluate", "sph_rates_pairs",
-                                        "sph_rates_finish", "sph_rates_pass_half"};
+    static const char *const names[] = {"sph_rates_evaluate", "sph_rates_pairs", "sph_rates_finish",
+                                        "sph_rates_pass_half"};
     static const char *const needs[] = {"particles, neighbours and rates",
                                         "particles and neighbours", "particles and rates",
                                         "particles, neighbours and rates"};
