@@ -259,7 +259,9 @@ def _run_plan_options(parser) -> None:
                         "integrator, effects)")
     parser.add_argument("--error-estimate", action="store_true",
                         help="error band on every probe series from shadow "
-                        "runs at 2dx and 4dx (about +14 %% in 2D); written "
+                        "runs at 2dx and 4dx (about +14 %% in 2D; with "
+                        "--plan, the order of the plan's calibration of its "
+                        "setting when it is well determined); written "
                         "as *_error_Pa columns and /observables/"
                         "probes_error, drawn in the probe figure")
 
