@@ -450,7 +450,9 @@ def test_cli_runs_a_plan_and_writes_error_columns(tmp_path):
     fake = planner.Plan(request={"until": 0.05e-3}, feasible=True,
                         setting=setting, dx=4e-3, threads=1,
                         predicted_error=0.1, error_upper=0.12,
-                        predicted_seconds=1.0, scene="piston")
+                        predicted_seconds=1.0, scene="piston",
+                        calibration={"observed_order": 0.8, "order": 0.8,
+                                     "safety": 1.25, "anomalous": False})
     path = fake.save(tmp_path / "plan.json")
     plain, estimated = tmp_path / "plain", tmp_path / "estimated"
     assert main(["piston", "--plan", str(path), "--out", str(plain),
@@ -474,6 +476,10 @@ def test_cli_runs_a_plan_and_writes_error_columns(tmp_path):
         columns = len(plain_header[2:]) // 3
         assert g["value"].shape == (len(rows) - 1, 3, columns)
         assert math.isfinite(float(np.ravel(g.attrs["order"])[0]))
+        # the plan's well-determined calibration reached the estimate
+        assert float(g.attrs["calibrated_order"]) == pytest.approx(0.8)
+        assert np.all(np.asarray(g.attrs["safety_factor"]) == 1.25)
+        assert np.all(np.asarray(g.attrs["order"]) <= 0.8 + 1e-12)
 
 
 class _SyntheticProbes:
