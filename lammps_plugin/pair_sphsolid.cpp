@@ -2,13 +2,21 @@
  * pair_sphsolid.cpp - pair style sphsolid (see pair_sphsolid.h).
  *
  * No equation of the model appears here: the rates come from the
- * library's pair pass over LAMMPS's half list and its finish, in one call
- * (sph_rates_pass_half); this file only moves data between LAMMPS's
- * arrays and the library's layout.  A pair of owned atoms is computed
- * once; a pair of an owned and a ghost atom is listed on both ranks
- * (LAMMPS's half list built with newton off, whatever the newton setting)
- * and each rank adds only its own atom's terms, so no sums are sent back:
- * one exchange per rate evaluation (the ghosts' state), not two.
+ * library's pair pass over LAMMPS's half list and its finish; this file
+ * only moves data between LAMMPS's arrays and the library's layout.  A
+ * pair of owned atoms is computed once.  A pair of an owned and a ghost
+ * atom is listed on both ranks (LAMMPS's half list built with newton off),
+ * and the pair style honours the newton_pair setting for it, as LAMMPS's
+ * pair styles do:
+ *  - newton off: both ranks compute it, each adding only its own atom's
+ *    terms (sph_rates_pass_half); one exchange per rate evaluation (the
+ *    ghosts' state), nothing sent back;
+ *  - newton on: one of the two ranks computes it, the one a hash of the
+ *    two atom IDs picks (so that pairs across a subdomain boundary split
+ *    evenly between its sides), and the ghosts' partial sums are sent
+ *    back to their owners between the pair pass and the finish (LAMMPS's
+ *    reverse communication, as the MACHDYN and SPH packages do for their
+ *    pair sums); two exchanges per evaluation, each pair computed once.
  */
 #include "pair_sphsolid.h"
 
@@ -44,7 +52,8 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
     Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false), sim(nullptr),
     state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0), nrates(-1),
-    compute_pass(SPH_RATES_ALL), pairs_computed(0), ghost_pairs(0)
+    send_back(false), partial_size(0), pass_size(0), compute_pass(SPH_RATES_ALL), pairs_computed(0),
+    ghost_pairs(0)
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -335,9 +344,11 @@ void PairSPHSolid::init_style()
   if (!atom->tag_enable) error->all(FLERR, "pair sphsolid needs atom IDs (atom_modify id yes)");
 
   // a half list in which a pair with a ghost is listed on both ranks
-  // (newton off, whatever the newton setting): each rank adds its own
-  // atom's terms, nothing is sent back
+  // (newton off): with newton_pair off each rank adds its own atom's
+  // terms and nothing is sent back; with it on, convert_list() keeps the
+  // pair on one of the ranks and the ghosts' sums are sent back
   neighbor->add_request(this, NeighConst::REQ_NEWTON_OFF);
+  send_back = force->newton_pair != 0;
   cached_build = -1;               // materials of the types may have changed
   compute_pass = SPH_RATES_ALL;    // until an integrator fix asks for less (its init follows)
 
@@ -345,6 +356,9 @@ void PairSPHSolid::init_style()
   sim = nullptr;
   sim = build_handle(true);
   support = sph_support_radius(sim);
+  partial_size = (int) sph_rates_pass_size(sim, SPH_RATES_ALL);
+  comm_reverse = partial_size;    // the largest pass; each sends only its own sums
+  comm_reverse_off = partial_size;
 
   state_fix = dynamic_cast<FixSPHSolidState *>(modify->get_fix_by_id(STATE_FIX_ID));
   if (!state_fix) {
@@ -520,13 +534,49 @@ void PairSPHSolid::grow_scratch()
   rate_drho.resize(n);
   rate_dS.resize(n * ncomp);
   if (xsph) rate_dx.resize(n * dim);
+  if (send_back) partial.resize(n * partial_size);
+}
+
+/* ----------------------------------------------------------------------
+   With newton_pair on, which of the two ranks that list a pair of owned
+   atom i and ghost j computes it: the one owning the atom of the smaller
+   ID, or of the larger, by one bit of a hash of the two IDs.  Both ranks
+   decide alike, so each pair is computed once, and the pairs across a
+   subdomain boundary split about evenly between its two sides whatever the
+   lattice (a rule by coordinates, as LAMMPS's own newton on list, gives
+   them all to one side).  An atom near its own periodic image (equal IDs)
+   computes the pair with the image above it (z, then y, then x), as
+   LAMMPS does.
+------------------------------------------------------------------------- */
+
+static inline uint64_t mix_ids(uint64_t a, uint64_t b)
+{
+  uint64_t h = a * 0x9E3779B97F4A7C15ULL + b;    // splitmix64's finaliser
+  h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  h = (h ^ (h >> 27)) * 0x94D049BB133111EBULL;
+  return h ^ (h >> 31);
+}
+
+bool PairSPHSolid::computes_pair_with_ghost(int i, int j) const
+{
+  if (!send_back) return true;
+  const tagint ti = atom->tag[i], tj = atom->tag[j];
+  if (ti != tj) {
+    const bool smaller_computes = mix_ids(std::min(ti, tj), std::max(ti, tj)) & 1;
+    return (ti < tj) == smaller_computes;
+  }
+  const double *xi = atom->x[i], *xj = atom->x[j];
+  if (xj[2] != xi[2]) return xj[2] > xi[2];
+  if (xj[1] != xi[1]) return xj[1] > xi[1];
+  return xj[0] > xi[0];
 }
 
 /* ----------------------------------------------------------------------
    LAMMPS's half list as CSR rows sorted by index, as the library's own
    list is: a pair of owned atoms goes to the row of the smaller index, a
-   pair with a ghost stays in the owned atom's row (the ghost's own rank
-   lists it too, for its atom).  Neighbour data are then read in memory
+   pair with a ghost stays in the owned atom's row (with newton_pair off
+   the ghost's own rank lists it too, for its atom; with it on, only the
+   rank that computes it: computes_pair_with_ghost).  Neighbour data are then read in memory
    order and most pair terms land in nearby rows.  Special-bond bits in the
    top of the indices are stripped.  Only on a new list.
 ------------------------------------------------------------------------- */
@@ -543,8 +593,12 @@ void PairSPHSolid::convert_list()
     const int *jlist = list->firstneigh[i];
     for (int jj = 0; jj < list->numneigh[i]; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      neighbour_counts[j < nlocal ? std::min(i, j) : i]++;
-      if (j >= nlocal) ghosts++;
+      if (j < nlocal) {
+        neighbour_counts[std::min(i, j)]++;
+      } else if (computes_pair_with_ghost(i, j)) {
+        neighbour_counts[i]++;
+        ghosts++;
+      }
     }
   }
   neighbour_offsets.resize((size_t) nlocal + 1);
@@ -562,7 +616,7 @@ void PairSPHSolid::convert_list()
       const int j = jlist[jj] & NEIGHMASK;
       if (j < nlocal)
         neighbour_indices[fill[std::min(i, j)]++] = std::max(i, j);
-      else
+      else if (computes_pair_with_ghost(i, j))
         neighbour_indices[fill[i]++] = j;
     }
   }
@@ -587,6 +641,7 @@ void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   if (xsph && rate_dx.size() < (size_t) nmax_scratch * dim) nmax_scratch = 0;
+  if (send_back && partial.size() < (size_t) nmax_scratch * partial_size) nmax_scratch = 0;
   grow_scratch();
   nrates = nlocal;
   if (nall == 0) return;
@@ -631,9 +686,22 @@ void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
   rates.dS_dt = rate_dS.data();
   rates.dx_dt = xsph ? rate_dx.data() : nullptr;
 
-  // the pass over the pairs and its finish: the rates of the owned atoms
-  // (the terms of a pair with a ghost go to the owned atom only)
-  const sph_status status = sph_rates_pass_half(sim, pass, &particles, &neighbours, &rates);
+  // the pass over the pairs and its finish: the rates of the owned atoms.
+  // newton off: the terms of a pair with a ghost go to the owned atom only.
+  // newton on: pair sums on owned and ghost atoms, the ghosts' sums sent
+  // back to their owners (a pass computes, and sends back, only its own
+  // sums: pass_size doubles per atom), then the finish.
+  sph_status status;
+  if (send_back) {
+    pass_size = (int) sph_rates_pass_size(sim, pass);
+    status = sph_rates_pass_pairs(sim, pass, &particles, &neighbours, partial.data());
+    if (status == SPH_OK) {
+      comm->reverse_comm(this, pass_size);
+      status = sph_rates_pass_finish(sim, pass, &particles, partial.data(), &rates);
+    }
+  } else {
+    status = sph_rates_pass_half(sim, pass, &particles, &neighbours, &rates);
+  }
   if (status != SPH_OK) {
     // name the atom by its ID (the library sees local indices)
     const double *rho = particles.rho;
@@ -649,6 +717,23 @@ void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
 }
 
 /* ---------------------------------------------------------------------- */
+
+int PairSPHSolid::pack_reverse_comm(int n, int first, double *buf)
+{
+  const size_t width = pass_size;
+  const double *src = partial.data() + (size_t) first * width;
+  std::copy(src, src + (size_t) n * width, buf);
+  return n * pass_size;
+}
+
+void PairSPHSolid::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  const size_t width = pass_size;
+  for (int k = 0; k < n; k++) {
+    double *dst = partial.data() + (size_t) list[k] * width;
+    for (size_t c = 0; c < width; c++) dst[c] += buf[(size_t) k * width + c];
+  }
+}
 
 /* ---------------------------------------------------------------------- */
 
@@ -681,10 +766,12 @@ void PairSPHSolid::finish()
     const double average = (double) total[0] / comm->nprocs;
     utils::logmesg(lmp,
                    "pair sphsolid: {} pairs computed, per rank {:.6g} ave {} max {} min "
-                   "(largest / average {:.4f}); {} of them with a ghost atom (each such pair "
-                   "is computed on both of its ranks)\n",
+                   "(largest / average {:.4f}); {} of them with a ghost atom ({})\n",
                    total[0], average, largest, least, average > 0.0 ? largest / average : 1.0,
-                   total[1]);
+                   total[1],
+                   send_back ? "newton on: each such pair computed on one of its ranks, the "
+                               "ghosts' sums sent back"
+                             : "newton off: each such pair computed on both of its ranks");
   }
 }
 
@@ -694,7 +781,7 @@ double PairSPHSolid::memory_usage()
 {
   double bytes = Pair::memory_usage();
   bytes += sizeof(double) * (massbuf.capacity() + rate_dv.capacity() + rate_drho.capacity() +
-                             rate_dS.capacity() + rate_dx.capacity());
+                             rate_dS.capacity() + rate_dx.capacity() + partial.capacity());
   bytes += sizeof(int) *
            (materialbuf.capacity() + neighbour_counts.capacity() + neighbour_indices.capacity());
   bytes += sizeof(size_t) * neighbour_offsets.capacity();

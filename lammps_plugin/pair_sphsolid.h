@@ -53,6 +53,8 @@ class PairSPHSolid : public Pair {
   double init_one(int, int) override;
   double memory_usage() override;
   void finish() override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
 
   /* Rates of the owned atoms at the current state of owned and ghost atoms.
    * Density and deviatoric stress are sent to the ghosts here; with
@@ -136,6 +138,10 @@ class PairSPHSolid : public Pair {
   std::vector<size_t> neighbour_offsets;    // CSR rows of the owned atoms
   std::vector<int> neighbour_indices, neighbour_counts;
   std::vector<double> rate_dv, rate_drho, rate_dS, rate_dx;
+  bool send_back;           // newton_pair on: pairs with ghosts once, ghost sums sent back
+  int partial_size;         // doubles per atom of the pair sums (all rates)
+  int pass_size;            // of the pass being evaluated (reverse comm)
+  std::vector<double> partial;    // pair sums of owned and ghost atoms (newton on)
   int compute_pass;         // the rates compute() evaluates
   bigint pairs_computed;    // pairs in this rank's rows (the last list)
   bigint ghost_pairs;       // of them, pairs with a ghost atom
@@ -143,6 +149,7 @@ class PairSPHSolid : public Pair {
   void allocate();
   void grow_scratch();
   void convert_list();
+  bool computes_pair_with_ghost(int i, int j) const;
   void fail(sph_sim *, sph_status, const std::string &what, bool destroy);
   void initialise_state();
 };
