@@ -42,7 +42,7 @@ largest over average: the work balance of the subdomains.
 
     .venv/bin/python bench/bench_lammps.py [--repeats 3] [--dx 0.001]
         [--t-end 0.0003] [--ranks 2] [--plugin PATH] [--library PATH]
-        [--skip smd] [--plugin-before PATH [--deck-before PATH]]
+        [--skip smd] [--newton on|off] [--plugin-before PATH [--deck-before PATH]]
         [--json results.json]
 
 Needs lammps_plugin/setup_env.sh (the venv with lammps and mpich, and
@@ -243,6 +243,8 @@ def run_case(case: str, args, work: Path) -> dict:
         deck = (args.deck_before or PISTON_DECK) if before else PISTON_DECK
         cmd = lmp + ["-in", str(deck), "-var", "plugin", str(plugin),
                      "-var", "probes", "probes.txt", "-var", "integrator", fix] + common
+        if args.newton and not before:
+            cmd += ["-var", "newton", args.newton]
         if ranks > 1:
             import sphsolid_lammps
             mpirun = (sphsolid_lammps.mpi_bin_dir() or bindir) / "mpirun"
@@ -295,7 +297,8 @@ LABELS.update({f"{c}-before": LABELS[c] + ", before" for c in PLUGIN_CASES})
 
 def report(summary: dict[str, dict], args) -> str:
     lines = [f"paper piston scene, dx = {args.dx} m, t_end = {args.t_end} s; medians of "
-             f"{args.repeats} repeats; OMP_NUM_THREADS=1",
+             f"{args.repeats} repeats; OMP_NUM_THREADS=1; plugin runs with newton "
+             f"{args.newton or 'as the deck (off)'}",
              f"{'case':<32}{'particles':>10}{'steps':>7}{'Mpart-steps/s':>15}"
              f"{'loop [s]':>10}{'loop CPU':>10}{'wall [s]':>10}{'CPU [s]':>9}"
              f"{'peak RSS [MB]':>15}"]
@@ -401,6 +404,10 @@ def main(argv=None) -> int:
     parser.add_argument("--deck-before", type=Path, default=None,
                         help="the piston deck for the --plugin-before cases (default: the "
                              "current one)")
+    parser.add_argument("--newton", choices=["on", "off"], default=None,
+                        help="the piston deck's newton setting for the plugin runs (default: "
+                             "the deck's, off; on: each pair with a ghost computed once and "
+                             "the ghosts' sums sent back)")
     parser.add_argument("--skip", action="append", default=[], choices=CASES)
     parser.add_argument("--json", type=Path, default=None, help="write all figures here")
     parser.add_argument("--keep", type=Path, default=None,
