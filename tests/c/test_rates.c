@@ -610,6 +610,23 @@ static double energy_drift(double dt_factor, double duration, double *kinetic_sh
  * as sph_rates_evaluate with the full list, to the bit.  Kernel correction
  * and XSPH on, so every partial sum is exercised; the block spans several
  * chunks of the pair pass. */
+
+/* One process's particles (n_local owned, then ghosts) for the split-pass
+ * tests. */
+static sph_particles process_particles(size_t n_local, size_t n_total, const double *x,
+                                       const double *v, const double *rho, const double *S,
+                                       const double *mass, const int *material)
+{
+    return (sph_particles){.n_local = n_local,
+                           .n_total = n_total,
+                           .x = x,
+                           .v = v,
+                           .rho = rho,
+                           .S = S,
+                           .mass = mass,
+                           .material = material};
+}
+
 static void split_evaluation_over_two_processes(void **state)
 {
     (void)state;
@@ -700,14 +717,8 @@ static void split_evaluation_over_two_processes(void **state)
             poff[k][l + 1] = e;
         }
         part[k] = calloc(n * P, sizeof(double));
-        sph_particles pk = {.n_local = nloc[k],
-                            .n_total = n,
-                            .x = px[k],
-                            .v = pv[k],
-                            .rho = prho[k],
-                            .S = pS[k],
-                            .mass = pm[k],
-                            .material = pmat[k]};
+        const sph_particles pk =
+            process_particles(nloc[k], n, px[k], pv[k], prho[k], pS[k], pm[k], pmat[k]);
         sph_neighbours hk = {.offsets = poff[k], .indices = pidx[k]};
         check(sim, sph_rates_pairs(sim, &pk, &hk, part[k]));
     }
@@ -725,14 +736,8 @@ static void split_evaluation_over_two_processes(void **state)
     for (int k = 0; k < 2; ++k) {
         double *rdv = malloc(2 * n * sizeof(double)), *rdrho = malloc(n * sizeof(double));
         double *rdS = malloc(4 * n * sizeof(double)), *ru = malloc(2 * n * sizeof(double));
-        sph_particles pk = {.n_local = nloc[k],
-                            .n_total = n,
-                            .x = px[k],
-                            .v = pv[k],
-                            .rho = prho[k],
-                            .S = pS[k],
-                            .mass = pm[k],
-                            .material = pmat[k]};
+        const sph_particles pk =
+            process_particles(nloc[k], n, px[k], pv[k], prho[k], pS[k], pm[k], pmat[k]);
         sph_rates rk = {.dv_dt = rdv, .drho_dt = rdrho, .dS_dt = rdS, .dx_dt = ru};
         check(sim, sph_rates_finish(sim, &pk, part[k], &rk));
         for (size_t l = 0; l < nloc[k]; ++l) {
@@ -800,14 +805,8 @@ static void split_evaluation_over_two_processes(void **state)
                     hoff[l + 1] += hoff[l];
             free(at);
         }
-        sph_particles pk = {.n_local = nloc[k],
-                            .n_total = n,
-                            .x = px[k],
-                            .v = pv[k],
-                            .rho = prho[k],
-                            .S = pS[k],
-                            .mass = pm[k],
-                            .material = pmat[k]};
+        const sph_particles pk =
+            process_particles(nloc[k], n, px[k], pv[k], prho[k], pS[k], pm[k], pmat[k]);
         sph_neighbours hk = {.offsets = hoff, .indices = pidx[k]};
         double *rdv = malloc(2 * n * sizeof(double)), *rdrho = malloc(n * sizeof(double));
         double *rdS = malloc(4 * n * sizeof(double)), *ru = malloc(2 * n * sizeof(double));
