@@ -138,13 +138,13 @@ class PairSPHSolid : public Pair {
   std::vector<size_t> neighbour_offsets;    // CSR rows of the owned atoms
   std::vector<int> neighbour_indices, neighbour_counts;
   std::vector<double> rate_dv, rate_drho, rate_dS, rate_dx;
-  bool send_back;           // newton_pair on: pairs with ghosts once, ghost sums sent back
-  int partial_size;         // doubles per atom of the pair sums (all rates)
-  int pass_size;            // of the pass being evaluated (reverse comm)
+  bool send_back;                 // newton_pair on: pairs with ghosts once, ghost sums sent back
+  int partial_size;               // doubles per atom of the pair sums (all rates)
+  int pass_size;                  // of the pass being evaluated (reverse comm)
   std::vector<double> partial;    // pair sums of owned and ghost atoms (newton on)
-  int compute_pass;         // the rates compute() evaluates
-  bigint pairs_computed;    // pairs in this rank's rows (the last list)
-  bigint ghost_pairs;       // of them, pairs with a ghost atom
+  int compute_pass;               // the rates compute() evaluates
+  bigint pairs_computed;          // pairs in this rank's rows (the last list)
+  bigint ghost_pairs;             // of them, pairs with a ghost atom
 
   void allocate();
   void grow_scratch();
