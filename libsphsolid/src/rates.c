@@ -830,13 +830,44 @@ static sph_status pairs_run(sph_sim *sim, engine *e)
     return SPH_OK;
 }
 
+/* The sums in the rate arrays where they fit: drho, dv, u in drho_dt,
+ * dv_dt, dx_dt, and of L the first ncomp components in dS_dt (all 4 in 2D,
+ * 6 of 9 in 3D); the rest (3 of L in 3D, M) in scratch. */
+static sph_status sums_in_rate_arrays(sph_sim *sim, const rate_call *call, int xsph, sums *acc)
+{
+    const int dim = sim->dim, ncomp = sim->ncomp;
+    if (acc->width[SUM_L] > ncomp) {
+        acc->width[SUM_L2] = acc->width[SUM_L] - ncomp;
+        acc->width[SUM_L] = ncomp;
+        acc->offset[SUM_L2] = acc->offset[SUM_L] + ncomp;
+    }
+    const size_t n = call->n_local;
+    const size_t L_doubles = n * (size_t)acc->width[SUM_L2],
+                 M_doubles = n * (size_t)acc->width[SUM_M];
+    sph_status st = grow_sum_scratch(sim, L_doubles + M_doubles);
+    if (st)
+        return st;
+    acc->p[SUM_RHO] = call->drho_dt;
+    acc->stride[SUM_RHO] = 1;
+    acc->p[SUM_DV] = call->dv_dt;
+    acc->stride[SUM_DV] = (size_t)dim;
+    acc->p[SUM_L] = call->dS_dt;
+    acc->stride[SUM_L] = (size_t)ncomp;
+    acc->p[SUM_L2] = sim->sum_scratch;
+    acc->stride[SUM_L2] = (size_t)acc->width[SUM_L2];
+    acc->p[SUM_M] = sim->sum_scratch + L_doubles;
+    acc->stride[SUM_M] = (size_t)sim->nsym;
+    acc->p[SUM_U] = xsph ? call->dx_dt : NULL;
+    acc->stride[SUM_U] = (size_t)dim;
+    return SPH_OK;
+}
+
 sph_status rates_run(sph_sim *sim, const rate_call *call)
 {
     engine e;
     sph_status st = engine_setup(sim, call, &e);
     if (st)
         return st;
-    const int dim = sim->dim, ncomp = sim->ncomp;
     const int xsph = sim->fx.xsph && (call->dx_dt || call->partial);
     sums_layout(sim, xsph, e.pass, &e.acc);
     if (call->partial) {
@@ -846,40 +877,13 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
     if (call->local_records) {
         /* the sums of the locals in one record each (the pair loop reads
          * and writes fewer cache lines than with the sums spread over the
-         * rate arrays), then the finish */
+         * rate arrays) */
         if ((st = grow_sum_scratch(sim, call->n_local * (size_t)e.acc.record)))
             return st;
         sums_in_buffer(&e.acc, sim->sum_scratch);
-        if ((st = pairs_run(sim, &e)))
-            return st;
-        pass_finish(&e);
-        return SPH_OK;
-    }
-    /* The sums live in the rate arrays where they fit: drho, dv, u in
-     * drho_dt, dv_dt, dx_dt, and of L the first ncomp components in dS_dt
-     * (all 4 in 2D, 6 of 9 in 3D); the rest (3 of L in 3D, M) in scratch. */
-    if (e.acc.width[SUM_L] > ncomp) {
-        e.acc.width[SUM_L2] = e.acc.width[SUM_L] - ncomp;
-        e.acc.width[SUM_L] = ncomp;
-        e.acc.offset[SUM_L2] = e.acc.offset[SUM_L] + ncomp;
-    }
-    const size_t n = call->n_local;
-    const size_t L_doubles = n * (size_t)e.acc.width[SUM_L2],
-                 M_doubles = n * (size_t)e.acc.width[SUM_M];
-    if ((st = grow_sum_scratch(sim, L_doubles + M_doubles)))
+    } else if ((st = sums_in_rate_arrays(sim, call, xsph, &e.acc))) {
         return st;
-    e.acc.p[SUM_RHO] = call->drho_dt;
-    e.acc.stride[SUM_RHO] = 1;
-    e.acc.p[SUM_DV] = call->dv_dt;
-    e.acc.stride[SUM_DV] = (size_t)dim;
-    e.acc.p[SUM_L] = call->dS_dt;
-    e.acc.stride[SUM_L] = (size_t)ncomp;
-    e.acc.p[SUM_L2] = sim->sum_scratch;
-    e.acc.stride[SUM_L2] = (size_t)e.acc.width[SUM_L2];
-    e.acc.p[SUM_M] = sim->sum_scratch + L_doubles;
-    e.acc.stride[SUM_M] = (size_t)sim->nsym;
-    e.acc.p[SUM_U] = xsph ? call->dx_dt : NULL;
-    e.acc.stride[SUM_U] = (size_t)dim;
+    }
     if ((st = pairs_run(sim, &e)))
         return st;
     pass_finish(&e);
