@@ -81,8 +81,7 @@ def von_mises_map(frames, path=None, mask=None, vmax: float | None = None,
     matplotlib.figure.Figure
     """
     from matplotlib.colors import Normalize
-    from matplotlib.patches import Rectangle
-    from matplotlib.collections import PatchCollection
+    from matplotlib.collections import PolyCollection
     if not isinstance(frames, (list, tuple)):
         frames = [frames]
     if not frames:
@@ -106,11 +105,13 @@ def von_mises_map(frames, path=None, mask=None, vmax: float | None = None,
         spacing = _spacing(frame, x) * 1e3
         # squares a little wider than the nominal spacing: a lattice of
         # round(L/dx) sites is slightly looser than dx, and gaps would show
+        # (one array of corners: a patch object per particle took seven
+        # times as long to draw)
         side = 1.08 * spacing
-        squares = [Rectangle((px * 1e3 - side / 2, py * 1e3 - side / 2),
-                             side, side) for px, py in x[:, :2]]
-        patches = PatchCollection(squares, cmap="jet", norm=norm,
-                                  linewidths=0)
+        corners = 0.5 * side * np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]])
+        squares = x[:, None, :2] * 1e3 + corners[None]
+        patches = PolyCollection(squares, closed=True, cmap="jet", norm=norm,
+                                 linewidths=0)
         patches.set_array(vm / scale)
         ax.add_collection(patches)
         mappable = patches

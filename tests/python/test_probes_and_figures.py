@@ -70,6 +70,19 @@ def test_figures_write_pngs_with_the_units(tmp_path):
     from matplotlib.figure import Figure
     assert isinstance(fig, Figure) and isinstance(curves, Figure)
     assert len(fig.axes) == len(frames) + 1
+    # each specimen particle of a frame is one square centred on it [mm],
+    # coloured by its own von Mises stress in the colour bar's unit
+    unit, scale = figures.stress_unit(max(
+        float(f.von_mises[f.body_ids == 0].max()) for f in frames))
+    for ax, frame in zip(fig.axes, frames):
+        keep = frame.body_ids == 0
+        squares, = ax.collections
+        centres = np.array([p.vertices[:4].mean(axis=0)
+                            for p in squares.get_paths()])
+        np.testing.assert_allclose(centres, frame.positions[keep, :2] * 1e3,
+                                   rtol=0, atol=1e-9)
+        np.testing.assert_allclose(squares.get_array(),
+                                   frame.von_mises[keep] / scale)
     assert [line.get_label() for line in curves.axes[0].lines] == probes.names
     before = set(tmp_path.iterdir())
     figures.probe_curves(probes.times, {"A": probes["A"]["von_mises"]})
