@@ -116,21 +116,32 @@ def _dynamics(scene, integrator, dt_factor):
     return dyn
 
 
+def _with_effects(scene, effects):
+    """Switch on ``effects`` (name -> parameters) on top of the preset's."""
+    for name, parameters in (effects or {}).items():
+        scene.effect(name, **parameters)
+    return scene
+
+
 def strip_run(dx, preset="waves", rise=0.0, dt_factor=1.0, until=WINDOW,
-              integrator=None, **overrides) -> dict:
+              integrator=None, effects=None, **overrides) -> dict:
     """The laterally periodic strip (``end_placement.strip_scene``) run
     with the preset's integrator (or ``integrator``) at ``dt_factor``
-    times its default step."""
-    scene = end_placement.strip_scene(dx, preset, **overrides)
+    times its default step, with ``effects`` (name -> parameters) on
+    top of the preset's."""
+    scene = _with_effects(end_placement.strip_scene(dx, preset, **overrides),
+                          effects)
     scene.calc = CLibrary(threads=1)
     return series(scene, _dynamics(scene, integrator, dt_factor),
                   STRIP_PROBES, until, rise)
 
 
 def specimen_run(dx, preset="waves", rise=0.0, dt_factor=1.0, until=WINDOW,
-                 integrator=None, threads=1, **overrides) -> dict:
+                 integrator=None, threads=1, effects=None,
+                 **overrides) -> dict:
     """The paper's specimen built from a preset, as :func:`strip_run`."""
-    scene = scenes.uniaxial_piston(dx, preset=preset, **overrides)
+    scene = _with_effects(
+        scenes.uniaxial_piston(dx, preset=preset, **overrides), effects)
     scene.calc = CLibrary(threads=threads)
     return series(scene, _dynamics(scene, integrator, dt_factor),
                   PAPER_PROBES, until, rise)
@@ -330,6 +341,9 @@ STRIP = {
     "waves, M = 1, dt/4, ramp 10 us": ("waves", {"smoothing_ratio": 1.6525,
                                                  "dt_factor": 0.25,
                                                  "rise": 10e-6}),
+    "waves, M = 1, dt/4, kernel correction": (
+        "waves", {"smoothing_ratio": 1.6525, "dt_factor": 0.25,
+                  "effects": {"kernel_correction": {}}}),
     "paper": ("paper", {}),
     "paper, dt/2": ("paper", {"dt_factor": 0.5}),
     "paper, static inset": ("paper", {"inset": "static"}),
@@ -343,6 +357,10 @@ SPECIMEN = {
     "paper, dt/2": ("paper", {"dt_factor": 0.5}),
     "fronts": ("fronts", {"until": LONG}),
     "fronts, step 1/4": ("fronts", {"dt_factor": 0.5}),
+    "fronts, kernel correction": (
+        "fronts", {"effects": {"kernel_correction": {}}}),
+    "fronts, kernel correction, step 1/4": (
+        "fronts", {"dt_factor": 0.5, "effects": {"kernel_correction": {}}}),
 }
 #: the FE series the specimen is scored against, finest first
 FE_SERIES = tuple(Path(f"docs/accuracy/fe_piston_{s}mm.npz")
