@@ -1,13 +1,15 @@
 """What limits the observed order of the piston test's error
 (docs/validation.md, section "What limits the observed order").
 
-    python -m validation.order --experiments strip specimen \
+    python -m validation.order --experiments strip specimen sweep \
         --out docs/validation/order --doc docs/validation.md
     (--dx 2e-3 1e-3 5e-4 by default; --only LABEL ... runs some again and
     merges them into DIR/order.json; --series keeps the probe series in
     --series-dir, and --rescore scores the kept series again against the
     FE series of --fe, e.g. after a finer one was computed with
-    ``python -m validation.fe_reference``)
+    ``python -m validation.fe_reference``; ``--experiments sweep`` runs
+    the specimen at the nine spacings of SWEEP_DX, 2 to 0.5 mm, for the
+    least-squares order over many spacings)
 
 The error of the issue's metric (von Mises at the probes, both series
 smoothed with a 1 us Gaussian, worst probe's RMS deviation over the
@@ -362,6 +364,18 @@ SPECIMEN = {
     "fronts, kernel correction, step 1/4": (
         "fronts", {"dt_factor": 0.5, "effects": {"kernel_correction": {}}}),
 }
+#: Spacing sweeps of the specimen (against the finest FE series): label ->
+#: (preset, options, spacings).  The order between two spacings scatters
+#: with where each falls against the fronts' ringing; the least-squares
+#: slope over many spacings is the steadier measure.
+SWEEP_DX = (2e-3, 1.75e-3, 1.5e-3, 1.25e-3, 1e-3, 8.75e-4, 7.5e-4,
+            6.25e-4, 5e-4)
+SWEEP = {
+    "fronts": ("fronts", {}, SWEEP_DX),
+    "fronts, kernel correction, step 1/4": (
+        "fronts", {"dt_factor": 0.5, "effects": {"kernel_correction": {}}},
+        SWEEP_DX),
+}
 #: the FE series the specimen is scored against, finest first
 FE_SERIES = tuple(Path(f"docs/accuracy/fe_piston_{s}mm.npz")
                   for s in ("0.5", "1", "2"))
@@ -404,6 +418,40 @@ def _fe_refs(paths) -> dict:
 
 def _fmt_orders(values) -> str:
     return ", ".join(f"{v:.2f}" for v in values)
+
+
+def sweep_table(rows, ref=FE_NAMES[0]) -> str:
+    """The spacing sweeps: worst-probe RMS (1 us smoothing) against
+    ``ref`` per spacing, the orders between successive spacings and the
+    least-squares slopes over all spacings, over 2-1 mm and over 1-0.5 mm."""
+    chosen = [r for r in rows if r["kind"] == "sweep"]
+    if not chosen:
+        return ""
+    lines = ["| sweep (specimen) | reference | spacings [mm] | RMS % | "
+             "orders between successive spacings | least squares: all / "
+             "2-1 mm / 1-0.5 mm | CPU s |", "|---|---|---|---|---|---|---|"]
+    for r in chosen:
+        dxs = [x["dx"] for x in r["runs"]]
+        rms = [x["errors"].get(f"{ref} rms 1us") for x in r["runs"]]
+        if None in rms:
+            continue
+        fits = []
+        for lo, hi in ((0.0, np.inf), (1e-3, 2e-3), (5e-4, 1e-3)):
+            pick = [i for i, d in enumerate(dxs)
+                    if lo - 1e-12 <= d <= hi + 1e-12]
+            if len(pick) < 2:
+                fits.append("")
+                continue
+            slope = fitted_order([dxs[i] for i in pick],
+                                 [rms[i] for i in pick])
+            fits.append(f"{slope:.2f} ({len(pick)})")
+        lines.append(
+            f"| {r['label']} | {ref} | "
+            + " / ".join(f"{d * 1e3:g}" for d in dxs) + " | "
+            + " / ".join(f"{100 * v:.3g}" for v in rms) + " | "
+            + _fmt_orders(orders(dxs, rms)) + " | " + " / ".join(fits)
+            + " | " + " / ".join(f"{x['cpu']:.0f}" for x in r["runs"]) + " |")
+    return "\n".join(lines + [""])
 
 
 def table(rows) -> str:
@@ -481,6 +529,9 @@ def table(rows) -> str:
                   "RMS orders | RMS order, least squares | max % | "
                   "max orders |", "|---|---|---|---|---|---|---|"]
         lines += long_rows + [""]
+    sweep = sweep_table(rows)
+    if sweep:
+        lines.append(sweep)
     fe = [r for r in rows if r["kind"] == "fe"]
     if fe:
         fe = fe[0]
@@ -518,7 +569,7 @@ def main(argv=None):
     parser.add_argument("--dx", type=float, nargs="+",
                         default=[2e-3, 1e-3, 5e-4])
     parser.add_argument("--experiments", nargs="+", default=["strip"],
-                        choices=["strip", "specimen"])
+                        choices=["strip", "specimen", "sweep"])
     parser.add_argument("--only", nargs="+", default=None,
                         help="labels of the experiments to run")
     parser.add_argument("--tables-only", action="store_true",
@@ -545,11 +596,11 @@ def main(argv=None):
     if args.rescore:
         saved = json.loads(path.read_text()) if path.exists() else []
         for row in saved:
-            if row["kind"] != "specimen" or (args.only
+            if row["kind"] not in ("specimen", "sweep") or (args.only
                                              and row["label"] not in args.only):
                 continue
             for r in row["runs"]:
-                f = series_path(series_dir, "specimen", row["label"], r["dx"])
+                f = series_path(series_dir, row["kind"], row["label"], r["dx"])
                 if not f.exists():
                     print(f"{f}: no series kept, {row['label']} at "
                           f"{r['dx'] * 1e3:g} mm not rescored", flush=True)
@@ -567,15 +618,17 @@ def main(argv=None):
         path.write_text(json.dumps(saved, indent=1))
     rows = []
     for kind in [] if args.tables_only or args.rescore else args.experiments:
-        experiments = STRIP if kind == "strip" else SPECIMEN
-        for label, (preset, options) in experiments.items():
+        experiments = {"strip": STRIP, "specimen": SPECIMEN,
+                       "sweep": SWEEP}[kind]
+        for label, (preset, options, *spacings) in experiments.items():
             if args.only and label not in args.only:
                 continue
+            dxs = list(spacings[0]) if spacings else args.dx
             options = dict(options)
             rise = options.get("rise", 0.0)
             errs = {}
-            row = {"kind": kind, "label": label, "dx": args.dx, "runs": []}
-            for dx in args.dx:
+            row = {"kind": kind, "label": label, "dx": dxs, "runs": []}
+            for dx in dxs:
                 run = (strip_run if kind == "strip" else specimen_run)(
                     dx, preset, **options)
                 if args.series:
@@ -604,7 +657,7 @@ def main(argv=None):
                                   **{k: round(100 * v, 3)
                                      for k, v in e.items()
                                      if "1us" in k}}), flush=True)
-            row["orders"] = {k: orders(args.dx, v) for k, v in errs.items()}
+            row["orders"] = {k: orders(dxs, v) for k, v in errs.items()}
             rows.append(row)
             print(json.dumps({"label": label, "orders": {
                 k: [round(o, 2) for o in v] for k, v in row["orders"].items()
