@@ -374,19 +374,24 @@ def self_certify(scene: Scene, settings, cache, sweep_rows, threads) -> None:
 
 
 def nearest_calibration(calibrations, setting, norm, dx):
-    """The error model the planner fitted for ``setting`` in ``norm``
-    whose ladder reaches closest to the 2 dx shadow of a run at ``dx``
-    (its coarsest level nearest 2 dx, then its finest nearest dx), or
-    None. The planner calibrates a setting on several ladders (a coarse
-    one, and finer ones for the settings it refines); a run's estimate
-    uses the one that covers the spacings of its shadow."""
+    """The error model the planner fitted for ``setting`` in ``norm`` that
+    the estimate can use (:func:`sphsolid.estimate.calibrated_order`: well
+    determined, no floor) before one it cannot, then the one whose ladder
+    reaches closest to the 2 dx shadow of a run at ``dx`` (its coarsest
+    level nearest 2 dx, then its finest nearest dx), or None. The planner
+    calibrates a setting on several ladders (a coarse one, and finer ones
+    for the settings it refines, among them those whose coarse ladder did
+    not determine an order); a run's estimate uses the one that determines
+    the order, nearest its shadow."""
+    from sphsolid.estimate import calibrated_order
     label = setting.label()
     best = None
     for entry in calibrations or []:
         if entry["setting"] != label or entry["norm"] != norm:
             continue
         spacings = [level[0] for level in entry["model"]["levels"]]
-        key = (abs(math.log(max(spacings) / (2 * dx))),
+        key = (calibrated_order(entry["model"]) is None,
+               abs(math.log(max(spacings) / (2 * dx))),
                abs(math.log(min(spacings) / dx)))
         if best is None or key < best[0]:
             best = (key, entry["model"])
@@ -456,6 +461,8 @@ def estimate_checks(scene: Scene, settings, spacings, windows, threads,
                             "observed_order":
                                 est.observed_order[spec.quantity],
                             "safety": est.safety[spec.quantity],
+                            "oscillatory": bool(
+                                est.oscillatory[spec.quantity]),
                             "calibrated_order": est.calibrated,
                             "shadow_seconds":
                                 estimates[NORMS[0]].shadow_seconds,
@@ -644,7 +651,8 @@ def estimate_text(cases) -> str:
              f"{c['window'][0] * 1e3:.3g}-{c['window'][1] * 1e3:.3g}",
              c["norm"], _pct(c["actual"]), _pct(c["estimated"]),
              f"{c['ratio']:.2f}" + ("" if 1 <= c["ratio"] <= 3 else " **"),
-             f"{c.get('observed_order', math.nan):.2f}",
+             f"{c.get('observed_order', math.nan):.2f}"
+             + (" (osc.)" if c.get("oscillatory") else ""),
              ("-" if c.get("calibrated_order") is None
               else f"{c['calibrated_order']:.2f}"),
              f"{c['order']:.2f}", f"{c.get('safety', math.nan):g}"]
@@ -919,10 +927,12 @@ machine are noise), and in CPU seconds. The per-run error estimate
 2 dx and 4 dx, 1/8 + 1/64 of the run's particle-steps in 2D; Roache's GCI
 with Fs = 3 and the observed order bounded to [1, 2], or, where the
 planner's calibration of the setting in that norm is well determined
-(observed order in [0.5, 2.1], good fit), the three-grid GCI with
-Fs = 1.25 and the calibrated order lowered to the shadows' observed order
-and capped at 1, at least 0.5; the calibration used is the planner's
-ladder for that setting and norm that reaches closest to the run's 2 dx
+(observed order in [0.5, 2.1], good fit) and carries no floor, the
+three-grid GCI with Fs = 1.25 and the calibrated order lowered to the
+shadows' observed order (unless their triplet oscillates with an order
+outside [0.5, 2.1]: column *observed order*, "osc.") and capped at 1, at
+least 0.5; the calibration used is the planner's well-determined one for
+that setting and norm whose ladder reaches closest to the run's 2 dx
 shadow) is compared with the actual error per probe and window: **ratio
 in [1, 3] in at least 90 % of the cases**. The estimate runs the
 planner's candidate settings (the leapfrog), so each has its

@@ -27,8 +27,9 @@ scenes).
 A calibration (``calibration=``: the error model a plan fitted for the
 run's setting, from a ladder of four or more levels; or ``order=``, a
 calibrated order) replaces the two-grid rule when it is well determined
-in Eça & Hoekstra's sense: observed order in [0.5, 2.1], a good fit
-(safety factor 1.25 in the model) and convergence observed. Then
+in Eça & Hoekstra's sense (observed order in [0.5, 2.1], a good fit:
+safety factor 1.25 in the model, and convergence observed) and carries no
+floor. Then
 
     Fs = 1.25,  p = min(q_cal, q_obs, 1) bounded below by 0.5,
 
@@ -39,10 +40,39 @@ predictions use as well (cubic_o4's differences on the strip fall at
 order 1.8 over 1.4-0.47 mm while its error falls at 0.8-1.1), and not
 below 0.5, the lower end of the range over which the calibration was
 accepted (at p = 0.5 the factor Fs / (2^p - 1) is 3.0, the two-grid
-rule's). A calibration that is not well determined (an order outside
-[0.5, 2.1], scattered or anomalous levels) is not used. The estimate
-sees the error that shrinks with dx; a bias that does not (see
-:mod:`sphsolid.plan`, the floor) is not in it.
+rule's).
+
+The shadows' order lowers the calibrated one unless the triplet
+converges **oscillatorily** with an order outside [0.5, 2.1]. The
+triplet oscillates when the run's difference from its 2 dx shadow and the
+2 dx shadow's difference from the 4 dx one point in opposite directions
+(their inner product over all probes and samples is negative: Celik et
+al. 2008's convergence ratio eps21 / eps32 < 0). That happens when a part
+of each level's error does not repeat from one spacing to the next
+(differences of independent parts anti-correlate), and then the ratio of
+the norms of two differences is no convergence order: one outside the
+range where an order is accepted is not in the asymptotic range and says
+nothing against a well-determined calibration. cubic_o4 on the piston:
+consecutive differences anti-correlated (-0.34 to -0.45 for the shadow
+triplets at 3, 2, 1.5 and 1 mm; its errors at consecutive ladder levels
+correlate by only 0.5-0.6, the cubic spline's by 0.97-0.99), at 3 mm the
+triplet's order 0.2 from a 4 dx shadow 7 particles wide, and the run and
+its 2 dx shadow differ by 0.9-1.9 times the run's error (the cubic
+spline's by 0.4-0.9 times), since the difference carries both levels'
+non-repeating parts. A monotone triplet's order is used whatever it is
+(down to 0.5).
+
+A calibration with a **floor** (the plan saw a bias that refinement does
+not remove: two settings whose difference does not shrink, see
+:func:`sphsolid.plan.consistency_floors`) is not used: the shadows'
+difference does not contain that bias, so the small safety factor would
+not cover it (the cubic spline on the piston, floor 3.7 % max, 1.8 % RMS:
+with its calibrated order 0.85 and Fs 1.25 the band came to 0.98 of its
+error against the finite-element solution); the two-grid rule's Fs = 3
+does. A calibration that is not well determined (an order outside
+[0.5, 2.1], scattered or anomalous levels) is not used either. The
+estimate sees the error that shrinks with dx; a bias that does not (see
+:mod:`sphsolid.plan`, the floor) is covered only by the large factor.
 
 The shadow scenes are the run's scene rebuilt with every block body at the
 coarser spacing (same extents, materials, motions, effects, h/dx, kernel,
@@ -63,24 +93,37 @@ from . import metrics
 from ._lib import UnsupportedError
 
 __all__ = ["ErrorEstimate", "coarsened", "SAFETY", "SAFETY_TWO_GRID",
-           "gci_factor", "calibrated_order"]
+           "gci_factor", "calibrated_order", "oscillates"]
 
 
-def gci_factor(observed: float | None, calibrated: float | None = None
-               ) -> tuple[float, float]:
+def gci_factor(observed: float | None, calibrated: float | None = None,
+               oscillatory: bool = False) -> tuple[float, float]:
     """(safety factor, order used) of the per-run estimate: ``observed``
     is the shadows' observed order (nan or None when unknown),
     ``calibrated`` a well-determined calibrated order (see
-    :func:`calibrated_order`) or None; see the module docstring."""
+    :func:`calibrated_order`) or None, ``oscillatory`` whether the
+    shadows' triplet converges oscillatorily (:func:`oscillates`); see the
+    module docstring."""
     known = observed is not None and math.isfinite(observed)
     if calibrated is not None:
         q = min(float(calibrated), FORMAL_ORDER)
-        if known:
+        if known and not (oscillatory and not LOW_ORDER <= float(observed)
+                          <= HIGH_ORDER):
             q = min(q, float(observed))
         return SAFETY, max(q, LOW_ORDER)
     if not known:
         return SAFETY_TWO_GRID, FORMAL_ORDER
     return SAFETY_TWO_GRID, float(np.clip(observed, FORMAL_ORDER, MAX_ORDER))
+
+
+def oscillates(fine: dict, middle: dict, coarse: dict) -> bool:
+    """True when the triplet converges oscillatorily: the differences
+    fine - middle and middle - coarse (series per probe on one grid) have
+    a negative inner product over all probes and samples (Celik et al.
+    2008: the convergence ratio eps21 / eps32 < 0)."""
+    dot = sum(float(np.dot(fine[n] - middle[n], middle[n] - coarse[n]))
+              for n in fine)
+    return dot < 0.0
 
 
 def calibrated_order(calibration=None, order: float | None = None
@@ -91,7 +134,8 @@ def calibrated_order(calibration=None, order: float | None = None
     :class:`sphsolid.plan.ErrorModel` or its ``to_dict()``, as in the
     ``error_model`` of plan.json): well determined when its observed order
     is in [0.5, 2.1], its safety factor is 1.25 (a good fit, Eça &
-    Hoekstra) and it is not anomalous (convergence observed). ``order``
+    Hoekstra), it is not anomalous (convergence observed) and it carries
+    no floor (no bias that refinement does not remove). ``order``
     is a calibrated order given by hand: well determined when in
     [0.5, 2.1]."""
     if calibration is not None:
@@ -103,6 +147,7 @@ def calibrated_order(calibration=None, order: float | None = None
             q = get("order")
         if (q is None or not math.isfinite(float(q))
                 or get("anomalous", False)
+                or float(get("floor", 0.0) or 0.0) > 0.0
                 or float(get("safety", SAFETY_TWO_GRID)) > SAFETY
                 or not LOW_ORDER <= float(q) <= HIGH_ORDER):
             return None
@@ -262,7 +307,7 @@ class ErrorEstimate:
                         for v in self.probes.values} for n in series}
         f1 = smoothed(fine)
         f2 = smoothed(self._shadow(2.0))
-        observed, factors = {}, {}
+        observed, factors, oscillatory = {}, {}, {}
         f4 = smoothed(self._shadow(4.0))
         for v in self.probes.values:
             d1 = max(metrics.deviation(f1[n][v], f2[n][v], "max")
@@ -271,9 +316,14 @@ class ErrorEstimate:
                      for n in f1)
             observed[v] = (math.log2(d2 / d1) if d1 > 0 and d2 > 0
                            else math.nan)
-            factors[v] = gci_factor(observed[v], self.calibrated)
+            oscillatory[v] = oscillates(*({n: f[n][v] for n in f1}
+                                          for f in (f1, f2, f4)))
+            factors[v] = gci_factor(observed[v], self.calibrated,
+                                    oscillatory[v])
         #: observed order per value (nan when the shadows do not differ)
         self.observed_order = observed
+        #: whether the triplet (dx, 2dx, 4dx) converges oscillatorily
+        self.oscillatory = oscillatory
         self.safety = {v: f for v, (f, _) in factors.items()}
         self.order = {v: q for v, (_, q) in factors.items()}
         self.bands = {
@@ -349,6 +399,8 @@ class ErrorEstimate:
                 [self.observed_order[v] for v in p.values])
             g.attrs["safety_factor"] = np.array(
                 [self.safety[v] for v in p.values])
+            g.attrs["oscillatory"] = np.array(
+                [bool(self.oscillatory[v]) for v in p.values])
             g.attrs["calibrated_order"] = (math.nan if self.calibrated is None
                                            else self.calibrated)
             g.attrs["smoothing_s"] = metrics.SMOOTHING

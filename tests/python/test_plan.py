@@ -586,3 +586,107 @@ def test_error_estimate_ignores_a_calibration_that_is_not_determined(model):
     assert est.calibrated is None
     assert est.safety["von_mises"] == 3.0
     assert ratio == pytest.approx([3.0, 3.0], rel=0.01)
+
+
+class _AlternatingProbes(_SyntheticProbes):
+    """f(k dx) = f* + (-1)^log2(k) C (k dx)^p g: the 2 dx level on the
+    other side of the limit (oscillatory convergence)."""
+
+    def __init__(self, order, dx=1e-3):
+        super().__init__(order, dx)
+        monotone = self.level
+        self.level = lambda f: {n: {"von_mises": self.limit[n] + (
+            -1) ** int(round(math.log2(f))) * (monotone(f)[n]["von_mises"]
+                                               - self.limit[n])}
+            for n in self.names}
+
+
+def test_error_estimate_tells_oscillatory_from_monotone_convergence():
+    from sphsolid.estimate import oscillates
+    for probes, expected in ((_SyntheticProbes(1.0), False),
+                             (_AlternatingProbes(1.0), True)):
+        f1, f2, f4 = (probes.level(f) for f in (1.0, 2.0, 4.0))
+        assert oscillates(*({n: f[n]["von_mises"] for n in probes.names}
+                            for f in (f1, f2, f4))) is expected
+
+
+def test_oscillatory_shadows_out_of_range_do_not_lower_a_calibration():
+    from sphsolid.estimate import ErrorEstimate, gci_factor
+    # an oscillatory triplet's order outside [0.5, 2.1] is not counted
+    assert gci_factor(0.2, 1.26, oscillatory=True) == (1.25, 1.0)
+    assert gci_factor(0.2, 0.86, oscillatory=True) == (1.25, 0.86)
+    # in range it lowers the calibrated order, as a monotone one does
+    assert gci_factor(0.8, 1.26, oscillatory=True) == (1.25, 0.8)
+    assert gci_factor(0.2, 1.26, oscillatory=False) == (1.25, 0.5)
+    # without a calibration the two-grid rule, oscillating or not
+    assert gci_factor(0.2, None, oscillatory=True) == (3.0, 1.0)
+    # an alternating series of order 1 with a calibration of order 1: the
+    # run and its 2 dx shadow straddle the limit, |f_dx - f_2dx| =
+    # (1 + 2^p) |e_dx|, and the band (Fs 1.25, order 1) bounds the error
+    probes = _AlternatingProbes(1.0)
+    shadows = {f: probes.level(f) for f in (2.0, 4.0)}
+    est = ErrorEstimate(probes, shadows=shadows, calibration={
+        "observed_order": 1.0, "safety": 1.25, "anomalous": False,
+        "floor": 0.0}).compute()
+    assert est.oscillatory["von_mises"]
+    assert est.order["von_mises"] == pytest.approx(1.0)
+    for n in probes.names:
+        band = est.bands[n]["von_mises"]
+        assert np.max(band) >= np.max(probes.error[n])
+
+
+def test_error_estimate_ignores_a_calibration_with_a_floor():
+    # a plan's error model with a floor (a bias refinement does not
+    # remove): the shadows cannot see it, the two-grid rule's Fs 3 stays
+    from sphsolid.estimate import calibrated_order
+    model = {"observed_order": 0.85, "safety": 1.25, "anomalous": False}
+    assert calibrated_order(model) == pytest.approx(0.85)
+    assert calibrated_order({**model, "floor": 0.0365}) is None
+    est, ratio = _synthetic_estimate(1.0, calibration={**model,
+                                                       "floor": 0.02})
+    assert est.calibrated is None and est.safety["von_mises"] == 3.0
+
+
+def test_planner_refines_a_setting_whose_ladder_determines_no_order(
+        monkeypatch):
+    # two settings on synthetic ladders (no runs): "converging" follows
+    # f* + C dx g(t) at every level; "late" too, except for a feature at
+    # its coarsest level that is not part of the power law (differences
+    # that neither shrink as a power of dx nor follow an order in range:
+    # the large safety factor or no order). The planner must give "late"
+    # finer levels until its ladder determines the order, not leave it at
+    # its coarse levels for want of a prediction to rank it by
+    until = STRIP.until
+    converging = planner.Setting.make(1.2, effects={
+        "artificial_viscosity": {"alpha": 1.0, "beta": 0.0}})
+    late = planner.Setting.make(1.5, effects={
+        "artificial_viscosity": {"alpha": 1.0, "beta": 0.0}})
+    times = np.linspace(0.0, until, 400)
+    limit = {n: -1e6 * np.clip((times - i * 8e-6) / 4e-6, 0, 1)
+             for i, n in enumerate(STRIP.probes)}
+    shape = np.sin(2 * np.pi * times / until) + 0.3
+
+    def fake_run(factory, dx, setting, until_, probes, quantity, threads):
+        error = 3e7 * dx * shape                  # 3 % of the peak at 1 mm
+        if setting == late and dx > 1.7e-3:        # 2 mm: 8 % more
+            error = error + 0.08e6 * np.cos(6 * np.pi * times / until)
+        series = {n: limit[n] + error for n in limit}
+        n = int(0.8 / dx)                         # the strip's 8 x 0.1 m / dx
+        steps = int(until / (0.1 * dx / 3000.0))
+        return planner.LadderRun(setting, dx, n, steps, until / steps, 1.0,
+                                 until, times, series, cpu=n * steps * 1e-8,
+                                 threads=1)
+    monkeypatch.setattr(planner, "ladder_run", fake_run)
+    # a request that needs "converging" well below its ladder: a finer
+    # level of "late" costs less than that plan
+    plan = planner.plan(STRIP.factory, error=0.01, until=until,
+                        probes=STRIP.probes, quantity=STRIP.quantity,
+                        norm="rms", threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
+                        candidates=[converging, late], detect=False,
+                        timing_checks=0, scene="strip")
+    by = {c.setting: c for c in plan.candidates}
+    spacings = [r.dx for r in by[late].runs]
+    assert min(spacings) < 1e-3, spacings
+    model = by[late].model
+    assert not model.anomalous and model.safety == planner.SAFETY_GOOD
+    assert model.observed_order == pytest.approx(1.0, abs=0.1)
