@@ -672,8 +672,8 @@ def main(argv=None) -> int:
     mode = parser.add_mutually_exclusive_group()
     mode.add_argument("--quick", action="store_true",
                       help="the bounded checks (QUICK_NOTE in the module: "
-                      "18 minutes wall at load average 10 on 2 cores, "
-                      "4 minutes of CPU)")
+                      "14 minutes wall at load average 2 on 2 cores, "
+                      "14 minutes of CPU)")
     mode.add_argument("--full", action="store_true",
                       help="every candidate, no time budget, finer sweeps "
                       "(the default; hours)")
@@ -845,64 +845,83 @@ them). *Cost against the sweep.* The safety factor the planner keeps
 (1.25 from Eça & Hoekstra for orders in [0.5, 2.1] and a good fit, 3
 otherwise) costs Fs^(d/q) in run time even when the central prediction
 is exact (run cost ~ dx^-d, d = 3 in 2D, 2 for the strip): 1.25^(2/1) =
-1.6x on the strip at order 1, 1.25^(3/0.85) = 2.2x on the piston. On the
-strip, where the calibration shows cubic_o4 converging at order 1 and
-the plan uses it, the planned runs cost 1.1-1.3x the sweep's cheapest
-sufficient setting for the coarser requests and about 2x for RMS 3 and
-2 % (the sweep's cheapest, cubic_o4 at 0.5 and 0.35 mm, is 2.6 and 2.0 %
-RMS; self-convergence bounds it by 4.1 and 2.4 %, so it is not certified
-for those requests: the plans cost 0.2-1.1x the cheapest self-certified
-sweep run). On the piston the sweep's cheapest sufficient setting is cubic_o4 at
-coarse spacings (at 3 mm 7.6 % max and 4.1 % RMS from the FE solution),
-which no calibration the planner can run certifies (in the sweep itself
-self-convergence bounds cubic_o4 at 1 mm by 210 % max and 7.1 % RMS, at
-0.75 mm by 12.6 % and 4.5 %, against errors of 3.9/1.5 % and
-3.0/0.95 %: its runs at 3 and 2 mm are not certified for any request, and
-the plans for RMS 10 and 5 % cost 0.17x and 2.8x the cheapest
-self-certified sweep runs, the cubic spline at h/dx 1.5 at 1 and
-0.75 mm; nothing in the sweep is certified for 10 % max): its level
-differences (max 8.3, 6.7, 7.0 %; RMS 4.0, 2.5, 2.2 % between 3, 2, 1.5
-and 1 mm) are as large as its errors against the FE solution and do not
-shrink in the max norm, so self-convergence (all a user's scene offers)
-bounds them by 3x their range; no calibration of cubic_o4 on the piston
-is well determined, so its per-run estimate keeps the two-grid rule and
-is 3-5x its error (never below it), while on the strip its calibration
-(order 1.7-1.8, Fs 1.25) brings it within [1, 3] in most cases. The plan is then the cubic
-spline, at 60-120x the particle-steps of cubic_o4 at 3 mm (3.4x the
-cheapest cubic-spline setting for RMS 10 %). *Order at most 1*: an
-observed order above 1 is fitted again at 1 (cubic_o4 on the strip:
-level differences falling at order 1.8 over 1.4-0.47 mm, errors at
-0.8-1.1; the order-1.8 plan for 10 % max achieved 11.7 %). *Floors*: two
-settings whose difference does not shrink (h/dx 1.2 and 1.5 on the
-piston and on the strip) both carry it as a floor unless a setting that
-agrees more closely with one of them says otherwise; without it a 5 %
-max plan with h/dx 1.2 on the piston achieved 8.9 %. *Gravity column*:
-the section means now converge (h/dx 1.5: 4.9, 2.6, 1.6, 1.2, 0.4 % at 8,
-6, 4, 3, 2 mm) and every request is planned and met, but at 16-86x the
-cost of the sweep's cheapest sufficient setting for 5 % and below: the
-calibration of h/dx 1.2 shows differences that follow no power law (it
-converges to about 1.7 %), cubic_o4's errors are small and change sign
-(2.5, 0.4, 0.3, 0.8, 0.2 %: no power law, bounded by 3x their range),
-and h/dx 1.5 converges at an observed order above 2.1 (Fs = 3 by Eça &
-Hoekstra's range) that the planner uses at order 1, so its bound is
-3-20x the error achieved. Self-convergence over the sweep's own levels
-certifies nothing coarser than 3 mm there (bounds of 5.7-9.9 % at 3 and
-2 mm for the cubic spline, 8.3 and 3.5 % for cubic_o4): the plans for 10
-and 5 % cost 0.07x and 0.23x the cheapest self-certified sweep run, and
-nothing in the sweep is self-certified for 3 and 2 %.
-*Per-run estimate*: on the strip, where the planner's calibration of
-cubic_o4 is well determined (order 1.7-1.8 over 1.4-0.47 mm, Fs 1.25),
-its band is the three-grid GCI at the order min(calibrated, observed by
-the shadows, 1) and comes within [1, 3] of the error in 13 of 16 cases
-(1.3-5.3x, never below 1); the two-grid rule (Fs = 3, order 1) gave
-2.4-6.3x, 4 of 16. On the piston no calibration of cubic_o4 is well
-determined (max norm: levels at 3, 2, 1.5 mm differing by 8.3 and 6.8 %,
-order 0.10, anomalous; RMS: 4.0 and 2.5 %, order 0.36, Fs 3), so its
-band stays the two-grid one, 2.8-5.0x its error, and the piston's cases
-stay at 69 % within [1, 3] (100 % for the cubic spline). A factor of 3
-on cubic_o4 there is what self-convergence supports: its run and its
-2 dx shadow differ by 0.9-1.7 times its error against the FE solution,
-so any band at order <= 1 with the two-grid factor 3 is at least 2.8x.
+1.6x on the strip at order 1. On the strip, where the calibration shows
+cubic_o4 converging at order 1 and the plan uses it, the planned runs
+cost 1.1-1.3x the sweep's cheapest sufficient setting for the coarser
+requests and about 2x for RMS 3 and 2 % (the sweep's cheapest, cubic_o4
+at 0.5 and 0.35 mm, is 2.6 and 2.0 % RMS; self-convergence bounds it by
+4.1 and 2.4 %, so it is not certified for those requests: the plans cost
+0.9-1.1x the cheapest self-certified sweep run). *Piston*: the sweep's
+cheapest sufficient setting is cubic_o4 at coarse spacings (at 3 mm
+7.6 % max and 4.1 % RMS from the FE solution). Its calibration is now
+determined (a setting whose ladder determines no order gets finer levels:
+in the max norm its differences at 3, 2, 1.5, 1 mm, 8.3, 6.7, 7.0 %,
+show no convergence, the largest of 3 and 2 mm being a feature of A at
+238 us and those of the finer levels one at 280-290 us; from 2 to
+0.67 mm they fall at order 1.26 with a good fit), and it is planned for
+max 5 % and RMS 5, 3 and 2 % (achieved 2.1, 0.96, 0.82, 0.72 %; those
+requests were refused or planned with the cubic spline before). But
+self-convergence over-predicts its error 2-4x (central predictions 4.0,
+4.0, 2.4, 1.6 %): its consecutive level differences are as large as its
+errors (6.6, 6.9, 3.7 % max between 2, 1.5, 1, 0.67 mm, errors 6.2,
+4.4, 3.9, 3.1 %), because a part of each level's error does not repeat
+from one spacing to the next (the errors of consecutive levels correlate
+by 0.5-0.6, the cubic spline's by 0.97-0.99), and a model built on
+differences reads that part as error still to converge. At order 1 in
+2D the run cost grows as the cube of that factor: the plans cost 20-81x
+the sweep's cheapest (61x for max 5 %, which the sweep meets with
+cubic_o4 at 1.5 mm), and 2.0x the cheapest self-certified sweep run for
+RMS 5 %. For 10 % the cubic spline is still the plan (112x and 3.4x).
+*Order at most 1*: an observed order above 1 is fitted again at 1
+(cubic_o4 on the strip: level differences falling at order 1.8 over
+1.4-0.47 mm, errors at 0.8-1.1; the order-1.8 plan for 10 % max achieved
+11.7 %). *Floors*: two settings whose difference does not shrink (h/dx
+1.2 and 1.5 on the piston and on the strip) both carry it as a floor
+unless a setting that agrees more closely with one of them says
+otherwise; without it a 5 % max plan with h/dx 1.2 on the piston achieved
+8.9 %. *Gravity column*: every request is planned and met. The refined
+ladder of cubic_o4 (6, 4, 3, 2 mm: errors small and changing sign, no
+power law) bounds it by 3x its data range, 3.5 %, so 5 % (both norms) and
+3 % RMS are planned with cubic_o4 at 6 and 3 mm (2.8x and 16x the sweep's
+cheapest; they were 16x and 54x with h/dx 1.5), 3 % max with h/dx 1.2 at
+3 mm (15x, was 56x); 2 % stays h/dx 1.5 at 1.19 mm (86x): its
+differences fall at order 2.0-2.5, above 2.1 or with a poor fit (Fs 3,
+used at order 1), a bound of 1.99 % against errors of 0.09 and
+0.13 %. Refining the settings that determine no order costs planning
+time there: 343 s in the planner (22 calibration
+runs, 335 CPU s; cubic_o4 at 0.887 mm alone 104 s) against 106 s before.
+Self-convergence over the sweep's own levels certifies nothing coarser
+than 3 mm (bounds of 5.7-9.9 % at 3 and 2 mm for the cubic spline, 8.3
+and 3.5 % for cubic_o4).
+*Wall and CPU predictions*: the misses are runs of 0.03-0.3 s and one of
+14 s measured under load 2 on 2 cores, where the CPU time of one run
+varies from repeat to repeat by more than 30 %: the cubic_o4 run planned
+for gravity's 5 % took 0.542 CPU s in the max-norm row and 0.318 s in the
+RMS one, and five repeats of the 0.1 s gravity run at 8 mm took 0.099 to
+0.172 s. The planner times a few steps only for scenes larger than its
+largest calibration run; a few timed steps of a small scene had been
+noise (two plans of the 8 mm gravity run predicted 0.148 and 0.111 CPU s
+after their timing checks).
+*Per-run estimate*: on the piston within [1, 3] in all 72 cases
+(1.13-2.72x, none below 1; 50 of 72 before). cubic_o4's shadow triplets
+converge oscillatorily (the run's difference from its 2 dx shadow and
+the shadow's from the 4 dx one anti-correlate, -0.34 and -0.43 at 3 and
+2 mm): its run and 2 dx shadow differ by 0.9-1.9 times its error, the
+triplet's observed order is no convergence order, and at 3 mm (0.20,
+outside [0.5, 2.1]) it does not lower the calibrated one; the band is
+the three-grid GCI (Fs 1.25) at the calibrated order (max 1.26 used at
+1, RMS 0.86), lowered to 0.88 at 2 mm by the shadows (1.2-2.6x; with the
+two-grid rule it was 2.8-5.0x). The cubic spline's calibrations carry
+floors (3.65 % max, 1.81 % RMS: the bias of the limit that its ladder
+cannot see), so its band keeps the two-grid rule, Fs 3 (1.1-2.7x; with
+Fs 1.25 at its calibrated order 0.85 it would fall to 0.98x). On the
+strip the estimate is unchanged (45 of 48): cubic_o4's 0.5 mm triplet is
+monotone with order 0.57, which lowers the order used to 0.57 (2.4-5.3x
+in three cases). At finer piston spacings (1.5 and 1 mm, the full mode's)
+the same rule puts 57 of 72 cases within [1, 3] and two below 1 (the
+cubic spline at 0.97-0.98: there its floor is the larger part of its
+error), the previous rule 41 with 11 below 1 (computed from the same
+shadow runs, not part of the quick checks).
 """
 
 
@@ -942,8 +961,10 @@ How the planner decides (python/sphsolid/plan.py, docs/planner.md):
 effects from one coarse run with none per integrator and kernel family;
 a calibration ladder per candidate setting (kernels at h/dx 1.2 and 1.5,
 cubic_o4 at its own h/dx 1.65 and static platen inset, integrators and
-the effects found), refined for the most promising and for those that
-extrapolate with the large safety factor; error model E = C dx^q fitted
+the effects found), refined for the most promising, for those that
+extrapolate with the large safety factor and for those whose ladder
+determines no order (when a finer level costs less than the cheapest
+plan so far); error model E = C dx^q fitted
 by least squares on the differences of consecutive levels (Eça &
 Hoekstra), the order used at most 1, with their safety factor (1.25 for
 an observed order in [0.5, 2.1] and a good fit, else 3; data that show
@@ -952,7 +973,8 @@ calibrated spacing; a floor where two settings differ by an amount that
 does not shrink with refinement or that their own predicted errors do
 not explain (unless a setting closer to both says otherwise); cost from
 the calibration runs' process CPU time (per setting, at the requested
-threads) and a timing of a few steps at the chosen spacing, wall time
+threads) and a timing of a few steps at the chosen spacing when that
+is finer than the ladder's, wall time
 from the calibration's wall/CPU ratio. *CPU cost / cheapest* prices every run at its setting's
 CPU seconds per particle-step measured in the sweep, so that a setting
 with cheaper steps (the leapfrog's one evaluation per step) counts as
