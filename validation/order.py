@@ -372,6 +372,9 @@ SWEEP_DX = (2e-3, 1.75e-3, 1.5e-3, 1.25e-3, 1e-3, 8.75e-4, 7.5e-4,
             6.25e-4, 5e-4)
 SWEEP = {
     "fronts": ("fronts", {}, SWEEP_DX),
+    "fronts, step 1/4": ("fronts", {"dt_factor": 0.5}, SWEEP_DX),
+    "fronts, kernel correction": (
+        "fronts", {"effects": {"kernel_correction": {}}}, SWEEP_DX),
     "fronts, kernel correction, step 1/4": (
         "fronts", {"dt_factor": 0.5, "effects": {"kernel_correction": {}}},
         SWEEP_DX),
