@@ -901,7 +901,17 @@ RMS one, and five repeats of the 0.1 s gravity run at 8 mm took 0.099 to
 0.172 s. The planner times a few steps only for scenes larger than its
 largest calibration run; a few timed steps of a small scene had been
 noise (two plans of the 8 mm gravity run predicted 0.148 and 0.111 CPU s
-after their timing checks).
+after their timing checks). Tried and not kept: taking the cost within
+the calibrated sizes from the calibration runs themselves (interpolated
+between the two that bracket the size) instead of the straight line
+through all of them. It follows the step in cubic_o4's cost per
+particle-step on the piston (3.9-4.1e-7 CPU s up to 12 700 particles,
+5.0-5.1e-7 from 28 000, where the line over-predicts the smaller runs by
+20-26 %), but passes each small run's own noise straight through (the
+first, cold calibration run of the gravity column at 8 mm took
+0.174 CPU s, the planned run 0.097-0.105 s): 4 of 8 gravity CPU
+predictions within 30 % at load 4.5-6, where the line had 7 of 8 at
+load 2.
 *Per-run estimate*: on the piston within [1, 3] in all 72 cases
 (1.13-2.72x, none below 1; 50 of 72 before). cubic_o4's shadow triplets
 converge oscillatorily (the run's difference from its 2 dx shadow and
