@@ -53,7 +53,15 @@ def main(argv=None) -> int:
     parser.add_argument("--alpha", type=float, default=None,
                         help="artificial viscosity alpha of the cases that "
                              "use it (default 1)")
+    parser.add_argument("--effect", action="append", default=[],
+                        metavar="NAME",
+                        help="an effect switched on in every case on top of "
+                             "its own, with the library's default parameters "
+                             "(repeatable; e.g. kernel_correction)")
     args = parser.parse_args(argv)
+    if args.effect:
+        import stability_cases
+        stability_cases.EXTRA_EFFECTS[:] = args.effect
     if args.alpha is not None:
         import stability_cases
         stability_cases.VISCOSITY["alpha"] = args.alpha

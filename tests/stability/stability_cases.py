@@ -11,7 +11,9 @@ Rows marked "detected" document a failure mode: they pass when the
 instability they demonstrate is seen without the effect that fixes it.
 
 ``SPHSOLID_STABILITY_H_OVER_DX`` (``run.py --h-over-dx``) runs every case
-at another smoothing ratio than the default 1.2.
+at another smoothing ratio than the default 1.2;
+``SPHSOLID_STABILITY_EFFECTS`` (``run.py --effect NAME``, repeated) switches
+effects on in every case on top of its own.
 
 Runs use one OpenMP thread (``SPHSOLID_STABILITY_THREADS`` to change it):
 on a shared two-core machine, two spinning OpenMP threads were measured 40x
@@ -52,6 +54,10 @@ INSET = float(os.environ.get("SPHSOLID_STABILITY_INSET") or 0.0)
 VISCOSITY = {"alpha": float(os.environ.get("SPHSOLID_STABILITY_ALPHA")
                             or 1.0), "beta": 0.0}
 ARTIFICIAL_STRESS = {"epsilon": 0.3, "n": 4.0}
+# effects switched on in every case on top of its own (run.py --effect),
+# without parameters: the library's defaults
+EXTRA_EFFECTS = [name for name in os.environ.get(
+    "SPHSOLID_STABILITY_EFFECTS", "").replace(",", " ").split() if name]
 
 
 @dataclass
@@ -78,6 +84,8 @@ def effects_label(effects: dict) -> str:
         if name == "damping":
             label += f" {params.get('rate', 1000):g}/s"
         words.append(label)
+    words += [short.get(name, name) for name in EXTRA_EFFECTS
+              if name not in effects]
     return ", ".join(words) or "none"
 
 
@@ -91,6 +99,9 @@ def dynamics(scene: Scene, dt: float | None = None,
         scene.set_smoothing_ratio(H_OVER_DX)
     if KERNEL is not None:
         scene.set_kernel(KERNEL)
+    for name in EXTRA_EFFECTS:
+        if name not in scene.effects:
+            scene.effect(name)
     if backend == "lammps":
         from sphsolid.lammps import Lammps
         scene.calc = Lammps(threads=THREADS)

@@ -147,3 +147,15 @@ def test_blow_up_stops_lammps_with_an_error_naming_step_and_particle():
     assert scene.time < 5e-3
     message = str(info.value)
     assert "step" in message and "particle" in message
+
+
+def test_an_effect_given_to_the_suite_reaches_every_case(monkeypatch):
+    """run.py --effect: the effect is switched on in the case's scene (the
+    kernel correction removes the spurious stress of a rigid rotation,
+    so the row that shows that stress without it no longer sees it) and
+    named in the effects column."""
+    monkeypatch.setattr(cases, "EXTRA_EFFECTS", ["kernel_correction"])
+    rows = {r.case: r for r in cases.rigid_rotation(full=False)}
+    shown = rows["rigid rotation 1 turn (no KC)"]
+    assert shown.effects.endswith("KC")
+    assert not shown.passed, shown.measured
