@@ -72,6 +72,9 @@ OPTIONS = {
     "waves, half step": ("waves-dt2", "waves", None, {}, 0.5),
     "fronts (cubic_o4 at M = 1, leapfrog at half step, static inset)": (
         "fronts", "fronts", None, {}, 1.0),
+    "fronts, kernel correction, quarter step": (
+        "fronts-kc-dt2", "fronts", None,
+        {"effects": {"kernel_correction": {}}}, 0.5),
 }
 KEYS = {v[0]: k for k, v in OPTIONS.items()}
 #: a run whose RMS deviation exceeds this has gone unstable (its stress
@@ -84,7 +87,11 @@ def run(dx: float, label: str, window: float = WINDOW, threads: int = 1,
     """One option at one spacing: the metric against the FE series and the
     costs."""
     key, preset, integrator, overrides, factor = OPTIONS[label]
+    overrides = dict(overrides)
+    effects = overrides.pop("effects", {})
     scene = scenes.uniaxial_piston(dx, preset=preset, **overrides)
+    for name, parameters in effects.items():
+        scene.effect(name, **parameters)
     scene.calc = CLibrary(threads=threads)
     dyn = (presets.dynamics(scene, progress=False) if integrator is None
            else dynamics_for(integrator)(scene, progress=False))

@@ -45,3 +45,16 @@ def test_section_lists_every_run_and_replaces_only_the_marked_block(tmp_path):
     bare.write_text("no markers\n")
     with pytest.raises(SystemExit, match="markers"):
         front.write_doc(bare, text)
+
+
+def test_an_option_with_effects_runs_with_them():
+    """An option's "effects" reach its scene: the kernel-correction row
+    runs with the effect on and at half the fronts preset's step (a few
+    steps at 4 mm)."""
+    plain = front.run(4e-3, "fronts (cubic_o4 at M = 1, leapfrog at half "
+                      "step, static inset)", window=4e-6)
+    corrected = front.run(4e-3, "fronts, kernel correction, quarter step",
+                          window=4e-6)
+    assert "kernel_correction" in corrected["effects"]
+    assert "kernel_correction" not in plain["effects"]
+    assert corrected["dt"] == pytest.approx(0.5 * plain["dt"], rel=1e-12)
