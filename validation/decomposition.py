@@ -101,6 +101,14 @@ def run(dx, strip=False, until=WINDOW, dt_factor=1.0,
     return probe_series(s, dyn, STRIP_PROBES if strip else PAPER_PROBES, until)
 
 
+def with_effects(scene, effects):
+    """Switch on ``effects`` (name -> parameters) on top of the scene's
+    own; the scene, for chaining."""
+    for name, parameters in (effects or {}).items():
+        scene.effect(name, **parameters)
+    return scene
+
+
 def probe_series(scene, dyn, points, until, interval=1) -> dict:
     """Run `dyn` on `scene` to `until`, sampling von Mises at `points`
     every `interval` steps; the series with the run's wall and CPU time."""

@@ -88,10 +88,9 @@ def run(dx: float, label: str, window: float = WINDOW, threads: int = 1,
     costs."""
     key, preset, integrator, overrides, factor = OPTIONS[label]
     overrides = dict(overrides)
-    effects = overrides.pop("effects", {})
-    scene = scenes.uniaxial_piston(dx, preset=preset, **overrides)
-    for name, parameters in effects.items():
-        scene.effect(name, **parameters)
+    effects = overrides.pop("effects", None)
+    scene = decomposition.with_effects(
+        scenes.uniaxial_piston(dx, preset=preset, **overrides), effects)
     scene.calc = CLibrary(threads=threads)
     dyn = (presets.dynamics(scene, progress=False) if integrator is None
            else dynamics_for(integrator)(scene, progress=False))

@@ -118,21 +118,14 @@ def _dynamics(scene, integrator, dt_factor):
     return dyn
 
 
-def _with_effects(scene, effects):
-    """Switch on ``effects`` (name -> parameters) on top of the preset's."""
-    for name, parameters in (effects or {}).items():
-        scene.effect(name, **parameters)
-    return scene
-
-
 def strip_run(dx, preset="waves", rise=0.0, dt_factor=1.0, until=WINDOW,
               integrator=None, effects=None, **overrides) -> dict:
     """The laterally periodic strip (``end_placement.strip_scene``) run
     with the preset's integrator (or ``integrator``) at ``dt_factor``
     times its default step, with ``effects`` (name -> parameters) on
     top of the preset's."""
-    scene = _with_effects(end_placement.strip_scene(dx, preset, **overrides),
-                          effects)
+    scene = decomposition.with_effects(
+        end_placement.strip_scene(dx, preset, **overrides), effects)
     scene.calc = CLibrary(threads=1)
     return series(scene, _dynamics(scene, integrator, dt_factor),
                   STRIP_PROBES, until, rise)
@@ -142,7 +135,7 @@ def specimen_run(dx, preset="waves", rise=0.0, dt_factor=1.0, until=WINDOW,
                  integrator=None, threads=1, effects=None,
                  **overrides) -> dict:
     """The paper's specimen built from a preset, as :func:`strip_run`."""
-    scene = _with_effects(
+    scene = decomposition.with_effects(
         scenes.uniaxial_piston(dx, preset=preset, **overrides), effects)
     scene.calc = CLibrary(threads=threads)
     return series(scene, _dynamics(scene, integrator, dt_factor),

@@ -6,7 +6,7 @@ import json
 
 import numpy as np
 
-from validation import order
+from validation import decomposition, order
 
 
 def _row(label, dxs, errors):
@@ -41,7 +41,7 @@ def test_experiment_effects_reach_the_scene():
     from sphsolid.calculators import CLibrary
 
     def stress(effects):
-        scene = order._with_effects(
+        scene = decomposition.with_effects(
             scenes.uniaxial_piston(4e-3, preset="fronts"), effects)
         scene.calc = CLibrary(threads=1)
         dyn = order._dynamics(scene, None, 1.0)
