@@ -13,6 +13,13 @@ dx = 1 mm for 0.3 ms of simulated time, each of
             the library and the deck (``-var integrator leapfrog``, 1 and 2
             ranks) with the leapfrog at its default step h/c0 instead of
             Improved Euler;
+  library-side, library-leapfrog-side
+            --ranks copies of the library case run side by side, each in
+            its own process on 1 thread: no communication and nothing
+            shared but the machine, so that (ranks x the library's loop
+            time) / (the slowest copy's loop time) is the speed-up this
+            machine gives any run of --ranks processes (its ceiling: shared
+            caches, memory bandwidth and the host's clock under load);
   smd       bench/in.smd_ulsph_piston: MACHDYN's smd/ulsph on the same
             particles, time step and piston (Q1 = 0.5), ``lmp`` on 1 rank;
   plugin-*-before
@@ -71,10 +78,12 @@ sys.path.insert(0, str(REPOSITORY / "lammps_plugin" / "python"))
 PISTON_DECK = REPOSITORY / "examples" / "uniaxial_piston" / "in.uniaxial_piston"
 SMD_DECK = HERE / "in.smd_ulsph_piston"
 PLUGIN_CASES = ("plugin-1", "plugin-1-leapfrog", "plugin-2", "plugin-2-leapfrog")
-CASES = ("library", "library-leapfrog") + PLUGIN_CASES + ("smd",) + tuple(
+SIDE_CASES = ("library-side", "library-leapfrog-side")
+CASES = ("library", "library-leapfrog") + SIDE_CASES + PLUGIN_CASES + ("smd",) + tuple(
     f"{c}-before" for c in PLUGIN_CASES)
 # the integrator of each case (the library's name; the deck's fix style)
-INTEGRATOR = {"library-leapfrog": "leapfrog", "plugin-1-leapfrog": "leapfrog",
+INTEGRATOR = {"library-leapfrog": "leapfrog", "library-leapfrog-side": "leapfrog",
+              "plugin-1-leapfrog": "leapfrog",
               "plugin-2-leapfrog": "leapfrog", "plugin-1-leapfrog-before": "leapfrog",
               "plugin-2-leapfrog-before": "leapfrog"}
 PROBE_EVERY = 10  # steps between probe samples, as in the deck
@@ -138,28 +147,46 @@ def library_worker(library: Path, dx: float, t_end: float,
 
 
 # ------------------------------------------------------------------ running
-def run_process(cmd: list[str], cwd: Path,
-                extra_env: dict | None = None) -> tuple[subprocess.CompletedProcess, dict]:
-    """Run cmd; return it and its wall time, CPU time and peak RSS (os.wait4)."""
+def run_processes(cmd: list[str], cwd: Path, extra_env: dict | None = None,
+                  copies: int = 1) -> list[tuple[subprocess.CompletedProcess, dict]]:
+    """Run ``copies`` instances of cmd side by side (copy k in cwd, or in
+    cwd/k when there are several); return each process and its wall time,
+    CPU time and peak RSS (os.wait4)."""
     env = dict(os.environ, OMP_NUM_THREADS="1")
     for key, value in (extra_env or {}).items():    # None: unset
         if value is None:
             env.pop(key, None)
         else:
             env[key] = value
-    with open(cwd / "stdout.txt", "w") as out, open(cwd / "stderr.txt", "w") as err:
-        start = time.perf_counter()
-        process = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=out, stderr=err)
+    dirs = [cwd] if copies == 1 else [cwd / str(k) for k in range(copies)]
+    running = []
+    for folder in dirs:
+        folder.mkdir(parents=True, exist_ok=True)
+        out, err = open(folder / "stdout.txt", "w"), open(folder / "stderr.txt", "w")
+        running.append((folder, out, err, time.perf_counter(),
+                        subprocess.Popen(cmd, cwd=folder, env=env, stdout=out, stderr=err)))
+    done = []
+    for folder, out, err, start, process in running:
         _, status, usage = os.wait4(process.pid, 0)
         wall = time.perf_counter() - start
-    process.returncode = os.waitstatus_to_exitcode(status)
-    if process.returncode != 0:
-        raise RuntimeError(f"{' '.join(map(str, cmd))} failed ({process.returncode}):\n"
-                           + (cwd / "stderr.txt").read_text()[-2000:]
-                           + (cwd / "stdout.txt").read_text()[-2000:])
-    figures = {"wall_seconds": wall, "cpu_seconds": usage.ru_utime + usage.ru_stime,
-               "peak_rss_mb": usage.ru_maxrss / 1024.0}  # ru_maxrss is in KiB on Linux
-    return process, figures
+        out.close()
+        err.close()
+        process.returncode = os.waitstatus_to_exitcode(status)
+        if process.returncode != 0:
+            raise RuntimeError(f"{' '.join(map(str, cmd))} failed ({process.returncode}):\n"
+                               + (folder / "stderr.txt").read_text()[-2000:]
+                               + (folder / "stdout.txt").read_text()[-2000:])
+        done.append((process, {"wall_seconds": wall,
+                               "cpu_seconds": usage.ru_utime + usage.ru_stime,
+                               # ru_maxrss is in KiB on Linux
+                               "peak_rss_mb": usage.ru_maxrss / 1024.0}))
+    return done
+
+
+def run_process(cmd: list[str], cwd: Path,
+                extra_env: dict | None = None) -> tuple[subprocess.CompletedProcess, dict]:
+    """Run cmd; return it and its wall time, CPU time and peak RSS (os.wait4)."""
+    return run_processes(cmd, cwd, extra_env)[0]
 
 
 LOOP = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
@@ -232,6 +259,15 @@ def run_case(case: str, args, work: Path) -> dict:
         cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", "library",
                "--library", str(args.library), "--dx", repr(args.dx),
                "--t-end", repr(args.t_end), "--integrator", integrator]
+        if case in SIDE_CASES:
+            # the slowest copy's figures: the time a run split over as many
+            # processes would take with perfect balance and free communication
+            copies = []
+            for k, (_, figures) in enumerate(run_processes(cmd, work, copies=args.ranks)):
+                figures.update(json.loads(
+                    (work / str(k) / "stdout.txt").read_text().strip().splitlines()[-1]))
+                copies.append(figures)
+            return max(copies, key=lambda f: f["loop_seconds"])
         _, figures = run_process(cmd, work)
         figures.update(json.loads((work / "stdout.txt").read_text().strip().splitlines()[-1]))
         return figures
@@ -289,6 +325,8 @@ def summarise(all_results: dict[str, list[dict]]) -> dict[str, dict]:
 
 
 LABELS = {"library": "library, 1 thread", "library-leapfrog": "library leapfrog, 1 thr.",
+          "library-side": "library, {ranks} side by side",
+          "library-leapfrog-side": "library leapfrog, {ranks} s. by s.",
           "plugin-1-leapfrog": "plugin leapfrog, 1 rank", "plugin-1": "plugin, lmp 1 rank",
           "plugin-2": "plugin, mpirun -np {ranks}",
           "plugin-2-leapfrog": "plugin leapfrog, -np {ranks}", "smd": "smd/ulsph, lmp 1 rank"}
@@ -333,6 +371,16 @@ def report(summary: dict[str, dict], args) -> str:
           target=f"   (target >= {0.95 * args.ranks:.1f})")
     ratio(f"plugin leapfrog 1 rank / {args.ranks} ranks (speed-up)", "plugin-1-leapfrog",
           "plugin-2-leapfrog", target=f"   (target >= {0.95 * args.ranks:.1f})")
+    # the machine's ceiling: ranks x (one copy alone) / (slowest copy side by side)
+    for alone, side, name in (("library", "library-side", "Improved Euler"),
+                              ("library-leapfrog", "library-leapfrog-side", "leapfrog")):
+        if alone in summary and side in summary:
+            each = [args.ranks * a / b for a, b in zip(summary[alone]["loop_seconds_all"],
+                                                       summary[side]["loop_seconds_all"])]
+            value = args.ranks * summary[alone]["loop_seconds"] / summary[side]["loop_seconds"]
+            lines.append(f"  {f'machine ceiling, {name}: {args.ranks} x alone / side by side':<58}"
+                         f"{value:6.3f}  (per repeat: median {statistics.median(each):.3f}, "
+                         f"{min(each):.3f}-{max(each):.3f})")
     ratio(f"before: plugin 1 rank / {args.ranks} ranks (speed-up)", "plugin-1-before",
           "plugin-2-before")
     ratio(f"before: plugin leapfrog 1 rank / {args.ranks} ranks (speed-up)",
