@@ -141,6 +141,70 @@ def test_error_model_keeps_a_low_order_with_the_large_safety_factor():
                                               rel=0.03)
 
 
+def _levels_with_parts(spacings, order, repeating, own, samples=40000,
+                       seed=3):
+    """Series on one probe: a limit, an error shape that repeats at every
+    level (size ``repeating h^q``) and a part of each level's own,
+    independent of the others (size ``own h^q``)."""
+    rng = np.random.default_rng(seed)
+    limit = 1.0 + np.sin(np.linspace(0.0, 6.0, samples))
+    shape = rng.standard_normal(samples)
+    shape /= np.sqrt(np.mean(shape ** 2))
+    levels, errors = [], []
+    for h in spacings:
+        noise = rng.standard_normal(samples)
+        noise /= np.sqrt(np.mean(noise ** 2))
+        error = h ** order * (repeating * shape + own * noise)
+        levels.append({"P": limit + error})
+        errors.append(float(np.sqrt(np.mean(error ** 2))))
+    return levels, errors
+
+
+@pytest.mark.parametrize("repeating, own", [(1.0, 0.0), (1.0, 0.3),
+                                            (1.0, 0.4), (1.0, 1.0),
+                                            (0.4, 1.0)])
+def test_repeating_factor_matches_the_error_of_independent_parts(repeating,
+                                                                 own):
+    # the power law fitted to the differences of consecutive levels, times
+    # the factor, is the RMS error of each level: with no independent part
+    # the factor is 1; with one the differences overstate the error
+    # (derived: |d_i|^2 = A^2 (a_i - a_(i+1))^2 + s^2 (a_i^2 + a_(i+1)^2),
+    # <d_i, d_(i+1)> = A^2 (a_i - a_(i+1)) (a_(i+1) - a_(i+2)) - s^2 a_(i+1)^2:
+    # for s = 0.3 A the differences still correlate, the law stands)
+    spacings = [3.0, 2.0, 1.5, 1.0]
+    order = 1.0
+    levels, errors = _levels_with_parts(spacings, order, repeating, own)
+    scale = metrics.scale_of(levels[-1]["P"], "rms")
+    diffs = [metrics.deviation(a["P"], b["P"], "rms", scale)
+             for a, b in zip(levels, levels[1:])]
+    model = planner.fit_error_model(spacings, diffs, max_order=order)
+    factor, per_probe = planner.repeating_factor(spacings, levels, order)
+    assert set(per_probe) == {"P"}
+    truth = errors[-1] / scale / model.power(spacings[-1])
+    a = np.asarray(spacings) ** order
+    correlated = np.mean([(a[i] - a[i + 1]) * (a[i + 1] - a[i + 2])
+                          - (own / repeating) ** 2 * a[i + 1] ** 2
+                          for i in range(2)]) >= 0
+    expected = (1.0 if correlated
+                else min(1.0, max(planner.LEAST_REPEATING, truth)))
+    assert factor == pytest.approx(expected, rel=0.05)
+    if own >= 0.4 * repeating:
+        assert factor < 0.9
+    model.repeating = factor
+    # the model's spacing for an error is where its bound is that error
+    dx = model.spacing_for(0.02)
+    assert model.upper(dx) == pytest.approx(0.02, rel=1e-9)
+    if truth >= planner.LEAST_REPEATING and not correlated:
+        # the central prediction at the finest level is its actual error
+        assert model.predict(spacings[-1]) == pytest.approx(
+            errors[-1] / scale, rel=0.05)
+
+
+def test_repeating_factor_needs_four_levels():
+    levels, _ = _levels_with_parts([3.0, 2.0, 1.5], 1.0, 1.0, 1.0)
+    assert planner.repeating_factor([3.0, 2.0, 1.5], levels, 1.0) == (1.0, {})
+
+
 def test_error_model_rejects_too_few_or_non_decreasing_levels():
     with pytest.raises(ValueError, match="3 or more"):
         planner.fit_order([2e-3, 1e-3], [0.1])
