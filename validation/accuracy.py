@@ -704,6 +704,7 @@ def main(argv=None) -> int:
     for name in args.scenes.split(","):
         load_start = os.getloadavg()[0]
         scene_start = wallclock.perf_counter()
+        scene_cpu = wallclock.process_time()
         scene = builders[name](data, args.quick, log)
         if args.estimate_only and name in results:
             result = results[name]
@@ -742,6 +743,7 @@ def main(argv=None) -> int:
             result["wall"] = wallclock.perf_counter() - scene_start
             result["elapsed"] = wallclock.perf_counter() - clock
             result["cpu_elapsed"] = wallclock.process_time()
+            result["cpu"] = wallclock.process_time() - scene_cpu
             result["load"] = [load_start, os.getloadavg()[0]]
         results[name] = result
         results_path.write_text(json.dumps(results, indent=1, default=float))
@@ -763,11 +765,15 @@ def write_document(path: Path, results: dict, args) -> None:
         ran = [results[n] for n in ("piston", "strip", "gravity")
                if n in results and results[n].get("wall")]
         loads = [x for r in ran for x in r.get("load", [])]
-        cpu = max((r.get("cpu_elapsed", 0.0) for r in ran), default=0.0)
-        elapsed = ("{:.1f} minutes wall for the three scenes, one thread, "
+        # each scene's own wall and CPU time (the scenes may have run in
+        # separate invocations, --scenes)
+        cpu = (sum(r["cpu"] for r in ran) if all("cpu" in r for r in ran)
+               else max((r.get("cpu_elapsed", 0.0) for r in ran),
+                        default=0.0))
+        elapsed = ("{:.1f} minutes wall for the three scenes (each "
+                   "scene's own time, summed), one thread, "
                    "at load average {:.0f}-{:.0f} on {} cores from other "
-                   "jobs{}".format(max(r.get("elapsed", r["wall"])
-                                       for r in ran) / 60,
+                   "jobs{}".format(sum(r["wall"] for r in ran) / 60,
                                    min(loads), max(loads), os.cpu_count(),
                                    f", {cpu:.0f} s of CPU" if cpu else "")
                    if len(ran) == 3 and loads else
@@ -797,7 +803,7 @@ FULL_STRIP = ("6.4 minutes wall (37 s of CPU; 18 settings calibrated, "
               "request planned with Wendland C2 and met (achieved 7.2, 4.1, "
               "2.4, 1.6 % for 10, 5, 3, 2 %, max norm), 1.2-1.6x the sweep's "
               "cheapest sufficient setting for 10 and 5 %, 4-7x below")
-QUICK_NOTE = """**Quick mode** (`--quick`, one command: {elapsed}). Finite-element
+QUICK_NOTE = """**Quick mode** (`--quick`: {elapsed}). Finite-element
 reference at 0.5 mm (its series is kept in docs/accuracy); candidates the
 leapfrog with the cubic spline at h/dx 1.2 and 1.5 (with the effects
 found) and cubic_o4 at its own setting (h/dx 1.65, plate and piston at
@@ -853,25 +859,31 @@ at 0.5 and 0.35 mm, is 2.6 and 2.0 % RMS; self-convergence bounds it by
 4.1 and 2.4 %, so it is not certified for those requests: the plans cost
 0.9-1.1x the cheapest self-certified sweep run). *Piston*: the sweep's
 cheapest sufficient setting is cubic_o4 at coarse spacings (at 3 mm
-7.6 % max and 4.1 % RMS from the FE solution). Its calibration is now
+7.6 % max and 4.1 % RMS from the FE solution). Its calibration is
 determined (a setting whose ladder determines no order gets finer levels:
 in the max norm its differences at 3, 2, 1.5, 1 mm, 8.3, 6.7, 7.0 %,
 show no convergence, the largest of 3 and 2 mm being a feature of A at
 238 us and those of the finer levels one at 280-290 us; from 2 to
-0.67 mm they fall at order 1.26 with a good fit), and it is planned for
-max 5 % and RMS 5, 3 and 2 % (achieved 2.1, 0.96, 0.82, 0.72 %; those
-requests were refused or planned with the cubic spline before). But
-self-convergence over-predicts its error 2-4x (central predictions 4.0,
-4.0, 2.4, 1.6 %): its consecutive level differences are as large as its
-errors (6.6, 6.9, 3.7 % max between 2, 1.5, 1, 0.67 mm, errors 6.2,
-4.4, 3.9, 3.1 %), because a part of each level's error does not repeat
-from one spacing to the next (the errors of consecutive levels correlate
-by 0.5-0.6, the cubic spline's by 0.97-0.99), and a model built on
-differences reads that part as error still to converge. At order 1 in
-2D the run cost grows as the cube of that factor: the plans cost 20-81x
-the sweep's cheapest (61x for max 5 %, which the sweep meets with
-cubic_o4 at 1.5 mm), and 2.0x the cheapest self-certified sweep run for
-RMS 5 %. For 10 % the cubic spline is still the plan (112x and 3.4x).
+0.67 mm they fall at order 1.26 with a good fit). Its consecutive level
+differences are as large as its errors (6.6, 6.9, 3.7 % max between 2,
+1.5, 1, 0.67 mm, errors 6.2, 4.4, 3.9, 3.1 %): a part of each level's
+error does not repeat from one spacing to the next (the errors of
+consecutive levels correlate by 0.5-0.6, the cubic spline's by
+0.97-0.99), and a power law fitted to the differences reads that part as
+error still to converge (2-4x the error). The differences themselves
+anti-correlate (-0.04 to -0.45 from one to the next), which the
+planner's repeating factor reads (docs/planner.md, step 4: a two-part
+fit of their inner products gives 0.35-0.46 per probe, 0.5 is used;
+the cubic spline's differences correlate, 1). With it every planned
+request uses cubic_o4 and is met (achieved 3.8, 2.8, 2.0 % for max 10,
+5, 3 %; 4.1, 2.3, 1.3, 1.0 % for RMS 10, 5, 3, 2 %; max 3 % was refused
+before), and the plans cost 7-13x the sweep's cheapest (RMS 10 %:
+cubic_o4 at 3 mm, 1.14x), where they cost 20-112x without the factor
+(with the cubic spline still the plan for max 10 % and RMS 5 %). The
+central predictions are still 1.2-2x the errors (the factor's least
+value 0.5, order 1 where the differences fall at 1.26), and the sweep's
+cheapest sits just below each request by the luck of its spacings: at
+order 1 in 2D the run cost grows as the cube of the error's margin.
 *Order at most 1*: an observed order above 1 is fitted again at 1
 (cubic_o4 on the strip: level differences falling at order 1.8 over
 1.4-0.47 mm, errors at 0.8-1.1; the order-1.8 plan for 10 % max achieved
@@ -888,19 +900,25 @@ cheapest; they were 16x and 54x with h/dx 1.5), 3 % max with h/dx 1.2 at
 differences fall at order 2.0-2.5, above 2.1 or with a poor fit (Fs 3,
 used at order 1), a bound of 1.99 % against errors of 0.09 and
 0.13 %. Refining the settings that determine no order costs planning
-time there: 343 s in the planner (22 calibration
-runs, 335 CPU s; cubic_o4 at 0.887 mm alone 104 s) against 106 s before.
+time there: 403 s in the planner (22 calibration
+runs, 397 CPU s; cubic_o4 at 0.887 mm alone 133 s) against 106 s
+without the refinement. The repeating factor changes none of the strip's
+and gravity's plans (their consecutive differences correlate or show no
+power law).
 Self-convergence over the sweep's own levels certifies nothing coarser
 than 3 mm (bounds of 5.7-9.9 % at 3 and 2 mm for the cubic spline, 8.3
 and 3.5 % for cubic_o4).
 *Wall and CPU predictions*: in the tables here (regenerated on the idle
-machine, load average 1, one thread) the piston misses once (5 of 6) and
-gravity in 4 of 8 rows. Those four are not load: cubic_o4's three
-gravity runs took 23-36 % less than predicted (0.462 predicted, 0.357
-and 0.295 s measured; 3.65 predicted, 2.39 s), the straight line through
-its calibration sizes over-predicting the runs between them, as on the
-piston below; and the same 0.1 s cubic-spline run took 0.152 s in one
-row and 0.089 s in the next (+32 % and -23 % of its 0.115 s). In an earlier
+machine, load average 0-1, one thread) the piston meets +-30 % in all 7
+rows, the strip misses once (5 of 6: RMS 2 %, cubic_o4 at 0.242 mm,
+0.79 s predicted from a few steps timed at 0.362 mm, 0.46 s measured)
+and gravity twice (6 of 8): the same 0.1 s cubic-spline run at 8 mm took
+0.168 and 0.156 CPU s in the two rows, 0.103 s in the sweep, against the
+0.097 s predicted. In the previous pass gravity missed in 4 of 8 rows:
+cubic_o4's three gravity runs took 23-36 % less than predicted (0.462
+predicted, 0.357 and 0.295 s measured; 3.65 predicted, 2.39 s), the
+straight line through its calibration sizes over-predicting the runs
+between them, as on the piston below. In an earlier
 pass the misses were runs of 0.03-0.3 s and one of
 14 s measured under load 2 on 2 cores, where the CPU time of one run
 varies from repeat to repeat by more than 30 %: the cubic_o4 run planned
@@ -984,7 +1002,9 @@ extrapolate with the large safety factor and for those whose ladder
 determines no order (when a finer level costs less than the cheapest
 plan so far); error model E = C dx^q fitted
 by least squares on the differences of consecutive levels (Eça &
-Hoekstra), the order used at most 1, with their safety factor (1.25 for
+Hoekstra), the order used at most 1, times the share that repeats
+from level to level where consecutive differences anti-correlate (at
+least 0.5), with their safety factor (1.25 for
 an observed order in [0.5, 2.1] and a good fit, else 3; data that show
 no convergence bounded by 3x their range), at most 2x below the finest
 calibrated spacing; a floor where two settings differ by an amount that
