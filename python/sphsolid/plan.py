@@ -873,18 +873,30 @@ class CostModel:
 
 
 def time_steps(scene_factory, dx, setting, threads, steps: int = 5,
-               warmup: int = 2, clock: str = "cpu"
+               warmup: int = 2, clock: str = "cpu", min_seconds: float = 0.0
                ) -> tuple[int, float, float]:
     """(particles, dt, seconds per step) of a few steps at ``dx``: process
-    CPU seconds (``clock="cpu"``) or wall seconds (``"wall"``)."""
+    CPU seconds (``clock="cpu"``) or wall seconds (``"wall"``), over blocks
+    of ``steps`` steps until ``min_seconds`` have passed (at least one
+    block)."""
     scene = build_scene(scene_factory, dx, setting, threads)
     dyn = make_dynamics(scene, setting.integrator, progress=False)
     dyn.run(steps=warmup)
     timer = (wallclock.process_time if clock == "cpu"
              else wallclock.perf_counter)
-    start = timer()
-    dyn.run(steps=steps)
-    return len(scene), dyn.dt, (timer() - start) / steps
+    start, done = timer(), 0
+    while True:
+        dyn.run(steps=steps)
+        done += steps
+        elapsed = timer() - start
+        if elapsed >= min_seconds:
+            return len(scene), dyn.dt, elapsed / done
+
+
+#: Least duration of a timing check (seconds of its clock, at each of the
+#: two sizes): five steps of the strip at 0.36 mm, a few milliseconds,
+#: had set a plan's prediction 1.7x above its run.
+TIMING_SECONDS = 0.25
 
 
 def _steps_to(scene_factory, dx, setting, until) -> tuple[int, float]:
@@ -1746,10 +1758,12 @@ def plan(scene_factory: Callable, error: float = 0.03,
         say(f"timing a few steps of {cand.setting.label()} at dx = "
             f"{cand.dx * 1e3:.3g} mm ...")
         n, _, per_step = time_steps(scene_factory, cand.dx, cand.setting,
-                                    threads, clock=cand.cost.clock)
+                                    threads, clock=cand.cost.clock,
+                                    min_seconds=TIMING_SECONDS)
         finest = min(cand.runs, key=lambda r: r.dx)
         n0, _, per_step0 = time_steps(scene_factory, finest.dx, cand.setting,
-                                      threads, clock=cand.cost.clock)
+                                      threads, clock=cand.cost.clock,
+                                      min_seconds=TIMING_SECONDS)
         cand.cost.correct(n, per_step, n0, per_step0)
         cand.seconds = cand.cost.predict(cand.particles, cand.steps)
         cand.cpu_seconds = cand.cost.predict_cpu(cand.particles, cand.steps)
