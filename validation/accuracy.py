@@ -873,7 +873,7 @@ consecutive levels correlate by 0.5-0.6, the cubic spline's by
 error still to converge (2-4x the error). The differences themselves
 anti-correlate (-0.04 to -0.45 from one to the next), which the
 planner's repeating factor reads (docs/planner.md, step 4: a two-part
-fit of their inner products gives 0.35-0.46 per probe, 0.5 is used;
+fit of their inner products gives 0.35-0.51 per probe, 0.5 is used;
 the cubic spline's differences correlate, 1). With it every planned
 request uses cubic_o4 and is met (achieved 3.8, 2.8, 2.0 % for max 10,
 5, 3 %; 4.1, 2.3, 1.3, 1.0 % for RMS 10, 5, 3, 2 %; max 3 % was refused

@@ -635,20 +635,20 @@ def repeating_factor(spacings: Sequence[float], levels: Sequence[Mapping],
     matrix of the differences (RMS over the window, each probe on the
     finest level's RMS scale) is linear in (A^2, sigma^2): both follow by
     least squares (non-negative). The error is ``sqrt(A^2 + sigma^2)
-    h^q``; the power law fitted to the differences alone corresponds to
-    ``sigma = 0`` and ``A^2`` the least-squares fit of that model; the
-    factor is the ratio of the two, for the probe where it is largest
-    (every probe's error is then covered), at least
-    :data:`LEAST_REPEATING`, at most 1.
+    h^q``; the factor is its ratio to the power law :func:`fit_order`
+    fits to the same differences' sizes at ``order`` (``sigma = 0``), for
+    the probe where it is largest (every probe's error is then covered),
+    at least :data:`LEAST_REPEATING`, at most 1; a probe whose consecutive
+    differences do not anti-correlate on average gives 1 (a repeating part
+    dominates them, and two nearly parallel parts are not told apart).
 
     Returns (factor, {probe: factor}); 1 with fewer than four levels
     (three differences, six Gram entries for two unknowns). The RMS
     norm's factor is used for the max norm too: the max norm has no inner
     product to separate the parts. On the piston cubic_o4's consecutive
-    differences anti-correlate (-0.1 to -0.45) and its errors are 1.0-1.4
+    differences anti-correlate (-0.04 to -0.45) and its errors are 1.0-1.4
     times the differences where a pure power law implies 3-4 times
-    (factor 0.59-0.67); the cubic spline's correlate (0.82-0.97, factor
-    0.96-1.0)."""
+    (0.35-0.51 per probe); the cubic spline's correlate (0.82-0.97: 1)."""
     h = np.asarray(spacings, float)
     if len(levels) < 4 or len(levels) != len(h):
         return 1.0, {}
