@@ -200,6 +200,30 @@ def test_repeating_factor_matches_the_error_of_independent_parts(repeating,
             errors[-1] / scale, rel=0.05)
 
 
+def test_planner_lowers_the_law_by_the_share_that_repeats():
+    # the planner's own fit of calibration levels whose error has an
+    # independent part per level as large as the repeating one: its model
+    # predicts the finest level's RMS error, not the 3x the differences'
+    # law implies; levels without one keep the law
+    spacings = [3.0, 2.0, 1.5, 1.0]
+    setting = planner.Setting.make()
+    predicted = {}
+    for own in (0.0, 1.0):
+        levels, errors = _levels_with_parts(spacings, 1.0, 1.0, own)
+        cand = planner.Candidate(setting, [
+            planner.LadderRun(setting, dx, int(1e3 / dx ** 2), 100, 1e-7,
+                              1.0, 1e-5, cpu=0.5) for dx in spacings])
+        cand.smoothed = levels
+        planner._fit_candidate(cand, "rms", 2.0, 1)
+        scale = metrics.scale_of(levels[-1]["P"], "rms")
+        predicted[own] = cand.model.predict(spacings[-1]) / (errors[-1]
+                                                             / scale)
+        assert cand.model.to_dict()["repeating"] == cand.model.repeating
+    assert predicted[0.0] == pytest.approx(1.0, rel=0.05)
+    # the least factor (0.5) of a law that over-states the error ~3x
+    assert 1.0 <= predicted[1.0] <= 2.0
+
+
 def test_repeating_factor_needs_four_levels():
     levels, _ = _levels_with_parts([3.0, 2.0, 1.5], 1.0, 1.0, 1.0)
     assert planner.repeating_factor([3.0, 2.0, 1.5], levels, 1.0) == (1.0, {})
