@@ -328,10 +328,31 @@ def test_cost_model_uses_process_cpu_time_and_the_wall_ratio():
     factor = model.correct(16000, 0.0024, 8000, 0.001)
     assert factor == pytest.approx(2.4 / (0.0161 / 0.0081))
     assert model.predict_cpu(16000, 10) == pytest.approx(10 * 0.0161 * factor)
+    # anchored on the finest calibration run's own cost (0.009 s per step
+    # measured at 8000 where the fit says 0.0081): that cost x the timed
+    # ratio 2.4
+    model.correct(16000, 0.0024, 8000, 0.001, measured_reference=0.009)
+    assert model.predict_cpu(16000, 10) == pytest.approx(10 * 0.009 * 2.4)
     # without CPU times (a LAMMPS deck's loop time): wall time
     for run in runs:
         run.cpu = math.nan
     assert planner.CostModel.from_runs(runs).clock == "wall"
+
+
+def test_cost_model_fits_every_calibrated_size_in_relative_terms():
+    # per-step costs over a 40x range of sizes with a step in the cost per
+    # particle (the working set leaving the cache at 10 000 particles):
+    # no line fits all, and the prediction at each calibrated size is
+    # judged relative to its time, so the fit spreads the relative misfit
+    # (within 20 % at every size); an unweighted line through the same
+    # points follows the largest and misses the smallest by more
+    n = np.array([1500, 3300, 5600, 12500, 28000, 62000], float)
+    t = 1e-7 * n * np.where(n > 10000, 1.25, 1.0) + 2e-5
+    model = planner.CostModel.fit(n, t, threads=1)
+    worst = np.max(np.abs(model.fitted(n) / t - 1))
+    assert worst < 0.2
+    b, a = np.polyfit(n, t, 1)
+    assert np.max(np.abs((a + b * n) / t - 1)) > 1.5 * worst
 
 
 # -------------------------------------------------------------- planner
