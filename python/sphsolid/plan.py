@@ -847,15 +847,19 @@ class CostModel:
                 measured_reference: float | None = None) -> float:
         """Record a timing check: ``seconds`` per step at ``particles``
         and ``reference_seconds`` at ``reference`` particles (the finest
-        calibrated spacing), timed alike. The prediction at ``particles``
-        becomes the cost at ``reference`` times the timed ratio: that cost
-        is the calibration run's own (``measured_reference``, its seconds
-        per step) when given, else the fit's there. Returns the correction
-        factor of the fit at ``particles``."""
-        anchor = (measured_reference if measured_reference
-                  and measured_reference > 0 else self.fitted(reference))
-        factor = ((seconds / reference_seconds) * anchor
-                  / self.fitted(particles))
+        calibrated spacing), timed alike. With ``measured_reference`` (the
+        calibration run's own seconds per step there, probe sampling and
+        all) the prediction at ``particles`` is that cost plus the timed
+        difference of the two sizes: what a step costs beyond the
+        stepping (sampling a point probe) stays what it was, where a
+        ratio would scale it with the scene. Without it, the fit's cost at
+        ``reference`` times the timed ratio. Returns the correction factor
+        of the fit at ``particles``."""
+        if measured_reference and measured_reference > 0:
+            target = measured_reference + (seconds - reference_seconds)
+        else:
+            target = self.fitted(reference) * seconds / reference_seconds
+        factor = target / self.fitted(particles)
         self.measured[int(particles)] = float(factor)
         return factor
 

@@ -329,10 +329,10 @@ def test_cost_model_uses_process_cpu_time_and_the_wall_ratio():
     assert factor == pytest.approx(2.4 / (0.0161 / 0.0081))
     assert model.predict_cpu(16000, 10) == pytest.approx(10 * 0.0161 * factor)
     # anchored on the finest calibration run's own cost (0.009 s per step
-    # measured at 8000 where the fit says 0.0081): that cost x the timed
-    # ratio 2.4
+    # measured at 8000 where the fit says 0.0081, sampling included): that
+    # cost plus the timed difference of the two sizes, 0.0014 s
     model.correct(16000, 0.0024, 8000, 0.001, measured_reference=0.009)
-    assert model.predict_cpu(16000, 10) == pytest.approx(10 * 0.009 * 2.4)
+    assert model.predict_cpu(16000, 10) == pytest.approx(10 * 0.0104)
     # without CPU times (a LAMMPS deck's loop time): wall time
     for run in runs:
         run.cpu = math.nan
