@@ -46,9 +46,9 @@ How (orchestration only; every run is the C library's):
    requested thread count (CPU time, because wall time on a loaded
    machine is mostly the load), with the wall/CPU ratio of the same runs
    for the wall-time prediction; a spacing finer than the ladder's is
-   checked by timing a few steps there (cache effects make large scenes
-   dearer per particle; within the ladder's sizes its whole runs are the
-   better measurement). Settings are ranked by predicted CPU seconds.
+   checked by timing steps there and at the finest calibrated spacing
+   (cache effects make large scenes dearer per particle; within the
+   ladder's sizes its whole runs are the better measurement). Settings are ranked by predicted CPU seconds.
 6. The cheapest setting whose predicted upper error is within the request
    and whose predicted time is within ``max_seconds`` is returned.
 
@@ -654,38 +654,44 @@ def repeating_factor(spacings: Sequence[float], levels: Sequence[Mapping],
         return 1.0, {}
     a = h ** order
     gaps = a[:-1] - a[1:]
+    # the model of each Gram entry <d_i, d_j> (i <= j): A^2 and sigma^2
+    # coefficients; the same for every probe
+    pairs = list(itertools.combinations_with_replacement(range(len(gaps)),
+                                                         2))
+    model = np.array([(gaps[i] * gaps[j],
+                       a[i] ** 2 + a[i + 1] ** 2 if i == j
+                       else -a[i + 1] ** 2 if j == i + 1 else 0.0)
+                      for i, j in pairs])
     per_probe = {}
     for name in levels[-1]:
         scale = metrics.scale_of(levels[-1][name], "rms")
         if not scale > 0:
             continue
-        d = [(x[name] - y[name]) / scale for x, y in zip(levels, levels[1:])]
-        rows, gram = [], []
-        pairs = list(itertools.combinations_with_replacement(range(len(d)), 2))
-        for i, j in pairs:
-            shared = (a[i] ** 2 + a[i + 1] ** 2 if i == j
-                      else -a[i + 1] ** 2 if j == i + 1 else 0.0)
-            rows.append((gaps[i] * gaps[j], shared))
-            gram.append(float(np.mean(d[i] * d[j])))
-        m, g = np.array(rows), np.array(gram)
-        sizes = [math.sqrt(max(float(np.mean(x * x)), 0.0)) for x in d]
-        if min(sizes) <= 0:
+        d = np.array([(x[name] - y[name]) / scale
+                      for x, y in zip(levels, levels[1:])])
+        gram = d @ d.T / d.shape[1]
+        sizes = np.sqrt(np.maximum(np.diag(gram), 0.0))
+        if sizes.min() <= 0:
             continue
+        g = np.array([gram[i, j] for i, j in pairs])
         # the power law of the differences alone, as fit_order fits it
         law = fit_order(h, sizes, orders=[float(order)])[1]
-        both = np.linalg.lstsq(m, g, rcond=None)[0]
+        both = np.linalg.lstsq(model, g, rcond=None)[0]
         if np.any(both < 0):
             # the better of the two one-part fits (non-negative)
-            both = min((np.array([max(float(m[:, k] @ g / (m[:, k] @ m[:, k])),
-                                      0.0) if k == j else 0.0
-                                  for j in (0, 1)]) for k in (0, 1)),
-                       key=lambda x: float(np.sum((m @ x - g) ** 2)))
+            fits = []
+            for k in (0, 1):
+                x = np.zeros(2)
+                x[k] = max(float(model[:, k] @ g
+                                 / (model[:, k] @ model[:, k])), 0.0)
+                fits.append(x)
+            both = min(fits, key=lambda x: float(np.sum((model @ x - g) ** 2)))
         # only where consecutive differences anti-correlate do the data
         # show a part that does not repeat (with one that repeats, they
         # correlate: the split of two nearly parallel parts is not
         # determined, and the power law stands)
-        correlation = np.mean([g_ij / (sizes[i] * sizes[i + 1])
-                               for (i, j), g_ij in zip(pairs, g) if j == i + 1])
+        correlation = np.mean([gram[i, i + 1] / (sizes[i] * sizes[i + 1])
+                               for i in range(len(gaps) - 1)])
         per_probe[name] = (math.sqrt(float(both.sum())) / law
                            if correlation < 0 else 1.0)
     if not per_probe:
@@ -1731,11 +1737,12 @@ def plan(scene_factory: Callable, error: float = 0.03,
         # cheapest first, besides those ranked by their need, when that
         # level costs less CPU time than the cheapest run planned so far
         # (else running the plan is the cheaper way to the answer)
-        next_cost = {id(c): c.cost.predict(*_size_at(c.runs,
-                                                     c.model.finest / 1.5))
+        next_size = {id(c): _size_at(c.runs, c.model.finest / 1.5)
                      for c in usable}
-        next_cpu = {id(c): c.cost.predict_cpu(*_size_at(
-            c.runs, c.model.finest / 1.5)) for c in usable}
+        next_cost = {id(c): c.cost.predict(*next_size[id(c)])
+                     for c in usable}
+        next_cpu = {id(c): c.cost.predict_cpu(*next_size[id(c)])
+                    for c in usable}
         cheapest = min((needs[id(c)][1] for c in usable
                         if needs[id(c)] is not None), default=math.inf)
         undetermined = sorted(
