@@ -611,57 +611,81 @@ def fit_error_model(spacings: Sequence[float], differences: Sequence[float],
                       max_refinement, spread, anomalous, float(observed))
 
 
-#: Smallest factor :func:`repeating_factor` returns: at most half of a
-#: level's error is taken not to repeat at the next level.
-LEAST_REPEATING = 0.5
+#: Correlations from level to level that :func:`repeating_factor` scans.
+_CORRELATIONS = np.linspace(0.0, 1.0, 201)
+
+
+def _decorrelating_gram(a: np.ndarray, pairs) -> np.ndarray:
+    """Gram entries ``<d_i, d_j>`` of the differences of consecutive
+    levels, per unit ``E^2``, for level errors ``e_k`` of RMS size ``E
+    a_k`` whose correlation falls as ``rho^|k - l|`` from level ``k`` to
+    level ``l``: one row per scanned ``rho`` (:data:`_CORRELATIONS`), one
+    column per pair ``(i, j)``."""
+    def inner(k, l, rho):
+        return a[k] * a[l] * rho ** abs(k - l)
+    return np.array([[inner(i, j, rho) - inner(i, j + 1, rho)
+                      - inner(i + 1, j, rho) + inner(i + 1, j + 1, rho)
+                      for i, j in pairs] for rho in _CORRELATIONS])
 
 
 def repeating_factor(spacings: Sequence[float], levels: Sequence[Mapping],
-                     order: float) -> tuple[float, dict]:
+                     order: float, norm: str = "rms") -> tuple[float, dict]:
     """How much of the error the differences of consecutive levels imply
-    is really there, when a part of each level's error does not repeat at
-    the next level.
+    is really there, when each level's error is only partly the same as
+    the next level's.
 
     :func:`fit_order` reads every difference as the change of one error
-    shape, ``e_i = A h_i^q s``. If each level also carries a part of its
-    own, uncorrelated from level to level (``n_i``, of size
-    ``sigma h_i^q``: a particle lattice that changes with dx), the
-    differences ``d_i = e_i - e_{i+1}`` are as large as that part while
-    the errors are barely larger: ``|d_i|^2 = A^2 (a_i - a_{i+1})^2 +
-    sigma^2 (a_i^2 + a_{i+1}^2)`` with ``a_i = h_i^q``, and consecutive
-    differences anti-correlate, ``<d_i, d_{i+1}> = A^2 (a_i - a_{i+1})
-    (a_{i+1} - a_{i+2}) - sigma^2 a_{i+1}^2`` (and ``<d_i, d_j> = A^2 (a_i -
-    a_{i+1}) (a_j - a_{j+1})`` further apart). Every entry of the Gram
-    matrix of the differences (RMS over the window, each probe on the
-    finest level's RMS scale) is linear in (A^2, sigma^2): both follow by
-    least squares (non-negative). The error is ``sqrt(A^2 + sigma^2)
-    h^q``; the factor is its ratio to the power law :func:`fit_order`
-    fits to the same differences' sizes at ``order`` (``sigma = 0``), for
-    the probe where it is largest (every probe's error is then covered),
-    at least :data:`LEAST_REPEATING`, at most 1; a probe whose consecutive
-    differences do not anti-correlate on average gives 1 (a repeating part
-    dominates them, and two nearly parallel parts are not told apart).
+    shape, ``e_i = E h_i^q s``, so the differences ``d_i = e_i - e_{i+1}``
+    are ``E (a_i - a_{i+1})`` with ``a_i = h_i^q``: a quarter to a half of
+    the error for ladder ratios 1.33-2. If the shape itself changes from
+    level to level (a particle lattice that changes with dx moves the
+    error's details), the differences are nearly as large as the errors
+    themselves. Model: errors of RMS size ``E a_k`` whose correlation
+    falls as ``rho^|k - l|`` between levels k and l (``rho = 1``: one
+    shape, the power law; ``rho = 0``: each level's error its own). Then
 
-    Returns (factor, {probe: factor}); 1 with fewer than four levels
-    (three differences, six Gram entries for two unknowns). The RMS
-    norm's factor is used for the max norm too: the max norm has no inner
-    product to separate the parts. On the piston cubic_o4's consecutive
-    differences anti-correlate (-0.04 to -0.45) and its errors are 1.0-1.4
-    times the differences where a pure power law implies 3-4 times
-    (0.35-0.51 per probe); the cubic spline's correlate (0.82-0.97: 1)."""
+        <d_i, d_j> = E^2 (c_ij - c_i(j+1) - c_(i+1)j + c_(i+1)(j+1)),
+        c_kl = a_k a_l rho^|k - l|,
+
+    for every entry of the Gram matrix of the differences (RMS over the
+    window, each probe on the finest level's RMS scale): ``E^2`` follows
+    by least squares for each ``rho`` of a scan over [0, 1], and the pair
+    with the least misfit is kept. The factor is ``E`` over the power law
+    :func:`fit_order` fits to the same differences' sizes at ``order``,
+    for the probe where it is largest (every probe's error is covered), at
+    most 1; a probe whose consecutive differences do not anti-correlate
+    on average gives 1 (a shape that repeats dominates them: the power law
+    stands).
+
+    ``norm="max"``: the factor is sqrt(2) times the RMS one (at most 1).
+    The max norm has no inner product: the part a level shares with the
+    next and its own part may peak at one point, where their sizes add,
+    and ``|p| + |q| <= sqrt(2) sqrt(p^2 + q^2)``.
+
+    Returns (factor, {probe: factor in the RMS norm}); 1 with fewer than
+    four levels (three differences, six Gram entries for two unknowns).
+    On the piston, cubic_o4's level errors against the finite-element
+    solution correlate by 0.4-0.7 from one level to the next and by
+    0.1-0.2 from 3 to 0.5 mm, and its consecutive differences
+    anti-correlate (-0.04 to -0.45): on ladders of four levels from 3 to
+    0.5 mm the fit gives ``rho`` 0.04-0.57 and factors 0.25-0.40 per
+    probe, and the actual RMS error of every level from 3 to 0.5 mm is
+    0.8-1.5 times ``E h^q``. A model of two parts, one shape shared by
+    every level and a part of each level's own, gave 0.35-0.51 (actual
+    errors 0.7-1.0 times its prediction): it reads what neighbouring
+    levels share as one shape for all of them. The cubic spline's
+    differences correlate (0.82-0.97): 1."""
+    if norm not in ("rms", "max"):
+        raise ValueError(f"repeating_factor: norm must be 'rms' or 'max', "
+                         f"got {norm!r}")
     h = np.asarray(spacings, float)
     if len(levels) < 4 or len(levels) != len(h):
         return 1.0, {}
     a = h ** order
-    gaps = a[:-1] - a[1:]
-    # the model of each Gram entry <d_i, d_j> (i <= j): A^2 and sigma^2
-    # coefficients; the same for every probe
-    pairs = list(itertools.combinations_with_replacement(range(len(gaps)),
+    pairs = list(itertools.combinations_with_replacement(range(len(h) - 1),
                                                          2))
-    model = np.array([(gaps[i] * gaps[j],
-                       a[i] ** 2 + a[i + 1] ** 2 if i == j
-                       else -a[i + 1] ** 2 if j == i + 1 else 0.0)
-                      for i, j in pairs])
+    model = _decorrelating_gram(a, pairs)
+    weight = np.einsum("ij,ij->i", model, model)
     per_probe = {}
     for name in levels[-1]:
         scale = metrics.scale_of(levels[-1][name], "rms")
@@ -673,31 +697,26 @@ def repeating_factor(spacings: Sequence[float], levels: Sequence[Mapping],
         sizes = np.sqrt(np.maximum(np.diag(gram), 0.0))
         if sizes.min() <= 0:
             continue
+        # only where consecutive differences anti-correlate do the data
+        # show errors that do not repeat (a repeating shape makes them
+        # correlate, and the power law stands)
+        correlation = np.mean([gram[i, i + 1] / (sizes[i] * sizes[i + 1])
+                               for i in range(len(h) - 2)])
+        if correlation >= 0:
+            per_probe[name] = 1.0
+            continue
         g = np.array([gram[i, j] for i, j in pairs])
+        size2 = np.maximum(model @ g, 0.0) / weight
+        misfit = np.sum((model * size2[:, None] - g) ** 2, axis=1)
         # the power law of the differences alone, as fit_order fits it
         law = fit_order(h, sizes, orders=[float(order)])[1]
-        both = np.linalg.lstsq(model, g, rcond=None)[0]
-        if np.any(both < 0):
-            # the better of the two one-part fits (non-negative)
-            fits = []
-            for k in (0, 1):
-                x = np.zeros(2)
-                x[k] = max(float(model[:, k] @ g
-                                 / (model[:, k] @ model[:, k])), 0.0)
-                fits.append(x)
-            both = min(fits, key=lambda x: float(np.sum((model @ x - g) ** 2)))
-        # only where consecutive differences anti-correlate do the data
-        # show a part that does not repeat (with one that repeats, they
-        # correlate: the split of two nearly parallel parts is not
-        # determined, and the power law stands)
-        correlation = np.mean([gram[i, i + 1] / (sizes[i] * sizes[i + 1])
-                               for i in range(len(gaps) - 1)])
-        per_probe[name] = (math.sqrt(float(both.sum())) / law
-                           if correlation < 0 else 1.0)
+        per_probe[name] = (math.sqrt(float(size2[int(np.argmin(misfit))]))
+                           / law)
     if not per_probe:
         return 1.0, {}
-    factor = min(1.0, max(LEAST_REPEATING, max(per_probe.values())))
-    return factor, per_probe
+    factor = max(per_probe.values()) * (math.sqrt(2.0) if norm == "max"
+                                        else 1.0)
+    return min(1.0, factor), per_probe
 
 
 def consistency_floors(models: Sequence[ErrorModel], levels: Sequence[list],
@@ -1854,7 +1873,7 @@ def _fit_candidate(cand, norm, max_refinement, threads,
                                  spread, max_order)
     if not cand.model.anomalous:
         cand.model.repeating = repeating_factor(spacings, levels,
-                                                cand.model.order)[0]
+                                                cand.model.order, norm)[0]
         cand.model.levels = [(dx, cand.model.power(dx)) for dx in spacings]
     cand.cost = CostModel.from_runs(cand.runs, threads)
 

@@ -141,39 +141,56 @@ def test_error_model_keeps_a_low_order_with_the_large_safety_factor():
                                               rel=0.03)
 
 
-def _levels_with_parts(spacings, order, repeating, own, samples=40000,
+def _levels_with_parts(spacings, order, size, correlation, samples=40000,
                        seed=3):
-    """Series on one probe: a limit, an error shape that repeats at every
-    level (size ``repeating h^q``) and a part of each level's own,
-    independent of the others (size ``own h^q``)."""
+    """Series on one probe: a limit plus level errors of RMS size ``size
+    h^q`` whose shapes correlate by ``correlation^|k - l|`` between levels
+    k and l (each level's shape is the previous one's times the
+    correlation plus a fresh independent part)."""
     rng = np.random.default_rng(seed)
     limit = 1.0 + np.sin(np.linspace(0.0, 6.0, samples))
-    shape = rng.standard_normal(samples)
-    shape /= np.sqrt(np.mean(shape ** 2))
+
+    def unit():
+        x = rng.standard_normal(samples)
+        return x / np.sqrt(np.mean(x ** 2))
+    shape = unit()
     levels, errors = [], []
-    for h in spacings:
-        noise = rng.standard_normal(samples)
-        noise /= np.sqrt(np.mean(noise ** 2))
-        error = h ** order * (repeating * shape + own * noise)
+    for k, h in enumerate(spacings):
+        if k:
+            shape = (correlation * shape
+                     + math.sqrt(1.0 - correlation ** 2) * unit())
+        error = size * h ** order * shape
         levels.append({"P": limit + error})
         errors.append(float(np.sqrt(np.mean(error ** 2))))
     return levels, errors
 
 
-@pytest.mark.parametrize("repeating, own", [(1.0, 0.0), (1.0, 0.3),
-                                            (1.0, 0.4), (1.0, 1.0),
-                                            (0.4, 1.0)])
-def test_repeating_factor_matches_the_error_of_independent_parts(repeating,
-                                                                 own):
+def _differences_correlate(spacings, order, correlation):
+    """Whether consecutive level differences correlate on average, from
+    the model's inner products <e_k, e_l> = a_k a_l rho^|k - l|."""
+    a = np.asarray(spacings, float) ** order
+
+    def c(k, l):
+        return a[k] * a[l] * correlation ** abs(k - l)
+
+    def inner(i, j):
+        return c(i, j) - c(i, j + 1) - c(i + 1, j) + c(i + 1, j + 1)
+    return np.mean([inner(i, i + 1) / math.sqrt(inner(i, i)
+                                                * inner(i + 1, i + 1))
+                    for i in range(len(a) - 2)]) >= 0
+
+
+@pytest.mark.parametrize("correlation", [1.0, 0.9, 0.6, 0.3, 0.0])
+def test_repeating_factor_matches_the_error_of_shapes_that_decorrelate(
+        correlation):
     # the power law fitted to the differences of consecutive levels, times
-    # the factor, is the RMS error of each level: with no independent part
-    # the factor is 1; with one the differences overstate the error
-    # (derived: |d_i|^2 = A^2 (a_i - a_(i+1))^2 + s^2 (a_i^2 + a_(i+1)^2),
-    # <d_i, d_(i+1)> = A^2 (a_i - a_(i+1)) (a_(i+1) - a_(i+2)) - s^2 a_(i+1)^2:
-    # for s = 0.3 A the differences still correlate, the law stands)
+    # the factor, is the RMS error of each level: with one shape at every
+    # level the factor is 1; with shapes that decorrelate from level to
+    # level the differences are nearly as large as the errors, where the
+    # law reads them as a quarter to a half of the error
     spacings = [3.0, 2.0, 1.5, 1.0]
     order = 1.0
-    levels, errors = _levels_with_parts(spacings, order, repeating, own)
+    levels, errors = _levels_with_parts(spacings, order, 1.0, correlation)
     scale = metrics.scale_of(levels[-1]["P"], "rms")
     diffs = [metrics.deviation(a["P"], b["P"], "rms", scale)
              for a, b in zip(levels, levels[1:])]
@@ -181,47 +198,50 @@ def test_repeating_factor_matches_the_error_of_independent_parts(repeating,
     factor, per_probe = planner.repeating_factor(spacings, levels, order)
     assert set(per_probe) == {"P"}
     truth = errors[-1] / scale / model.power(spacings[-1])
-    a = np.asarray(spacings) ** order
-    correlated = np.mean([(a[i] - a[i + 1]) * (a[i + 1] - a[i + 2])
-                          - (own / repeating) ** 2 * a[i + 1] ** 2
-                          for i in range(2)]) >= 0
-    expected = (1.0 if correlated
-                else min(1.0, max(planner.LEAST_REPEATING, truth)))
-    assert factor == pytest.approx(expected, rel=0.05)
-    if own >= 0.4 * repeating:
-        assert factor < 0.9
+    correlated = _differences_correlate(spacings, order, correlation)
+    assert factor == pytest.approx(1.0 if correlated else min(1.0, truth),
+                                   rel=0.05)
+    if correlation <= 0.6:
+        assert not correlated and factor < 0.6
+    # the max norm's parts may add at one point: sqrt(2) times, at most 1
+    assert planner.repeating_factor(spacings, levels, order, "max")[0] == \
+        pytest.approx(min(1.0, math.sqrt(2.0) * factor), rel=1e-12)
     model.repeating = factor
     # the model's spacing for an error is where its bound is that error
     dx = model.spacing_for(0.02)
     assert model.upper(dx) == pytest.approx(0.02, rel=1e-9)
-    if truth >= planner.LEAST_REPEATING and not correlated:
-        # the central prediction at the finest level is its actual error
-        assert model.predict(spacings[-1]) == pytest.approx(
-            errors[-1] / scale, rel=0.05)
+    if not correlated:
+        # the central prediction at every level is its actual error
+        for h, error in zip(spacings, errors):
+            assert model.predict(h) == pytest.approx(error / scale,
+                                                     rel=0.08)
+
+
+def test_repeating_factor_names_a_bad_norm():
+    levels, _ = _levels_with_parts([3.0, 2.0, 1.5, 1.0], 1.0, 1.0, 0.3)
+    with pytest.raises(ValueError, match="'l2'"):
+        planner.repeating_factor([3.0, 2.0, 1.5, 1.0], levels, 1.0, "l2")
 
 
 def test_planner_lowers_the_law_by_the_share_that_repeats():
-    # the planner's own fit of calibration levels whose error has an
-    # independent part per level as large as the repeating one: its model
-    # predicts the finest level's RMS error, not the 3x the differences'
-    # law implies; levels without one keep the law
+    # the planner's own fit of calibration levels whose error shapes
+    # decorrelate from level to level: its model predicts the finest
+    # level's RMS error, not the 3-4x the differences' law implies; levels
+    # with one shape keep the law, which is then right too
     spacings = [3.0, 2.0, 1.5, 1.0]
     setting = planner.Setting.make()
-    predicted = {}
-    for own in (0.0, 1.0):
-        levels, errors = _levels_with_parts(spacings, 1.0, 1.0, own)
+    for correlation in (1.0, 0.3):
+        levels, errors = _levels_with_parts(spacings, 1.0, 1.0, correlation)
         cand = planner.Candidate(setting, [
             planner.LadderRun(setting, dx, int(1e3 / dx ** 2), 100, 1e-7,
                               1.0, 1e-5, cpu=0.5) for dx in spacings])
         cand.smoothed = levels
         planner._fit_candidate(cand, "rms", 2.0, 1)
         scale = metrics.scale_of(levels[-1]["P"], "rms")
-        predicted[own] = cand.model.predict(spacings[-1]) / (errors[-1]
-                                                             / scale)
+        assert cand.model.predict(spacings[-1]) == pytest.approx(
+            errors[-1] / scale, rel=0.08)
         assert cand.model.to_dict()["repeating"] == cand.model.repeating
-    assert predicted[0.0] == pytest.approx(1.0, rel=0.05)
-    # the least factor (0.5) of a law that over-states the error ~3x
-    assert 1.0 <= predicted[1.0] <= 2.0
+        assert (cand.model.repeating == 1.0) == (correlation == 1.0)
 
 
 def test_repeating_factor_needs_four_levels():

@@ -1,0 +1,45 @@
+"""The accuracy checks' bookkeeping (validation/accuracy.py): what the
+planner's safety factor alone costs against an exhaustive sweep."""
+import pytest
+
+from validation import accuracy
+
+
+def _sweep(setting, spacings, c, q, k, d=3.0):
+    """Sweep rows of one setting whose error is exactly c dx^q (both
+    norms) and whose particle-steps are k dx^-d."""
+    return [{"setting": setting, "dx": dx, "max": c * dx ** q,
+             "rms": c * dx ** q, "particle_steps": k * dx ** -d}
+            for dx in spacings]
+
+
+def test_margin_cost_is_where_the_margin_meets_the_request():
+    # error 8 % at 3 mm falling at order 1: with Fs = 1.25 a 6 % request
+    # needs 4.8 %, at dx = 1.8 mm (between the 2 and 1.5 mm levels), and
+    # the power laws through those two levels give k 1.8^-3 exactly
+    spacings = [3.0, 2.0, 1.5, 1.0]
+    sweep = _sweep("a", spacings, 0.08 / 3.0, 1.0, 1e6)
+    cost, setting = accuracy.margin_cost(sweep, "max", 0.06, safety=1.25)
+    assert setting == "a"
+    assert cost == pytest.approx(1e6 * 1.8 ** -3, rel=1e-12)
+    # against the sweep's cheapest that met 6 % (2 mm, 5.33 %) that is
+    # (2 / 1.8)^3 = 1.37x: the margin alone, with an exact prediction
+    assert cost / (1e6 * 2.0 ** -3) == pytest.approx((2 / 1.8) ** 3)
+    # a coarsest level that already has the margin costs its own run
+    assert accuracy.margin_cost(sweep, "rms", 0.2)[0] == pytest.approx(
+        1e6 * 3.0 ** -3)
+    # no level with the margin: beyond the sweep
+    assert accuracy.margin_cost(sweep, "max", 0.03) is None
+
+
+def test_margin_cost_takes_the_cheapest_setting():
+    # a setting with half the error at 1.5x the particle-steps per level
+    # has the margin at 2 mm (1.5 k 2^-3), the other only at 1 mm (k)
+    spacings = [3.0, 2.0, 1.5, 1.0]
+    sweep = (_sweep("a", spacings, 0.02, 1.0, 1e6)
+             + _sweep("b", spacings, 0.01, 1.0, 1.5e6))
+    cost, setting = accuracy.margin_cost(sweep, "max", 0.025, safety=1.25)
+    assert setting == "b"
+    assert cost == pytest.approx(1.5e6 * 2.0 ** -3)
+    _, alone = accuracy.margin_cost(sweep[:4], "max", 0.025, safety=1.25)
+    assert alone == "a"
