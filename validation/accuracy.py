@@ -846,14 +846,18 @@ def write_document(path: Path, results: dict, args) -> None:
 
 #: The measured run times of ``--full --scenes strip`` and ``--full
 #: --scenes gravity`` (the full mode was not run on the piston).
-FULL_STRIP = ("6.4 minutes wall (37 s of CPU; 18 settings calibrated, "
-              "one failed; load average 10 on 2 cores), with the same plans "
+FULL_STRIP = ("59 s wall (58 s of CPU; 18 settings calibrated, one "
+              "failed; load average 0.6-0.8 on 2 cores), with the same plans "
               "as the quick mode; its gravity part (`--full --scenes "
-              "gravity`, nice 19) 36 minutes wall (233 s of CPU; 80 "
-              "calibration and 90 sweep runs, load average 11): every "
-              "request planned with Wendland C2 and met (achieved 7.2, 4.1, "
-              "2.4, 1.6 % for 10, 5, 3, 2 %, max norm), 1.2-1.6x the sweep's "
-              "cheapest sufficient setting for 10 and 5 %, 4-7x below")
+              "gravity`) 5.7 minutes wall (340 s of CPU; 81 calibration and "
+              "90 sweep runs, load average 0.8-1.0): every request planned "
+              "with Wendland C2 at h/dx 1.5 and met, its central predictions "
+              "within 4 % of the errors (achieved 4.8, 4.1, 2.4, 1.6 % for "
+              "10, 5, 3, 2 %, max norm), 1.0-1.6x the sweep's cheapest "
+              "sufficient setting for 10 and 5 % and 4-7x for 3 and 2 %, "
+              "whose cheapest, cubic_o4 at 8 and 6 mm (2.5 and 0.4 %), no "
+              "ladder of its own certifies (its errors 2.5, 0.4, 0.3, 0.8, "
+              "0.2 % from 8 to 2 mm)")
 QUICK_NOTE = """**Quick mode** (`--quick`: {elapsed}). Finite-element
 reference at 0.5 mm (its series is kept in docs/accuracy); candidates the
 leapfrog with the cubic spline at h/dx 1.2 and 1.5 (with the effects
