@@ -43,3 +43,19 @@ def test_margin_cost_takes_the_cheapest_setting():
     assert cost == pytest.approx(1.5e6 * 2.0 ** -3)
     _, alone = accuracy.margin_cost(sweep[:4], "max", 0.025, safety=1.25)
     assert alone == "a"
+
+
+class _Run:
+    def __init__(self, wall, cpu, failed=None):
+        self.wall, self.cpu, self.failed = wall, cpu, failed
+
+
+def test_a_short_planned_run_is_timed_as_the_median_of_three():
+    again = iter([_Run(0.30, 0.29), _Run(0.26, 0.25)])
+    assert accuracy.timed(_Run(0.25, 0.24), lambda: next(again)) == (
+        pytest.approx(0.26), pytest.approx(0.25))
+
+    def never():
+        raise AssertionError("a long run is timed once")
+    long = accuracy.SHORT_RUN_SECONDS * 2
+    assert accuracy.timed(_Run(long, long), never) == (long, long)

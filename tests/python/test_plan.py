@@ -819,3 +819,31 @@ def test_planner_refines_a_setting_whose_ladder_determines_no_order(
     model = by[late].model
     assert not model.anomalous and model.safety == planner.SAFETY_GOOD
     assert model.observed_order == pytest.approx(1.0, abs=0.1)
+
+
+def test_reference_cost_keeps_the_faster_of_two_measurements_of_a_short_run():
+    # interference only slows a run down: a short anchor run is measured
+    # again and the faster measurement is its cost; a long one is not
+    setting = planner.Setting.make()
+
+    def run(cpu, steps=100, failed=None):
+        return planner.LadderRun(setting, 1e-3, 1000, steps, 1e-7, cpu,
+                                 1e-5, cpu=cpu, failed=failed)
+    slow = run(0.2)
+    assert planner.reference_cost(slow, "cpu", lambda: run(0.1)) == \
+        pytest.approx(0.1 / 100)
+    assert planner.reference_cost(slow, "cpu", lambda: run(0.3)) == \
+        pytest.approx(0.2 / 100)
+    # a repeat that failed, or took other steps, is no measurement of it
+    assert planner.reference_cost(slow, "cpu",
+                                  lambda: run(0.1, failed="x")) == \
+        pytest.approx(0.2 / 100)
+    assert planner.reference_cost(slow, "cpu", lambda: run(0.1, 90)) == \
+        pytest.approx(0.2 / 100)
+
+    def never():
+        raise AssertionError("a long run is not repeated")
+    long = run(2 * planner.REFERENCE_REPEAT_SECONDS)
+    assert planner.reference_cost(long, "cpu", never) == pytest.approx(
+        2 * planner.REFERENCE_REPEAT_SECONDS / 100)
+    assert planner.reference_cost(run(0.2, steps=0), "cpu", never) is None
