@@ -232,12 +232,12 @@ def run_checks(scene: Scene, threads, log, quick, requests=REQUESTS) -> dict:
                    "feasible": p.feasible,
                    "plan_seconds": wallclock.perf_counter() - start}
             if p.feasible:
-                run = planner.ladder_run(spec.factory, p.dx, p.setting,
-                                         scene.until, spec.probes,
-                                         spec.quantity, threads)
-                wall, cpu = timed(run, lambda p=p: planner.ladder_run(
-                    spec.factory, p.dx, p.setting, scene.until, spec.probes,
-                    spec.quantity, threads))
+                def planned(p=p):
+                    return planner.ladder_run(spec.factory, p.dx, p.setting,
+                                              scene.until, spec.probes,
+                                              spec.quantity, threads)
+                run = planned()
+                wall, cpu = timed(run, planned)
                 row.update(setting=p.setting.label(), dx=p.dx,
                            predicted_error=p.predicted_error,
                            error_upper=p.error_upper,

@@ -48,7 +48,8 @@ How (orchestration only; every run is the C library's):
    for the wall-time prediction; a spacing finer than the ladder's is
    checked by timing steps there and at the finest calibrated spacing
    (cache effects make large scenes dearer per particle; within the
-   ladder's sizes its whole runs are the better measurement). Settings are ranked by predicted CPU seconds.
+   ladder's sizes its whole runs are the better measurement). Settings
+   are ranked by predicted CPU seconds.
 6. The cheapest setting whose predicted upper error is within the request
    and whose predicted time is within ``max_seconds`` is returned.
 
