@@ -114,9 +114,21 @@ typedef struct sph_material_info {
     double youngs_modulus; /* 9 K mu / (3 K + mu) */
     double c0;             /* bulk sound speed sqrt(K/rho0) [m/s] */
     double c_p;            /* plane/3D P-wave speed sqrt((K + 4mu/3)/rho0) */
+    double weibull_k;      /* flaws per volume [m^-3] (effect damage) */
+    double weibull_m;      /* Weibull exponent (effect damage) */
 } sph_material_info;
 
 SPH_API sph_status sph_material_info_get(sph_sim *sim, int material, sph_material_info *info);
+
+/* Set a material key: "weibull_k" [m^-3] and "weibull_m" [-], the Weibull
+ * flaw law n(eps) = k V eps^m of the effect damage (0, the default: no
+ * flaws, the material is not damaged).  Values finite and >= 0. */
+SPH_API sph_status sph_material_set(sph_sim *sim, int material, const char *key, double value);
+
+/* Effect damage: the number of flaws of all particles that a uniform
+ * largest principal strain `strain` would activate (a check of the draw,
+ * whose expectation is sum_a k V_a strain^m below the per-particle cut). */
+SPH_API sph_status sph_flaws_active_at(sph_sim *sim, double strain, double *count);
 
 /* ---------------------------------------------------------------- bodies */
 
@@ -463,9 +475,20 @@ typedef enum sph_field_id {
     SPH_FIELD_PRESSURE = 5,          /* n         (derived) */
     SPH_FIELD_VON_MISES = 6,         /* n         (derived) */
     SPH_FIELD_STRESS = 7,            /* n x ncomp full Cauchy sigma (derived) */
-    SPH_FIELD_ACCELERATION = 8       /* n x dim   (derived: dv/dt at the current
+    SPH_FIELD_ACCELERATION = 8,      /* n x dim   (derived: dv/dt at the current
                                         state, the integrator's if it has
                                         them, else evaluated on demand) */
+    /* effect damage (an error while it is off): */
+    SPH_FIELD_DAMAGE = 9,       /* n  damage D in [0, 1] (state, writable) */
+    SPH_FIELD_FRAGMENT = 10,    /* n  fragment id: connected regions of
+                                   free-body particles with D < 1 within the
+                                   kernel support, numbered 0.. in particle
+                                   order; -1 for D = 1 and other bodies */
+    SPH_FIELD_FLAWS = 11,       /* n  number of flaws of each particle */
+    SPH_FIELD_FLAW_STRAIN = 12, /* n  its weakest activation strain (inf
+                                   without flaws) */
+    SPH_FIELD_ACTIVE_FLAWS = 13 /* n  flaws active at its current largest
+                                   principal strain */
 } sph_field_id;
 
 /* Pointer to stored state (fields 0..4), with its shape. */
@@ -629,15 +652,17 @@ SPH_API sph_status sph_build_paper_scene(sph_sim *sim, double dx, double piston_
 typedef struct sph_particles {
     size_t n_local;
     size_t n_total;
-    const double *x;     /* n_total * stride */
-    const double *v;     /* n_total * stride */
-    const double *rho;   /* n_total */
-    const double *S;     /* n_total * ncomp */
-    const double *mass;  /* n_total */
-    const int *material; /* n_total */
-    size_t stride;       /* doubles from one particle's x (and v) to the
+    const double *x;      /* n_total * stride */
+    const double *v;      /* n_total * stride */
+    const double *rho;    /* n_total */
+    const double *S;      /* n_total * ncomp */
+    const double *mass;   /* n_total */
+    const int *material;  /* n_total */
+    size_t stride;        /* doubles from one particle's x (and v) to the
                                next's: 0 means dim; e.g. 3 for LAMMPS's
                                arrays in 2D */
+    const double *damage; /* n_total: D of each particle when effect damage
+                             is on (ghosts too), else ignored */
 } sph_particles;
 
 typedef struct sph_neighbours {

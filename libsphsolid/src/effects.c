@@ -171,11 +171,30 @@ static const parameter_def xsph_parameters[] = {
      FX(xsph_epsilon)},
 };
 
+static const parameter_def damage_parameters[] = {
+    {"seed", "", "seed of the flaw draw (an integer below 2^53)", 1.0, NON_NEGATIVE,
+     FX(damage_seed)},
+    {"flaws", "", "expected flaws per particle: the draw keeps those with k V eps^m <= flaws", 10.0,
+     POSITIVE, FX(damage_flaws)},
+};
+
 /* Rules beyond the ranges (values in the order of the parameters). */
 static sph_status gravity_rule(sph_sim *sim, const double *g)
 {
     if (sim->dim == 2 && g[2] != 0.0)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "gravity: gz=%g in a 2D simulation", g[2]);
+    return SPH_OK;
+}
+
+static sph_status damage_rule(sph_sim *sim, const double *values)
+{
+    if (values[0] != floor(values[0]) || values[0] >= 9007199254740992.0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "damage: seed=%.17g must be an integer below 2^53",
+                        values[0]);
+    if (values[1] > 1e6)
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "damage: flaws=%g per particle is more than the 1e6 the draw allows",
+                        values[1]);
     return SPH_OK;
 }
 
@@ -188,23 +207,26 @@ static sph_status gravity_rule(sph_sim *sim, const double *g)
  * The names list, describe text (HDF5 attribute), parsing, range checks
  * and the public sph_effect_info_get()/sph_effect_parameter_get() all come
  * from it. */
-#define SPH_EFFECTS(X)                                                                      \
-    X(artificial_viscosity, viscosity, PARAMETERS(viscosity_parameters), NULL,              \
-      "Monaghan (1992) artificial viscosity: a pressure Pi_ab between approaching "         \
-      "pairs; damps the high-frequency modes Improved Euler amplifies")                     \
-    X(artificial_stress, artificial_stress, PARAMETERS(artificial_stress_parameters), NULL, \
-      "Gray, Monaghan & Swift (2001) artificial stress: a repulsion between particles "     \
-      "in tension, against the tensile instability")                                        \
-    X(gravity, gravity, PARAMETERS(gravity_parameters), gravity_rule,                       \
-      "uniform body force: dv/dt += g")                                                     \
-    X(damping, damping, PARAMETERS(damping_parameters), NULL,                               \
-      "velocity damping dv/dt -= rate v, for reaching a static state fast")                 \
-    X(xsph, xsph, PARAMETERS(xsph_parameters), NULL,                                        \
-      "Monaghan (1989) XSPH: particles move with a velocity smoothed over their "           \
-      "neighbours")                                                                         \
-    X(kernel_correction, kernel_correction, NO_PARAMETERS, NULL,                            \
-      "Bonet & Lok (1999) kernel-gradient correction of the velocity gradient: exact "      \
-      "for linear fields, also at free surfaces")
+#define SPH_EFFECTS(X)                                                                       \
+    X(artificial_viscosity, viscosity, PARAMETERS(viscosity_parameters), NULL,               \
+      "Monaghan (1992) artificial viscosity: a pressure Pi_ab between approaching "          \
+      "pairs; damps the high-frequency modes Improved Euler amplifies")                      \
+    X(artificial_stress, artificial_stress, PARAMETERS(artificial_stress_parameters), NULL,  \
+      "Gray, Monaghan & Swift (2001) artificial stress: a repulsion between particles "      \
+      "in tension, against the tensile instability")                                         \
+    X(gravity, gravity, PARAMETERS(gravity_parameters), gravity_rule,                        \
+      "uniform body force: dv/dt += g")                                                      \
+    X(damping, damping, PARAMETERS(damping_parameters), NULL,                                \
+      "velocity damping dv/dt -= rate v, for reaching a static state fast")                  \
+    X(xsph, xsph, PARAMETERS(xsph_parameters), NULL,                                         \
+      "Monaghan (1989) XSPH: particles move with a velocity smoothed over their "            \
+      "neighbours")                                                                          \
+    X(kernel_correction, kernel_correction, NO_PARAMETERS, NULL,                             \
+      "Bonet & Lok (1999) kernel-gradient correction of the velocity gradient: exact "       \
+      "for linear fields, also at free surfaces")                                            \
+    X(damage, damage, PARAMETERS(damage_parameters), damage_rule,                            \
+      "Benz & Asphaug (1994, 1995) brittle damage: Weibull flaws (material keys weibull_k, " \
+      "weibull_m) activated by tensile strain grow D, which removes tension and shear")
 
 typedef struct effect_def {
     const char *name;

@@ -30,6 +30,9 @@ typedef struct effects {
     /* kernel_correction: Randles & Libersky (1996) / Bonet & Lok (1999)
      * gradient correction of the velocity gradient */
     int kernel_correction;
+    /* damage: Benz & Asphaug (1994, 1995), damage.h */
+    int damage;
+    double damage_seed, damage_flaws;
 } effects;
 
 /* Monaghan (1992) eqs (4.1)-(4.2): the artificial viscosity

@@ -15,6 +15,7 @@ sph_status sph_effect(sph_sim *sim, const char *name, const char *parameters)
     sph_status st = effects_set(sim, name, parameters);
     if (st)
         return st;
+    damage_redraw(sim); /* no-op unless damage is on and drawn */
     sim->rates_valid = 0;
     return sph_ok(sim);
 }
@@ -26,6 +27,8 @@ sph_status sph_effect_off(sph_sim *sim, const char *name)
     sph_status st = effects_off(sim, name);
     if (st)
         return st;
+    if (!sim->fx.damage)
+        damage_free(sim);
     sim->rates_valid = 0;
     return sph_ok(sim);
 }

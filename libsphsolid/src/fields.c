@@ -9,6 +9,18 @@
 
 /* ---------------------------------------------------------------- fields */
 
+/* The damage arrays, drawn if need be; an error naming `fn` while the
+ * effect is off. */
+static sph_status damage_ready(sph_sim *sim, const char *fn)
+{
+    if (!sim->fx.damage)
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "%s: the damage fields exist while effect damage is on (sph_effect)", fn);
+    if (sim->n == 0)
+        return sph_fail(sim, SPH_ERR_STATE, "%s: the simulation has no particles", fn);
+    return damage_prepare(sim);
+}
+
 /* Pressure (equation of state), Cauchy stress sigma = S - P I and von Mises
  * stress of one particle, each written where its pointer is not NULL. */
 static void derived_at(const material *m, int dim, int nc, double rho, const double *S,
@@ -46,6 +58,11 @@ sph_status sph_field(sph_sim *sim, sph_field_id field, double **data, size_t *ro
         c = sim->ncomp;
         break;
     case SPH_FIELD_MASS: p = sim->mass; break;
+    case SPH_FIELD_DAMAGE:
+        if ((st = damage_ready(sim, "sph_field")))
+            return st;
+        p = sim->damage;
+        break;
     default:
         return sph_fail(sim, SPH_ERR_ARGUMENT, "field=%d is derived or unknown; use sph_field_copy",
                         (int)field);
@@ -91,6 +108,23 @@ sph_status sph_field_copy(sph_sim *sim, sph_field_id field, double *out)
             sim->carry_valid = 0;
         }
         memcpy(out, sim->dv_dt, n * dim * sizeof(double));
+        break;
+    case SPH_FIELD_DAMAGE:
+    case SPH_FIELD_FRAGMENT:
+    case SPH_FIELD_FLAWS:
+    case SPH_FIELD_FLAW_STRAIN:
+    case SPH_FIELD_ACTIVE_FLAWS:
+        if ((st = damage_ready(sim, "sph_field_copy")))
+            return st;
+        if (field == SPH_FIELD_FRAGMENT && (st = damage_fragments(sim, out, NULL)))
+            return st;
+        if (field == SPH_FIELD_FRAGMENT)
+            break;
+        for (size_t a = 0; a < n; ++a)
+            out[a] = field == SPH_FIELD_DAMAGE        ? sim->damage[a]
+                     : field == SPH_FIELD_FLAWS       ? (double)sim->flaw_count[a]
+                     : field == SPH_FIELD_FLAW_STRAIN ? sim->flaw_strain[a]
+                                                      : (double)damage_active_flaws(sim, a);
         break;
     default: return sph_fail(sim, SPH_ERR_ARGUMENT, "field=%d is not a sph_field_id", (int)field);
     }

@@ -62,6 +62,7 @@ void sph_destroy(sph_sim *sim)
     }
     free(sim->far);
     neighbour_free(&sim->nl);
+    damage_free(sim);
     free(sim);
 }
 

@@ -578,6 +578,13 @@ static sph_status write_snapshot(sph_sim *sim)
             series_append(&c, all, "pressure", sim->step, sim->t, buf);
         if (!c.failed && sph_field_copy(sim, SPH_FIELD_VON_MISES, buf) == SPH_OK)
             series_append(&c, all, "von_mises", sim->step, sim->t, buf);
+        /* effect damage: D and the fragments, if the file was opened with it */
+        if (!c.failed && sim->fx.damage && H5Lexists(all, "damage", H5P_DEFAULT) > 0) {
+            if (sph_field_copy(sim, SPH_FIELD_DAMAGE, buf) == SPH_OK)
+                series_append(&c, all, "damage", sim->step, sim->t, buf);
+            if (!c.failed && sph_field_copy(sim, SPH_FIELD_FRAGMENT, buf) == SPH_OK)
+                series_append(&c, all, "fragment", sim->step, sim->t, buf);
+        }
     }
     group_close(&c, all, "/particles/all");
     free(buf);
@@ -714,6 +721,10 @@ static int write_static(io *c, sph_sim *sim, hid_t file)
     series_create(c, all, "pressure", 1, &n, 1);
     series_create(c, all, "deviatoric_stress", 2, ten, 1);
     series_create(c, all, "von_mises", 1, &n, 1);
+    if (sim->fx.damage) {
+        series_create(c, all, "damage", 1, &n, 1);
+        series_create(c, all, "fragment", 1, &n, 1);
+    }
     group_close(c, all, "particles/all");
     group_close(c, parts, "particles");
 
@@ -1643,6 +1654,8 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
     write_dataset(&c, g, "density", H5T_NATIVE_DOUBLE, 1, &n, sim->rho);
     write_dataset(&c, g, "deviatoric_stress", H5T_NATIVE_DOUBLE, 2, ten, sim->S);
     write_dataset(&c, g, "mass", H5T_NATIVE_DOUBLE, 1, &n, sim->mass);
+    if (sim->fx.damage && damage_prepare(sim) == SPH_OK)
+        write_dataset(&c, g, "damage", H5T_NATIVE_DOUBLE, 1, &n, sim->damage);
     if (!c.failed) {
         double *vectors = calloc((size_t)sim->n_bodies * 3 + 1, sizeof *vectors);
         if (!vectors) {
@@ -1835,8 +1848,26 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
             goto done;
         }
     }
+    double *damage = NULL; /* effect damage: D, if the checkpoint holds it */
+    if (sim->fx.damage && H5Lexists(g, "damage", H5P_DEFAULT) > 0) {
+        if (!(damage = malloc(nn * sizeof *damage)) || (st = damage_prepare(sim))) {
+            free(damage);
+            st = st ? st : sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate D to read '%s'", path);
+            goto done;
+        }
+        if (read_doubles(&c, g, "damage", -1, nn, damage)) {
+            free(damage);
+            st = sph_fail(sim, SPH_ERR_IO, "cannot read checkpoint '%s': %s (reading %s)", path,
+                          c.cause, c.what);
+            goto done;
+        }
+    }
     /* commit: nothing above changed the simulation */
     state_commit(sim, &s, step, t);
+    if (damage) {
+        memcpy(sim->damage, damage, nn * sizeof *damage);
+        free(damage);
+    }
     memcpy(sim->mass, s.mass, nn * sizeof(double));
     for (int k = 0; k < sim->n_bodies; ++k) {
         memcpy(sim->bodies[k].vector, s.motion + 3 * k, 3 * sizeof(double));

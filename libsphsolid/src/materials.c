@@ -37,6 +37,7 @@ static sph_status add_material(sph_sim *sim, double K, double mu, double rho0, i
     mat->c0_squared = K / rho0;
     mat->c0 = sqrt(mat->c0_squared);
     mat->c_p = sqrt((K + 4.0 * mu / 3.0) / rho0);
+    mat->weibull_k = mat->weibull_m = 0.0;
     if (id)
         *id = sim->n_materials;
     sim->n_materials++;
@@ -115,5 +116,7 @@ sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
     info->youngs_modulus = 9.0 * m->K * m->mu / (3.0 * m->K + m->mu);
     info->c0 = m->c0;
     info->c_p = m->c_p;
+    info->weibull_k = m->weibull_k;
+    info->weibull_m = m->weibull_m;
     return SPH_OK;
 }

@@ -16,6 +16,8 @@ int sph_memory_parts(const sph_sim *sim, const char **names, size_t *bytes, int 
         const size_t cap = sim->capacity, n = sim->n;
         const size_t dim = (size_t)sim->dim, nc = (size_t)sim->ncomp, ns = (size_t)sim->nsym;
         part[0] = cap * (2 * dim + 1 + nc + 1) * sizeof(double) + cap * 2 * sizeof(int);
+        if (sim->damage) /* effect damage: D, weakest strain, flaw count */
+            part[0] += sim->damage_n * (2 * sizeof(double) + sizeof(int));
         if (sim->saved)
             part[1] += n * sim->saved_per * sizeof(double);
         if (sim->x_saved)

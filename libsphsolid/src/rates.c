@@ -52,6 +52,7 @@
 #include <omp.h>
 #endif
 
+#include "damage.h"
 #include "kernel.h"
 #include "sim.h"
 
@@ -88,6 +89,8 @@ typedef struct engine {
     int pstride;
     double c0_all;   /* the sound speed of every material, or 0 */
     const double *R; /* nsym per particle, or NULL */
+    /* D per particle (effect damage), or NULL */
+    const double *damage;
     double h, inv_h, w_norm, f_norm;
     double box[3], half_box[3];
     int periodic_axis[3];
@@ -640,8 +643,10 @@ static void pass_pair_data(const engine *e, double *pair_data, double *R)
     for (long a = 0; a < n; ++a) {
         const material *m = &e->materials[e->material_of[a]];
         const double rho = e->rho[a];
-        const double P = eos_pressure(m->c0_squared, rho, m->rho0);
+        double P = eos_pressure(m->c0_squared, rho, m->rho0), Sd[6];
         const double *S = e->S + (size_t)a * ncomp;
+        if (e->damage) /* the stress damage leaves (damage.h) */
+            S = damaged_stress(ncomp, e->damage[a], S, &P, Sd);
         double *pd = pair_data + (size_t)a * (size_t)e->pstride;
         stress_over_rho2(dim, S, P, rho, pd);
         if (e->pstride > nsym)
@@ -761,6 +766,7 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     e->rho = call->rho;
     e->S = call->S;
     e->mass = call->mass;
+    e->damage = call->damage;
     e->material_of = call->material;
     e->materials = sim->materials;
     if (call->neighbours) {
@@ -920,6 +926,9 @@ static sph_status check_particles(sph_sim *sim, const char *fn, const sph_partic
     if (p->n_total > 0 && (!p->x || !p->v || !p->rho || !p->S || !p->mass || !p->material))
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "%s: a particle array (x, v, rho, S, mass, material) is NULL", fn);
+    if (p->n_total > 0 && sim->fx.damage && !p->damage)
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "%s: effect damage is on but particles->damage (n_total) is NULL", fn);
     for (size_t i = 0; i < p->n_total; ++i) {
         if (p->material[i] < 0 || p->material[i] >= sim->n_materials)
             return sph_fail(sim, SPH_ERR_ARGUMENT,
@@ -1002,6 +1011,7 @@ sph_status rates_of_handle(sph_sim *sim, int pass)
     call.periodic = 1;
     call.half = 1;
     call.far_in_both_rows = 1;
+    call.damage = sim->damage;
     if (sim->nl.chunk != rates_chunk_rows(sim->dim, sim->n))
         return sph_fail(sim, SPH_ERR_STATE,
                         "the neighbour list was built for chunks of %zu rows, the pair pass "
@@ -1050,6 +1060,7 @@ static sph_status public_call(sph_sim *sim, int kind, int pass, const sph_partic
     call.half = kind != CALL_EVALUATE;
     call.local_records = kind == CALL_HALF;
     call.partial = sums;
+    call.damage = sim->fx.damage ? p->damage : NULL;
     if (rates)
         rates_into(&call, rates);
     st = kind == CALL_FINISH ? finish_run(sim, &call, sums_in) : rates_run(sim, &call);

@@ -81,7 +81,7 @@ sph_status sim_prepare(sph_sim *sim)
             return st;
         sim->nl_builds++;
     }
-    return SPH_OK;
+    return damage_prepare(sim);
 }
 
 /* The neighbour list stays valid while every particle moved less than
@@ -173,6 +173,15 @@ static sph_status one_step(sph_sim *sim, const integrator *in, double dt)
         return st;
     }
     sim->rates_valid = in->carries_rates;
+    if (sim->fx.damage) {
+        /* operator split: flaws activate and D grows on the step's end
+         * state; rates carried from before the growth are stale */
+        int grew = 0;
+        if ((st = damage_stage(sim, dt, &grew)))
+            return st;
+        if (grew)
+            sim->rates_valid = 0;
+    }
     sim->t += dt;
     sim->step++;
     if ((st = wrap_and_check_domain(sim)))

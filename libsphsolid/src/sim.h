@@ -14,6 +14,8 @@
 typedef struct material {
     double K, mu, rho0;
     double c0_squared, c0, c_p;
+    double weibull_k, weibull_m; /* flaws per volume [m^-3] and exponent
+                                    (effect damage); k = 0: no flaws */
 } material;
 
 typedef struct body {
@@ -141,6 +143,12 @@ struct sph_sim {
     sph_progress_fn progress;
     void *progress_user;
 
+    /* effect damage (damage.c), NULL while off: per particle the damage
+     * D, the weakest activation strain and the number of flaws */
+    double *damage, *flaw_strain;
+    int *flaw_count;
+    size_t damage_n; /* particles the arrays were drawn for */
+
     struct output_file *out;
 };
 
@@ -199,6 +207,7 @@ typedef struct rate_call {
     int pass;             /* PASS_*: the rates computed (0: all) */
     int local_records;    /* without partial: the locals' sums in one record
                              each in scratch, ghosts' terms dropped */
+    const double *damage; /* n_total, when effect damage is on (else NULL) */
 } rate_call;
 enum {
     PASS_CONTINUITY = SPH_RATES_CONTINUITY, /* drho/dt, dS/dt, XSPH velocity */
@@ -242,6 +251,22 @@ void effects_describe(const effects *fx, char *buf, size_t size);
  * EFFECTS_MAX_PARAMETERS) into `values`. */
 #define EFFECTS_MAX_PARAMETERS 8
 int effects_values(const effects *fx, int effect, double *values);
+
+/* damage.c */
+/* Draws the flaws of particles not drawn yet (damage on), or frees the
+ * arrays (damage off). */
+sph_status damage_prepare(sph_sim *sim);
+/* Activation and growth over a step of dt at the current state; *changed
+ * is set when some D grew. */
+sph_status damage_stage(sph_sim *sim, double dt, int *changed);
+void damage_free(sph_sim *sim);
+/* Flaws of particle a active at its current largest principal strain. */
+int damage_active_flaws(const sph_sim *sim, size_t a);
+/* Draws every particle's flaws again (seed, flaws or a material changed). */
+void damage_redraw(sph_sim *sim);
+/* Fragment id of each particle (connected regions of free-body particles
+ * with D < 1 within the kernel support; -1 elsewhere), and their number. */
+sph_status damage_fragments(sph_sim *sim, double *out, long *count);
 
 /* probe.c */
 sph_status probe_sample_point(sph_sim *sim, probe *p, double *values, int in_run);

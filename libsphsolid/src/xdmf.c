@@ -112,13 +112,14 @@ static void slab(FILE *f, const char *href, const char *name, long frame, long f
 }
 
 static void write_xml(FILE *f, const char *href, const double *times, long frames, hsize_t n,
-                      int dim, int ncomp, char order[6][3])
+                      int dim, int ncomp, char order[6][3], int n_scalars)
 {
     fputs("<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
           "<Xdmf Version=\"2.0\">\n<Domain>\n"
           "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
           f);
-    static const char *scalars[3] = {"density", "pressure", "von_mises"};
+    /* the last two only in files of runs with effect damage (n_scalars 5) */
+    static const char *scalars[5] = {"density", "pressure", "von_mises", "damage", "fragment"};
     for (long i = 0; i < frames; ++i) {
         fprintf(f, "<Grid Name=\"frame %ld\" GridType=\"Uniform\">\n<Time Value=\"%.17g\"/>\n", i,
                 times[i]);
@@ -132,7 +133,7 @@ static void write_xml(FILE *f, const char *href, const double *times, long frame
               f);
         slab(f, href, "velocity", i, frames, n, dim, -1, ncomp);
         fputs("</Attribute>\n", f);
-        for (int k = 0; k < 3; ++k) {
+        for (int k = 0; k < n_scalars; ++k) {
             fprintf(f, "<Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Node\">\n",
                     scalars[k]);
             slab(f, href, scalars[k], i, frames, n, 0, -1, ncomp);
@@ -187,6 +188,14 @@ static sph_status write_xdmf(sph_sim *sim, const char *h5_path)
     }
     char order[6][3];
     stress_order(file, ncomp, order);
+    hsize_t damage_dims[3] = {0};
+    const int n_scalars =
+        dataset_dims(file, "/particles/all/damage/value", damage_dims) == 2 &&
+                damage_dims[0] == pos[0] &&
+                dataset_dims(file, "/particles/all/fragment/value", damage_dims) == 2 &&
+                damage_dims[0] == pos[0]
+            ? 5
+            : 3;
     H5Fclose(file);
     if (err) {
         free(times);
@@ -208,7 +217,7 @@ static sph_status write_xdmf(sph_sim *sim, const char *h5_path)
     if (!f) {
         st = sph_fail(sim, SPH_ERR_IO, "sph_write_xdmf: cannot create '%s'", tmp);
     } else {
-        write_xml(f, href, times, frames, pos[1], dim, ncomp, order);
+        write_xml(f, href, times, frames, pos[1], dim, ncomp, order, n_scalars);
         const int bad = ferror(f) != 0;
         if (fclose(f) != 0 || bad || rename(tmp, xmf) != 0) {
             remove(tmp);

@@ -1,0 +1,280 @@
+/*
+ * The `damage` effect: per-particle storage (D, the weakest activation
+ * strain, the flaw count), the flaw draw, the stage that activates flaws
+ * and grows D after each step, fragments, and the public calls on them.
+ * The terms are in damage.h; the rate engine reads D where it forms the
+ * stress of the momentum pass (rates.c).
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "damage.h"
+#include "kernel.h"
+#include "sim.h"
+
+/* Whether particle a can be damaged: a free body, a material with flaws. */
+static int has_flaws(const sph_sim *sim, size_t a)
+{
+    const material *m = &sim->materials[sim->material_of[a]];
+    return sim->bodies[sim->body_of[a]].motion == SPH_MOTION_FREE && m->weibull_k > 0.0 &&
+           m->weibull_m > 0.0;
+}
+
+/* k V of particle a, V = m / rho0 its volume at rest. */
+static double flaw_density_volume(const sph_sim *sim, size_t a)
+{
+    const material *m = &sim->materials[sim->material_of[a]];
+    return m->weibull_k * sim->mass[a] / m->rho0;
+}
+
+static uint64_t seed_of(const sph_sim *sim) { return (uint64_t)sim->fx.damage_seed; }
+
+/* Draws the flaws of particle a: their number and the weakest strain. */
+static void draw_flaws(sph_sim *sim, size_t a)
+{
+    if (!has_flaws(sim, a)) {
+        sim->flaw_count[a] = 0;
+        sim->flaw_strain[a] = INFINITY;
+        return;
+    }
+    const material *m = &sim->materials[sim->material_of[a]];
+    const uint64_t seed = seed_of(sim);
+    const int below = damage_flaws_below(seed, a, 2000000, sim->fx.damage_flaws);
+    sim->flaw_count[a] = below > 0 ? below : 1;
+    sim->flaw_strain[a] =
+        pow(damage_gap(seed, a, 0) / flaw_density_volume(sim, a), 1.0 / m->weibull_m);
+}
+
+void damage_free(sph_sim *sim)
+{
+    free(sim->damage);
+    free(sim->flaw_strain);
+    free(sim->flaw_count);
+    sim->damage = sim->flaw_strain = NULL;
+    sim->flaw_count = NULL;
+    sim->damage_n = 0;
+}
+
+sph_status damage_prepare(sph_sim *sim)
+{
+    if (!sim->fx.damage) {
+        damage_free(sim);
+        return SPH_OK;
+    }
+    int any = 0;
+    for (int k = 0; k < sim->n_bodies && !any; ++k) {
+        const material *m = &sim->materials[sim->bodies[k].material];
+        any = sim->bodies[k].motion == SPH_MOTION_FREE && m->weibull_k > 0.0 && m->weibull_m > 0.0;
+    }
+    if (!any)
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "effect damage: no free body has a material with flaws; set weibull_k "
+                        "[m^-3] and weibull_m > 0 with sph_material_set");
+    const size_t n = sim->n, from = sim->damage && sim->damage_n <= n ? sim->damage_n : 0;
+    if (sim->damage && from == n)
+        return SPH_OK;
+    double *D = realloc(sim->damage, n * sizeof *D);
+    if (D)
+        sim->damage = D;
+    double *eps = realloc(sim->flaw_strain, n * sizeof *eps);
+    if (eps)
+        sim->flaw_strain = eps;
+    int *count = realloc(sim->flaw_count, n * sizeof *count);
+    if (count)
+        sim->flaw_count = count;
+    if (!D || !eps || !count) {
+        damage_free(sim);
+        return sph_fail(sim, SPH_ERR_MEMORY, "effect damage: cannot allocate for %zu particles",
+                        n);
+    }
+    for (size_t a = from; a < n; ++a) {
+        D[a] = 0.0;
+        draw_flaws(sim, a);
+    }
+    sim->damage_n = n;
+    return SPH_OK;
+}
+
+/* Redraws every particle's flaws (the seed or flaws parameter changed). */
+void damage_redraw(sph_sim *sim)
+{
+    if (!sim->damage)
+        return;
+    for (size_t a = 0; a < sim->damage_n; ++a)
+        draw_flaws(sim, a);
+}
+
+int damage_active_flaws(const sph_sim *sim, size_t a)
+{
+    if (sim->flaw_count[a] == 0)
+        return 0;
+    const material *m = &sim->materials[sim->material_of[a]];
+    const double P = eos_pressure(m->c0_squared, sim->rho[a], m->rho0);
+    const double eps =
+        largest_principal_strain(sim->dim, sim->S + a * (size_t)sim->ncomp, P, m->K, m->mu);
+    if (!(eps >= sim->flaw_strain[a]))
+        return 0;
+    const double u = flaw_density_volume(sim, a) * pow(eps, m->weibull_m);
+    return damage_flaws_below(seed_of(sim), a, sim->flaw_count[a], u);
+}
+
+/* One particle: activation by the current strain, growth over dt. */
+static int grow(const sph_sim *sim, size_t a, double dt, double rate_h)
+{
+    const double D = sim->damage[a];
+    if (sim->flaw_count[a] == 0 || D >= 1.0)
+        return 0;
+    const int active = damage_active_flaws(sim, a);
+    if (active == 0)
+        return 0;
+    const material *m = &sim->materials[sim->material_of[a]];
+    const double cap = cbrt((double)active / (double)sim->flaw_count[a]);
+    const double now = cbrt(D);
+    double next = now + dt * DAMAGE_CRACK_SPEED * m->c_p * rate_h;
+    if (next > cap)
+        next = cap;
+    if (!(next > now))
+        return 0;
+    sim->damage[a] = next >= 1.0 ? 1.0 : next * next * next;
+    return 1;
+}
+
+sph_status damage_stage(sph_sim *sim, double dt, int *changed)
+{
+    *changed = 0;
+    if (!sim->damage) {
+        sph_status st = damage_prepare(sim);
+        if (st)
+            return st;
+    }
+    const double rate_h = 1.0 / (DAMAGE_CRACK_RADIUS * sim->h); /* 1 / (k_R h) */
+    const long n = (long)sim->n;
+    int grew = 0;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(| : grew)
+    for (long a = 0; a < n; ++a)
+        grew |= grow(sim, (size_t)a, dt, rate_h);
+    *changed = grew;
+    return SPH_OK;
+}
+
+/* ------------------------------------------------------------- fragments */
+
+static size_t find_root(size_t *parent, size_t a)
+{
+    while (parent[a] != a) {
+        parent[a] = parent[parent[a]];
+        a = parent[a];
+    }
+    return a;
+}
+
+sph_status damage_fragments(sph_sim *sim, double *out, long *count)
+{
+    const size_t n = sim->n;
+    const int dim = sim->dim;
+    sph_status st;
+    if (!sim->nl.valid || sim->nl.n != n) {
+        if ((st = sim_prepare(sim)))
+            return st;
+    }
+    size_t *parent = malloc((n ? n : 1) * sizeof *parent);
+    if (!parent)
+        return sph_fail(sim, SPH_ERR_MEMORY, "fragments: cannot allocate for %zu particles", n);
+    const double reach = kernel_support(sim->kernel) * sim->h, reach2 = reach * reach;
+    for (size_t a = 0; a < n; ++a)
+        parent[a] = a;
+    for (size_t a = 0; a < n; ++a) {
+        const int in_a = sim->bodies[sim->body_of[a]].motion == SPH_MOTION_FREE &&
+                         (!sim->damage || sim->damage[a] < 1.0);
+        if (!in_a)
+            continue;
+        const size_t end = neighbour_row(&sim->nl, a + 1);
+        for (size_t k = neighbour_row(&sim->nl, a); k < end; ++k) {
+            const size_t b = (size_t)sim->nl.indices[k];
+            if (sim->bodies[sim->body_of[b]].motion != SPH_MOTION_FREE ||
+                (sim->damage && !(sim->damage[b] < 1.0)))
+                continue;
+            double r2 = 0.0;
+            for (int i = 0; i < dim; ++i) {
+                double d = sim->x[a * dim + i] - sim->x[b * dim + i];
+                if (sim->has_domain && sim->periodic[i])
+                    d = nearest_image(d, sim->hi[i] - sim->lo[i], 0.5 * (sim->hi[i] - sim->lo[i]));
+                r2 += d * d;
+            }
+            if (!(r2 < reach2))
+                continue;
+            const size_t ra = find_root(parent, a), rb = find_root(parent, b);
+            if (ra < rb)
+                parent[rb] = ra;
+            else if (rb < ra)
+                parent[ra] = rb;
+        }
+    }
+    /* ids in the order of each fragment's first particle */
+    long next = 0;
+    for (size_t a = 0; a < n; ++a) {
+        const int in_a = sim->bodies[sim->body_of[a]].motion == SPH_MOTION_FREE &&
+                         (!sim->damage || sim->damage[a] < 1.0);
+        if (!in_a) {
+            out[a] = -1.0;
+            continue;
+        }
+        const size_t r = find_root(parent, a);
+        out[a] = r == a ? (double)next++ : out[r];
+    }
+    free(parent);
+    if (count)
+        *count = next;
+    return SPH_OK;
+}
+
+/* ---------------------------------------------------------- public calls */
+
+sph_status sph_material_set(sph_sim *sim, int id, const char *key, double value)
+{
+    sph_status st = sph_need(sim, key, "sph_material_set", "key");
+    if (st)
+        return st;
+    if (id < 0 || id >= sim->n_materials)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "material=%d: %d materials are defined", id,
+                        sim->n_materials);
+    material *m = &sim->materials[id];
+    double *slot = strcmp(key, "weibull_k") == 0   ? &m->weibull_k
+                   : strcmp(key, "weibull_m") == 0 ? &m->weibull_m
+                                                   : NULL;
+    if (!slot)
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "material key '%s' is unknown (known: weibull_k, weibull_m)", key);
+    if (!(value >= 0.0) || !isfinite(value))
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "material %d: %s=%g must be finite and >= 0%s", id,
+                        key, value, slot == &m->weibull_k ? " [m^-3]" : "");
+    *slot = value;
+    damage_redraw(sim);
+    sim->rates_valid = 0;
+    return sph_ok(sim);
+}
+
+sph_status sph_flaws_active_at(sph_sim *sim, double strain, double *count)
+{
+    sph_status st = sph_need(sim, count, "sph_flaws_active_at", "count");
+    if (st)
+        return st;
+    if (!sim->fx.damage)
+        return sph_fail(sim, SPH_ERR_STATE, "sph_flaws_active_at: effect damage is off");
+    if (!(strain >= 0.0) || !isfinite(strain))
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "sph_flaws_active_at: strain=%g must be finite and >= 0", strain);
+    if ((st = damage_prepare(sim)))
+        return st;
+    double total = 0.0;
+    for (size_t a = 0; a < sim->n; ++a) {
+        if (sim->flaw_count[a] == 0 || strain < sim->flaw_strain[a])
+            continue;
+        const material *m = &sim->materials[sim->material_of[a]];
+        total += damage_flaws_below(seed_of(sim), a, sim->flaw_count[a],
+                                    flaw_density_volume(sim, a) * pow(strain, m->weibull_m));
+    }
+    *count = total;
+    return sph_ok(sim);
+}

@@ -1,0 +1,394 @@
+/* The damage effect (Benz & Asphaug): the flaw draw, the growth law, the
+ * strain rule of activation, determinism and the cost of leaving it off. */
+#include "helpers.h"
+
+#include "damage.h"
+
+/* A periodic block of n^dim particles of spacing dx (paper material),
+ * which stays uniform under a uniform state. */
+static sph_sim *periodic_block(int dim, int n, double dx, int *material)
+{
+    sph_sim *sim = new_sim(dim);
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, material));
+    const double L = n * dx;
+    const double lo[3] = {0, 0, 0}, hi[3] = {L, L, dim == 3 ? L : 0};
+    const int periodic[3] = {1, 1, dim == 3};
+    check(sim, sph_set_domain(sim, lo, hi, periodic));
+    int body;
+    check(sim, sph_add_block(sim, "block", *material, lo, hi, dx, &body));
+    return sim;
+}
+
+/* Sets every particle to the stress sigma = S - P I (P from the equation
+ * of state through rho), at rest. */
+static void set_uniform_stress(sph_sim *sim, double P, const double *S)
+{
+    sph_material_info info;
+    check(sim, sph_material_info_get(sim, 0, &info));
+    size_t n = 0, nc = 0;
+    double *rho, *dev;
+    check(sim, sph_field(sim, SPH_FIELD_DENSITY, &rho, &n, NULL));
+    check(sim, sph_field(sim, SPH_FIELD_DEVIATORIC_STRESS, &dev, NULL, &nc));
+    for (size_t a = 0; a < n; ++a) {
+        rho[a] = info.rho0 + P / (info.c0 * info.c0); /* P = c0^2 (rho - rho0) */
+        for (size_t c = 0; c < nc; ++c)
+            dev[a * nc + c] = S[c];
+    }
+}
+
+static double *copy_field(sph_sim *sim, sph_field_id f, size_t n)
+{
+    double *out = malloc(n * sizeof *out);
+    assert_non_null(out);
+    check(sim, sph_field_copy(sim, f, out));
+    return out;
+}
+
+/* The draw: the flaws active at a strain eps, summed over all particles,
+ * number k V eps^m (V the total volume), a power law of slope m. */
+static void flaw_counts_follow_k_V_eps_to_the_m(void **state)
+{
+    (void)state;
+    const double dx = 1e-3, k = 1e12, m = 6.0;
+    int mat;
+    sph_sim *sim = periodic_block(2, 200, dx, &mat);
+    check(sim, sph_material_set(sim, mat, "weibull_k", k));
+    check(sim, sph_material_set(sim, mat, "weibull_m", m));
+    check(sim, sph_effect(sim, "damage", "seed=7 flaws=100"));
+    const double V = 200 * dx * 200 * dx; /* m / rho0 summed: the block's area */
+    /* expected counts 1e3 .. 1e5 (per particle 0.025 .. 2.5, far below the
+     * cut at 100 flaws) */
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    const int points = 5;
+    for (int i = 0; i < points; ++i) {
+        const double expected = 1e3 * pow(10.0, 2.0 * i / (points - 1));
+        const double eps = pow(expected / (k * V), 1.0 / m);
+        double count;
+        check(sim, sph_flaws_active_at(sim, eps, &count));
+        /* Poisson: within 5 standard deviations */
+        assert_close(count, expected, 5.0 * sqrt(expected), "flaws active at eps");
+        const double x = log(eps), y = log(count);
+        sx += x;
+        sy += y;
+        sxx += x * x;
+        sxy += x * y;
+    }
+    const double slope = (points * sxy - sx * sy) / (points * sxx - sx * sx);
+    assert_close(slope, m, 0.02 * m, "log-log slope of the flaw count");
+    /* each particle's count is Poisson(flaws) (at least 1): mean 100 */
+    double *count = copy_field(sim, SPH_FIELD_FLAWS, 40000);
+    double mean = 0;
+    for (int a = 0; a < 40000; ++a)
+        mean += count[a] / 40000.0;
+    assert_close(mean, 100.0, 5.0 * sqrt(100.0 / 40000.0), "mean flaws per particle");
+    free(count);
+    sph_destroy(sim);
+}
+
+/* The weakest flaw is the first arrival of the Poisson process: the share
+ * of particles whose weakest strain is below eps is 1 - exp(-k V eps^m). */
+static void weakest_flaws_follow_the_first_arrival_law(void **state)
+{
+    (void)state;
+    const double dx = 1e-3, k = 1e10, m = 9.0;
+    int mat;
+    sph_sim *sim = periodic_block(2, 200, dx, &mat);
+    check(sim, sph_material_set(sim, mat, "weibull_k", k));
+    check(sim, sph_material_set(sim, mat, "weibull_m", m));
+    check(sim, sph_effect(sim, "damage", NULL));
+    double *weakest = copy_field(sim, SPH_FIELD_FLAW_STRAIN, 40000);
+    const double kV = k * dx * dx;
+    for (int i = 1; i <= 3; ++i) {
+        const double share = 0.25 * i, eps = pow(-log(1.0 - share) / kV, 1.0 / m);
+        int below = 0;
+        for (int a = 0; a < 40000; ++a)
+            below += weakest[a] <= eps;
+        /* binomial: 5 standard deviations */
+        assert_close(below / 40000.0, share, 5.0 * sqrt(share * (1 - share) / 40000.0),
+                     "share of weakest flaws below eps");
+    }
+    free(weakest);
+    sph_destroy(sim);
+}
+
+/* One active flaw (flaws per particle cut to 1, strain above it): D^(1/3)
+ * grows at 0.4 c_l / (k_R h) each step until D = 1. */
+static void one_active_flaw_grows_cube_root_of_damage_linearly(void **state)
+{
+    (void)state;
+    const double dx = 1e-3;
+    int mat;
+    sph_sim *sim = periodic_block(2, 12, dx, &mat);
+    /* k V = 1e12 * 1e-6, m = 2: weakest strains ~ 1e-3 sqrt(u), u ~ 1 */
+    check(sim, sph_material_set(sim, mat, "weibull_k", 1e12));
+    check(sim, sph_material_set(sim, mat, "weibull_m", 2.0));
+    check(sim, sph_effect(sim, "damage", "flaws=1e-9"));
+    /* uniform tension: eps = -P / (3K) = 0.01 in every direction */
+    const double S0[4] = {0, 0, 0, 0};
+    set_uniform_stress(sim, -0.03 * PAPER_K, S0);
+    double *flaws = copy_field(sim, SPH_FIELD_FLAWS, 144);
+    double *weakest = copy_field(sim, SPH_FIELD_FLAW_STRAIN, 144);
+    for (int a = 0; a < 144; ++a) {
+        assert_int_equal((int)flaws[a], 1);
+        assert_true(weakest[a] < 0.01);
+    }
+    sph_material_info info;
+    check(sim, sph_material_info_get(sim, mat, &info));
+    const double h = sph_smoothing_length(sim), dt = sph_dt(sim);
+    const double rate = 0.4 * info.c_p / (2.0 * h); /* k_R = 2 */
+    double *D = NULL;
+    for (int step = 1; step <= 40; ++step) {
+        check(sim, sph_run(sim, 1));
+        D = field_ptr(sim, SPH_FIELD_DAMAGE);
+        const double expected = step * dt * rate;
+        for (int a = 0; a < 144; a += 13)
+            if (expected < 1.0)
+                assert_close(cbrt(D[a]), expected, 1e-12 * step, "D^(1/3) after the steps");
+            else
+                assert_close(D[a], 1.0, 0.0, "D once D^(1/3) reached 1");
+    }
+    assert_true(40 * dt * rate > 1.0); /* the run reached full damage */
+    free(flaws);
+    free(weakest);
+    sph_destroy(sim);
+}
+
+/* D^(1/3) stops at (n_active / n_total)^(1/3). */
+static void damage_is_capped_by_the_active_share_of_flaws(void **state)
+{
+    (void)state;
+    const double dx = 1e-3;
+    int mat;
+    sph_sim *sim = periodic_block(2, 12, dx, &mat);
+    check(sim, sph_material_set(sim, mat, "weibull_k", 1e12));
+    check(sim, sph_material_set(sim, mat, "weibull_m", 2.0));
+    check(sim, sph_effect(sim, "damage", "flaws=20"));
+    /* eps = 1.5e-3: u = k V eps^2 = 2.25, about 2 of some 20 flaws active */
+    const double S0[4] = {0, 0, 0, 0};
+    set_uniform_stress(sim, -3.0 * PAPER_K * 1.5e-3, S0);
+    double *active = copy_field(sim, SPH_FIELD_ACTIVE_FLAWS, 144);
+    double *total = copy_field(sim, SPH_FIELD_FLAWS, 144);
+    double *x0 = copy_field(sim, SPH_FIELD_POSITION, 288);
+    /* particles of unlike D push each other: the state is put back before
+     * each step, so the strain stays the one the flaws were counted at */
+    for (int step = 0; step < 30; ++step) { /* D^(1/3) passes 1 in ~10 */
+        set_uniform_stress(sim, -3.0 * PAPER_K * 1.5e-3, S0);
+        memcpy(field_ptr(sim, SPH_FIELD_POSITION), x0, 288 * sizeof(double));
+        memset(field_ptr(sim, SPH_FIELD_VELOCITY), 0, 288 * sizeof(double));
+        check(sim, sph_run(sim, 1));
+        /* the cap is that of the step's end state, and D never falls */
+        double *now = copy_field(sim, SPH_FIELD_ACTIVE_FLAWS, 144);
+        for (int a = 0; a < 144; ++a)
+            active[a] = fmax(active[a], now[a]);
+        free(now);
+    }
+    free(x0);
+    double *D = field_ptr(sim, SPH_FIELD_DAMAGE);
+    int partial = 0;
+    for (int a = 0; a < 144; ++a) {
+        assert_close(D[a], active[a] / total[a], 1e-12, "capped damage n_active / n_total");
+        partial += active[a] > 0 && active[a] < total[a];
+    }
+    assert_true(partial > 100);
+    free(active);
+    free(total);
+    sph_destroy(sim);
+}
+
+/* Uniaxial compression sigma_yy = -s (3D): the lateral strain is nu s / E,
+ * so the weakest flaw activates at s = E eps_min / nu, and a particle is
+ * damaged after a step exactly when its weakest strain is below nu s / E. */
+static void damage_onset_in_uniaxial_compression_at_E_eps_min_over_nu(void **state)
+{
+    (void)state;
+    const double dx = 2e-3;
+    double onset = 0;
+    for (int trial = 0; trial < 2; ++trial) {
+        int mat;
+        sph_sim *sim = periodic_block(3, 6, dx, &mat);
+        check(sim, sph_material_set(sim, mat, "weibull_k", 1e30));
+        check(sim, sph_material_set(sim, mat, "weibull_m", 9.0));
+        check(sim, sph_effect(sim, "damage", "seed=3"));
+        sph_material_info info;
+        check(sim, sph_material_info_get(sim, mat, &info));
+        double *weakest = copy_field(sim, SPH_FIELD_FLAW_STRAIN, 216);
+        double eps_min = INFINITY;
+        for (int a = 0; a < 216; ++a)
+            eps_min = fmin(eps_min, weakest[a]);
+        onset = info.youngs_modulus * eps_min / info.poisson_ratio;
+        const double s = trial == 0 ? 0.99 * onset : 1.01 * onset;
+        const double S[6] = {s / 3, -2 * s / 3, s / 3, 0, 0, 0}; /* P = s/3 */
+        set_uniform_stress(sim, s / 3, S);
+        check(sim, sph_set_dt(sim, 1e-3 * sph_dt(sim), 0));
+        check(sim, sph_run(sim, 1));
+        const double *D = field_ptr(sim, SPH_FIELD_DAMAGE);
+        const double lateral = info.poisson_ratio * s / info.youngs_modulus;
+        int damaged = 0;
+        for (int a = 0; a < 216; ++a) {
+            if (fabs(weakest[a] - lateral) < 1e-6 * lateral)
+                continue; /* too close to call */
+            assert_int_equal(D[a] > 0.0, weakest[a] < lateral);
+            damaged += D[a] > 0.0;
+        }
+        assert_int_equal(damaged > 0, trial == 1);
+        free(weakest);
+        sph_destroy(sim);
+    }
+    assert_true(onset > 0);
+}
+
+/* A free block released from tension cracks from its flaws; the damage
+ * field is bitwise the same on 1 and 2 threads, and after a checkpoint. */
+static sph_sim *tension_block(int threads)
+{
+    sph_sim *sim = free_block_2d(40, 40, 1e-3);
+    check(sim, sph_set_threads(sim, threads));
+    /* k V eps^m = 0.64 at eps = 2e-3: about half the particles active */
+    check(sim, sph_material_set(sim, 0, "weibull_k", 1e22));
+    check(sim, sph_material_set(sim, 0, "weibull_m", 6.0));
+    check(sim, sph_effect(sim, "damage", "seed=11"));
+    check(sim, sph_effect(sim, "artificial_viscosity", NULL));
+    const double S0[4] = {0, 0, 0, 0};
+    set_uniform_stress(sim, -3.0 * PAPER_K * 2e-3, S0); /* eps = 2e-3 */
+    return sim;
+}
+
+static void damage_field_is_bitwise_the_same_on_1_and_2_threads(void **state)
+{
+    (void)state;
+    sph_sim *one = tension_block(1), *two = tension_block(2);
+    check(one, sph_run(one, 150));
+    check(two, sph_run(two, 150));
+    const double *D1 = field_ptr(one, SPH_FIELD_DAMAGE), *D2 = field_ptr(two, SPH_FIELD_DAMAGE);
+    int grown = 0, whole = 0;
+    for (int a = 0; a < 1600; ++a) {
+        assert_memory_equal(&D1[a], &D2[a], sizeof(double));
+        grown += D1[a] > 0.0;
+        whole += D1[a] == 0.0;
+    }
+    assert_true(grown > 0 && whole > 0); /* a field worth comparing */
+    assert_memory_equal(field_ptr(one, SPH_FIELD_POSITION), field_ptr(two, SPH_FIELD_POSITION),
+                        1600 * 2 * sizeof(double));
+    sph_destroy(one);
+    sph_destroy(two);
+}
+
+/* The paper scene (coarse), its probe series after `steps`. */
+static void paper_probes(int damage, int toggle, double *out, int steps, size_t *bytes)
+{
+    sph_sim *sim = new_sim(2);
+    sph_paper_scene s;
+    check(sim, sph_build_paper_scene(sim, 4e-3, 1.5, 0, &s));
+    check(sim, sph_effect(sim, "artificial_viscosity", NULL));
+    if (damage || toggle) {
+        /* flaws that no strain of this run reaches: eps_min ~ 1e4 */
+        check(sim, sph_material_set(sim, s.material, "weibull_k", 1.0));
+        check(sim, sph_material_set(sim, s.material, "weibull_m", 1.0));
+        check(sim, sph_effect(sim, "damage", NULL));
+        check(sim, sph_run(sim, 1));
+    }
+    if (toggle)
+        check(sim, sph_effect_off(sim, "damage"));
+    if (!(damage || toggle))
+        check(sim, sph_run(sim, 1));
+    const double per = SPH_PROBE_VALUES(2);
+    for (int k = 0; k < steps; ++k) {
+        check(sim, sph_run(sim, 1));
+        for (int p = 0; p < 3; ++p)
+            check(sim, sph_probe_sample(sim, p, out + (size_t)(k * 3 + p) * (size_t)per));
+    }
+    *bytes = sph_memory_bytes(sim);
+    sph_destroy(sim);
+}
+
+/* Damage that never activates multiplies the stress by exactly 1: the
+ * probe series is bitwise that of the run without the effect; switched
+ * off again, the effect leaves no memory behind. */
+static void damage_without_active_flaws_leaves_the_paper_series_bitwise(void **state)
+{
+    (void)state;
+    const int steps = 200, per = SPH_PROBE_VALUES(2);
+    double *off = malloc(sizeof(double) * steps * 3 * per);
+    double *on = malloc(sizeof(double) * steps * 3 * per);
+    double *toggled = malloc(sizeof(double) * steps * 3 * per);
+    size_t bytes_off, bytes_on, bytes_toggled;
+    paper_probes(0, 0, off, steps, &bytes_off);
+    paper_probes(1, 0, on, steps, &bytes_on);
+    paper_probes(0, 1, toggled, steps, &bytes_toggled);
+    assert_memory_equal(off, on, sizeof(double) * steps * 3 * per);
+    assert_memory_equal(off, toggled, sizeof(double) * steps * 3 * per);
+    assert_true(bytes_on > bytes_off);
+    assert_int_equal(bytes_toggled, bytes_off);
+    free(off);
+    free(on);
+    free(toggled);
+}
+
+/* The damaged stress: tension leaves the pressure, the deviator scales. */
+static void damaged_stress_keeps_compression_and_scales_the_deviator(void **state)
+{
+    (void)state;
+    const double S[4] = {1, -2, 1, 3};
+    double Sd[4], P = -10.0;
+    damaged_stress(4, 0.25, S, &P, Sd);
+    assert_close(P, -7.5, 0, "tension * (1 - D)");
+    for (int c = 0; c < 4; ++c)
+        assert_close(Sd[c], 0.75 * S[c], 0, "deviator * (1 - D)");
+    P = 10.0;
+    damaged_stress(4, 1.0, S, &P, Sd);
+    assert_close(P, 10.0, 0, "compression kept at D = 1");
+    assert_close(Sd[3], 0.0, 0, "no shear at D = 1");
+}
+
+/* The largest principal strain of a known tensor: a rotated diagonal. */
+static void largest_principal_strain_of_a_rotated_tensor(void **state)
+{
+    (void)state;
+    const double K = 10.0, mu = 4.0, P = 3.0;
+    /* deviator with eigenvalues (5, -1, -4) rotated by 30 degrees about z */
+    const double c = cos(M_PI / 6), s = sin(M_PI / 6);
+    const double S3[6] = {5 * c * c - s * s, 5 * s * s - c * c, -4, 6 * c * s, 0, 0};
+    const double expected = 5.0 / (2 * mu) - P / (3 * K);
+    assert_close(largest_principal_strain(3, S3, P, K, mu), expected, 1e-14,
+                 "3D largest principal strain");
+    const double S2[4] = {S3[0], S3[1], S3[2], S3[3]};
+    assert_close(largest_principal_strain(2, S2, P, K, mu), expected, 1e-14,
+                 "2D largest principal strain");
+}
+
+static void bad_damage_input_names_the_value(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(4, 4, 1e-3);
+    assert_int_equal(sph_material_set(sim, 0, "weibull_q", 1.0), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "weibull_q"));
+    assert_int_equal(sph_material_set(sim, 0, "weibull_k", -1.0), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "weibull_k=-1"));
+    assert_int_equal(sph_effect(sim, "damage", "seed=1.5"), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "seed=1.5"));
+    check(sim, sph_effect(sim, "damage", NULL));
+    assert_int_equal(sph_run(sim, 1), SPH_ERR_STATE); /* no material has flaws */
+    assert_non_null(strstr(sph_errmsg(sim), "weibull_k"));
+    check(sim, sph_effect_off(sim, "damage"));
+    double out[16];
+    assert_int_equal(sph_field_copy(sim, SPH_FIELD_DAMAGE, out), SPH_ERR_STATE);
+    assert_non_null(strstr(sph_errmsg(sim), "damage"));
+    sph_destroy(sim);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(flaw_counts_follow_k_V_eps_to_the_m),
+        cmocka_unit_test(weakest_flaws_follow_the_first_arrival_law),
+        cmocka_unit_test(one_active_flaw_grows_cube_root_of_damage_linearly),
+        cmocka_unit_test(damage_is_capped_by_the_active_share_of_flaws),
+        cmocka_unit_test(damage_onset_in_uniaxial_compression_at_E_eps_min_over_nu),
+        cmocka_unit_test(damage_field_is_bitwise_the_same_on_1_and_2_threads),
+        cmocka_unit_test(damage_without_active_flaws_leaves_the_paper_series_bitwise),
+        cmocka_unit_test(damaged_stress_keeps_compression_and_scales_the_deviator),
+        cmocka_unit_test(largest_principal_strain_of_a_rotated_tensor),
+        cmocka_unit_test(bad_damage_input_names_the_value),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
