@@ -195,6 +195,11 @@ SPH_API sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material
  * takes the body's material.  Motion is prescribed; density and deviatoric
  * stress evolve as for the specimen (SPEC: bonded ends).  Add the body
  * first: the smoothing length h comes from the first body. */
+/* The force [N; N per metre of depth in 2D] the SPH equations put on a
+ * fixed or velocity-driven body (a plate, a piston) at the last rate
+ * evaluation, which its prescribed motion overrides: the load a platen
+ * carries (gravity on it included when on).  Zero for other bodies. */
+SPH_API sph_status sph_body_reaction(sph_sim *sim, int body, double force[3]);
 SPH_API sph_status sph_add_plate(sph_sim *sim, const char *name, int material, int body, int layers,
                                  int *plate);
 SPH_API sph_status sph_add_piston(sph_sim *sim, const char *name, int material, int body,

@@ -85,8 +85,7 @@ sph_status damage_prepare(sph_sim *sim)
         sim->flaw_count = count;
     if (!D || !eps || !count) {
         damage_free(sim);
-        return sph_fail(sim, SPH_ERR_MEMORY, "effect damage: cannot allocate for %zu particles",
-                        n);
+        return sph_fail(sim, SPH_ERR_MEMORY, "effect damage: cannot allocate for %zu particles", n);
     }
     for (size_t a = from; a < n; ++a) {
         D[a] = 0.0;

@@ -109,6 +109,11 @@ sph_status sim_evaluate_pass(sph_sim *sim, int pass)
     for (int k = 0; k < sim->n_bodies; ++k) {
         const body *b = &sim->bodies[k];
         if (b->motion == SPH_MOTION_FIXED || b->motion == SPH_MOTION_VELOCITY) {
+            double *F = sim->bodies[k].reaction; /* the force the motion overrides */
+            F[0] = F[1] = F[2] = 0.0;
+            for (size_t a = b->first; a < b->first + b->count; ++a)
+                for (int i = 0; i < dim; ++i)
+                    F[i] += sim->mass[a] * sim->dv_dt[a * dim + i];
             memset(sim->dv_dt + b->first * dim, 0, b->count * dim * sizeof(double));
         } else if (b->motion == SPH_MOTION_FORCE) {
             double sums[4] = {0.0, 0.0, 0.0, 0.0};
@@ -268,6 +273,18 @@ static sph_status run_steps(sph_sim *sim, long steps, double t_end)
     }
     if (in->carries_rates && sim->rates_valid)
         carried_rates_set(sim);
+    return sph_ok(sim);
+}
+
+sph_status sph_body_reaction(sph_sim *sim, int body, double force[3])
+{
+    sph_status st = sph_need(sim, force, "sph_body_reaction", "force");
+    if (st)
+        return st;
+    if (body < 0 || body >= sim->n_bodies)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "sph_body_reaction: body=%d: %d bodies are defined",
+                        body, sim->n_bodies);
+    memcpy(force, sim->bodies[body].reaction, 3 * sizeof(double));
     return sph_ok(sim);
 }
 

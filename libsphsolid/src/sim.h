@@ -32,6 +32,8 @@ typedef struct body {
                                           can tell bodies of another shape */
     double lo[3], hi[3];               /* extent of the body's lattice cells */
     double step[3];                    /* lattice step per axis (spacing if unknown) */
+    double reaction[3];                /* prescribed bodies: the SPH force on them at the
+                           last rate evaluation (sph_body_reaction) */
 } body;
 
 typedef struct probe {

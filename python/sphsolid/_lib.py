@@ -55,6 +55,12 @@ FIELD_PRESSURE = 5
 FIELD_VON_MISES = 6
 FIELD_STRESS = 7
 FIELD_ACCELERATION = 8
+# effect damage
+FIELD_DAMAGE = 9
+FIELD_FRAGMENT = 10
+FIELD_FLAWS = 11
+FIELD_FLAW_STRAIN = 12
+FIELD_ACTIVE_FLAWS = 13
 
 
 def stress_components(dim: int) -> int:
@@ -95,7 +101,8 @@ class MaterialInfo(Structure):
     _fields_ = [("bulk_modulus", c_double), ("shear_modulus", c_double),
                 ("rho0", c_double), ("poisson_ratio", c_double),
                 ("youngs_modulus", c_double), ("c0", c_double),
-                ("c_p", c_double)]
+                ("c_p", c_double), ("weibull_k", c_double),
+                ("weibull_m", c_double)]
 
 
 class BodyInfo(Structure):
@@ -154,6 +161,9 @@ _PROTOTYPES = {
     "sph_add_material_K_nu": (c_int, [_sim, c_double, c_double, c_double,
                                       POINTER(c_int)]),
     "sph_material_info_get": (c_int, [_sim, c_int, POINTER(MaterialInfo)]),
+    "sph_material_set": (c_int, [_sim, c_int, c_char_p, c_double]),
+    "sph_flaws_active_at": (c_int, [_sim, c_double, _dp]),
+    "sph_body_reaction": (c_int, [_sim, c_int, _dp]),
     "sph_add_block": (c_int, [_sim, c_char_p, c_int, _dp, _dp, c_double,
                               POINTER(c_int)]),
     "sph_add_particles": (c_int, [_sim, c_char_p, c_int, c_size_t, _dp, _dp,

@@ -48,6 +48,10 @@ class Material:
         Poisson ratio [-], -1 < nu < 0.5.
     name : str, optional
         A label for reports.
+    weibull_k, weibull_m : float, optional
+        Flaws of the Weibull law n(eps) = k V eps^m for the effect
+        ``damage``: k [m^-3] (per metre of depth in 2D: V = area x 1 m)
+        and the exponent m [-]; 0 (default): no flaws (docs/fracture.md).
 
     Attributes
     ----------
@@ -65,6 +69,8 @@ class Material:
     E: float | None = None
     nu: float | None = None
     name: str = ""
+    weibull_k: float = 0.0
+    weibull_m: float = 0.0
     c0: float = field(init=False, default=0.0)
     c_p: float = field(init=False, default=0.0)
     pair: str = field(init=False, default="")
@@ -95,7 +101,10 @@ class Material:
         if "nu" in values and not -1.0 < values["nu"] < 0.5:
             raise ValueError(f"Material: Poisson ratio nu must be in "
                              f"(-1, 0.5), got {values['nu']!r}")
-        info = _library_info(pair, values, rho0)
+        for key in ("weibull_k", "weibull_m"):
+            object.__setattr__(self, key, _number(key, getattr(self, key)))
+        info = _library_info(pair, values, rho0, self.weibull_k,
+                             self.weibull_m)
         set_ = object.__setattr__
         set_(self, "pair", pair)
         set_(self, "rho0", rho0)
@@ -125,6 +134,12 @@ class Material:
             status = lib.sph_add_material_K_nu(handle, given["K"], given["nu"],
                                                self.rho0, ctypes.byref(index))
         _lib.check(status, handle, "Material")
+        for key in ("weibull_k", "weibull_m"):
+            value = getattr(self, key, 0.0)
+            if value:
+                _lib.check(lib.sph_material_set(handle, index.value,
+                                                key.encode(), value),
+                           handle, "Material")
         return index.value
 
     def __repr__(self):
@@ -134,7 +149,8 @@ class Material:
                 f"kg/m^3)")
 
 
-def _library_info(pair, values, rho0) -> _lib.MaterialInfo:
+def _library_info(pair, values, rho0, weibull_k=0.0,
+                  weibull_m=0.0) -> _lib.MaterialInfo:
     """Let libsphsolid validate and convert the constants."""
     handle = _lib.new_handle(2)
     try:
@@ -142,6 +158,8 @@ def _library_info(pair, values, rho0) -> _lib.MaterialInfo:
         object.__setattr__(material, "pair", pair)
         object.__setattr__(material, "rho0", rho0)
         object.__setattr__(material, "_given", values)
+        object.__setattr__(material, "weibull_k", weibull_k)
+        object.__setattr__(material, "weibull_m", weibull_m)
         index = Material.add_to(material, handle)
         info = _lib.MaterialInfo()
         _lib.check(lib.sph_material_info_get(handle, index,

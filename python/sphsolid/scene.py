@@ -466,6 +466,48 @@ class Scene:
         """dv/dt of the last rate evaluation [m/s^2], (n, dim) (a copy)."""
         return self._copy(_lib.FIELD_ACCELERATION)
 
+    # effect damage (docs/fracture.md): copies; RuntimeError while it is off
+    @property
+    def damage(self) -> np.ndarray:
+        """Damage D in [0, 1] of each particle, (n,) (a copy)."""
+        return self._copy(_lib.FIELD_DAMAGE)
+
+    @property
+    def fragments(self) -> np.ndarray:
+        """Fragment id of each particle, (n,) int: connected regions of
+        free-body particles with D < 1, numbered from 0; -1 for D = 1 and
+        for prescribed bodies."""
+        return self._copy(_lib.FIELD_FRAGMENT).astype(np.int64)
+
+    @property
+    def flaws(self) -> np.ndarray:
+        """Number of flaws of each particle, (n,) int."""
+        return self._copy(_lib.FIELD_FLAWS).astype(np.int64)
+
+    @property
+    def flaw_strain(self) -> np.ndarray:
+        """Weakest activation strain of each particle, (n,) (inf: none)."""
+        return self._copy(_lib.FIELD_FLAW_STRAIN)
+
+    @property
+    def active_flaws(self) -> np.ndarray:
+        """Flaws active at each particle's current largest principal
+        strain, (n,) int."""
+        return self._copy(_lib.FIELD_ACTIVE_FLAWS).astype(np.int64)
+
+    def reaction(self, body: str) -> np.ndarray:
+        """The force [N; N/m in 2D] on a fixed or velocity-driven body
+        (a plate, a piston) at the last rate evaluation, (dim,)."""
+        self._current()
+        index = ctypes.c_int()
+        self._check(lib.sph_body_find(self._handle, body.encode(),
+                                      ctypes.byref(index)), "body")
+        out = np.zeros(3)
+        self._check(lib.sph_body_reaction(
+            self._handle, index.value,
+            out.ctypes.data_as(ctypes.POINTER(ctypes.c_double))), "reaction")
+        return out[:self.dimension]
+
     @property
     def body_ids(self) -> np.ndarray:
         """Body index of each particle, (n,) int32."""

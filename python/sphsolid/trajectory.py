@@ -46,6 +46,8 @@ class Frame:
     masses: np.ndarray               # [kg] (n,)
     body_ids: np.ndarray             # (n,) int
     spacing: float = 0.0             # [m] nominal particle spacing
+    damage: np.ndarray | None = None     # (n,) D, runs with effect damage
+    fragment: np.ndarray | None = None   # (n,) fragment id (-1: none)
 
     def __repr__(self):
         top = float(self.von_mises.max()) if len(self.von_mises) else 0.0
@@ -316,7 +318,10 @@ class Trajectory:
             masses=r(a["mass"], slice(None)),
             body_ids=r(a["body"], slice(None)),
             spacing=float(np.ravel(
-                self._file["parameters"].attrs["spacing"])[0]))
+                self._file["parameters"].attrs["spacing"])[0]),
+            damage=r(a["damage/value"], index) if "damage" in a else None,
+            fragment=(r(a["fragment/value"], index).astype(np.int64)
+                      if "fragment" in a else None))
 
     def __getitem__(self, key):
         if isinstance(key, slice):

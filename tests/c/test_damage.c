@@ -356,6 +356,67 @@ static void largest_principal_strain_of_a_rotated_tensor(void **state)
                  "2D largest principal strain");
 }
 
+/* Fragments: a block cut by three fully damaged columns (wider than the
+ * kernel support 2h = 2.4 dx) is two fragments; barely intact, one. */
+static void a_fully_damaged_band_splits_a_block_into_two_fragments(void **state)
+{
+    (void)state;
+    for (int trial = 0; trial < 2; ++trial) {
+        sph_sim *sim = free_block_2d(21, 10, 1e-3);
+        check(sim, sph_material_set(sim, 0, "weibull_k", 1.0));
+        check(sim, sph_material_set(sim, 0, "weibull_m", 1.0));
+        check(sim, sph_effect(sim, "damage", NULL));
+        const double *x = field_ptr(sim, SPH_FIELD_POSITION);
+        double *D = field_ptr(sim, SPH_FIELD_DAMAGE);
+        for (int a = 0; a < 210; ++a)
+            if (fabs(x[2 * a]) < 2e-3)
+                D[a] = trial == 0 ? 1.0 : 0.999;
+        double fragment[210];
+        check(sim, sph_field_copy(sim, SPH_FIELD_FRAGMENT, fragment));
+        double top = -1;
+        for (int a = 0; a < 210; ++a) {
+            top = fmax(top, fragment[a]);
+            if (trial == 0 && fabs(x[2 * a]) < 2e-3)
+                assert_close(fragment[a], -1.0, 0, "fragment of a D = 1 particle");
+            else if (trial == 0)
+                assert_close(fragment[a], x[2 * a] < 0 ? 0.0 : 1.0, 0, "fragment by side");
+        }
+        assert_close(top + 1, trial == 0 ? 2.0 : 1.0, 0, "number of fragments");
+        sph_destroy(sim);
+    }
+}
+
+/* Newton's third law: the platens' reactions and the SPH forces on the
+ * specimen sum to zero (no gravity). */
+static void platen_reactions_balance_the_forces_on_the_specimen(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    sph_paper_scene s;
+    check(sim, sph_build_paper_scene(sim, 4e-3, 1.5, 0, &s));
+    check(sim, sph_run(sim, 300));
+    double a[2 * 2000], piston[3], plate[3], sum[2] = {0, 0};
+    size_t n = 0;
+    double *mass;
+    check(sim, sph_field(sim, SPH_FIELD_MASS, &mass, &n, NULL));
+    assert_true(n <= 2000);
+    check(sim, sph_field_copy(sim, SPH_FIELD_ACCELERATION, a));
+    int *body = malloc(n * sizeof *body);
+    check(sim, sph_body_ids(sim, body));
+    for (size_t k = 0; k < n; ++k)
+        for (int i = 0; i < 2 && body[k] == s.specimen; ++i)
+            sum[i] += mass[k] * a[2 * k + i];
+    free(body);
+    check(sim, sph_body_reaction(sim, s.piston, piston));
+    check(sim, sph_body_reaction(sim, s.plate, plate));
+    assert_true(piston[1] > 0.0 && plate[1] < 0.0); /* the specimen pushes them apart */
+    for (int i = 0; i < 2; ++i)
+        assert_close(piston[i] + plate[i] + sum[i], 0.0, 1e-9 * fabs(piston[1]),
+                     "reactions + specimen forces");
+    assert_int_equal(sph_body_reaction(sim, 7, piston), SPH_ERR_ARGUMENT);
+    sph_destroy(sim);
+}
+
 static void bad_damage_input_names_the_value(void **state)
 {
     (void)state;
@@ -388,6 +449,8 @@ int main(void)
         cmocka_unit_test(damage_without_active_flaws_leaves_the_paper_series_bitwise),
         cmocka_unit_test(damaged_stress_keeps_compression_and_scales_the_deviator),
         cmocka_unit_test(largest_principal_strain_of_a_rotated_tensor),
+        cmocka_unit_test(a_fully_damaged_band_splits_a_block_into_two_fragments),
+        cmocka_unit_test(platen_reactions_balance_the_forces_on_the_specimen),
         cmocka_unit_test(bad_damage_input_names_the_value),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
