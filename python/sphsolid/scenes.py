@@ -213,3 +213,9 @@ def gravity(dx: float = 1e-3, g: float = 9.81,
                     smoothing_ratio=smoothing_ratio, inset=inset)
     scene.preset = chosen
     return scene
+
+
+# Brittle fracture scenes (the damage effect), in their own module.
+from .fracture import brazilian_disc, ucs  # noqa: E402
+
+__all__ += ["ucs", "brazilian_disc"]

@@ -1,5 +1,7 @@
 """The damage effect from Python: material keys, fields, files, restarts,
 and the fracture scenes (docs/fracture.md)."""
+import json
+
 import numpy as np
 import pytest
 
@@ -75,3 +77,55 @@ def test_the_seed_changes_the_draw_and_only_it():
     assert not np.array_equal(a.flaw_strain, c.flaw_strain)
     assert np.array_equal(a.flaws, b.flaws)
 
+
+
+def test_the_scenes_are_in_the_scenes_module():
+    from sphsolid import fracture, scenes
+    assert scenes.ucs is fracture.ucs
+    assert scenes.brazilian_disc is fracture.brazilian_disc
+
+
+def test_ucs_runs_past_its_peak_and_reports_the_strength():
+    from sphsolid import fracture
+    scene = fracture.ucs(4e-3)
+    run = fracture.load_to_failure(scene, max_strain=0.008, drop=0.5)
+    # the strength is the peak load over the loaded width (1 m deep)
+    assert run.strength_Pa == pytest.approx(run.peak_load_N / 0.086)
+    assert run.peak_load_N == pytest.approx(run.load.max())
+    # past the peak: stopped by the drop, damage began before the peak
+    assert run.post_peak_ratio < 0.5
+    assert run.strain[-1] < 0.008
+    assert run.damage_onset_s is not None
+    assert run.damage_onset_s <= run.peak_time
+    # the strain is the piston's travel over the specimen's height
+    assert run.strain_at_peak == pytest.approx(run.peak_time * 1.0, rel=1e-9)
+    assert run.fragments >= 1
+    assert set(run.summary()) >= {"peak_load_N", "strength_Pa",
+                                  "strain_at_peak", "fragments",
+                                  "damage_onset_s"}
+
+
+def test_sphsolid_ucs_writes_summary_and_files(tmp_path):
+    from sphsolid.cli import main
+    assert main(["ucs", "--dx", "4mm", "--threads", "1",
+                 "--out", str(tmp_path)]) == 0
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    for key in ("peak_load_N", "strength_Pa", "strain_at_peak", "fragments",
+                "damage_onset_s"):
+        assert key in summary
+    assert summary["strength_Pa"] == pytest.approx(
+        summary["peak_load_N"] / 0.086)
+    for name in ("ucs.h5", "ucs.xmf", "ucs_load.csv", "ucs_damage.png"):
+        assert (tmp_path / name).stat().st_size > 0
+    frames = list(Trajectory(tmp_path / "ucs.h5"))
+    assert frames and frames[-1].damage is not None
+
+
+def test_bad_fracture_arguments_are_named(tmp_path):
+    from sphsolid import fracture
+    from sphsolid.cli import main
+    scene = fracture.ucs(4e-3)
+    with pytest.raises(ValueError, match="drop"):
+        fracture.load_to_failure(scene, drop=1.5)
+    with pytest.raises(SystemExit):
+        main(["ucs", "--max-strain", "2", "--out", str(tmp_path)])

@@ -1,0 +1,169 @@
+"""The ``sphsolid ucs`` and ``sphsolid brazilian`` commands: the fracture
+tests to failure (docs/fracture.md).
+
+    sphsolid ucs       [--dx 2mm] [--seed 1] [--max-strain 0.8%] [--out DIR]
+    sphsolid brazilian [--dx 1mm] [--seed 1] [--max-strain 2%] [--out DIR]
+
+Each writes DIR/NAME.h5 (+ .xmf: snapshots with the damage and fragment
+fields), DIR/NAME_load.csv (time, strain, load), DIR/NAME_damage.png (the
+damage field at the peak and at the end) and DIR/summary.json
+(peak_load_N, strength_Pa, strain_at_peak, fragments, damage_onset_s).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time as wallclock
+from pathlib import Path
+
+__all__ = ["add_commands"]
+
+#: Snapshots written to the HDF5 file over a run.
+_SNAPSHOTS = 12
+
+
+def _length(text: str) -> float:
+    from .units import quantity
+    try:
+        value = quantity(text, None, "value")
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be finite and > 0")
+    return value
+
+
+def _strain(text: str) -> float:
+    """'0.8%' -> 0.008; a plain number is a strain."""
+    try:
+        value = (float(text[:-1]) / 100 if text.endswith("%")
+                 else float(text))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: not a strain (e.g. "
+                                         "0.008 or 0.8%)") from None
+    if not (math.isfinite(value) and 0 < value < 1):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be in (0, 1)")
+    return value
+
+
+def _seed(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: not an integer") \
+            from None
+    if not 0 <= value < 2 ** 53:
+        raise argparse.ArgumentTypeError(f"{text!r}: must be in [0, 2^53)")
+    return value
+
+
+def add_commands(sub) -> None:
+    """Add ``ucs`` and ``brazilian`` to the ``sphsolid`` subcommands."""
+    specs = (("ucs", "uniaxial compression test to failure (2D plane "
+              "strain, the paper's 86 x 140 mm specimen)", 2e-3, 0.008),
+             ("brazilian", "Brazilian disc (D = 50 mm, 2D) between flat "
+              "platens to splitting", 1e-3, 0.02))
+    for name, text, dx, max_strain in specs:
+        p = sub.add_parser(name, help=text, description=text)
+        p.add_argument("--dx", type=_length, default=dx,
+                       help=f"particle spacing (default {dx * 1e3:g}mm)")
+        p.add_argument("--seed", type=_seed, default=1,
+                       help="seed of the flaw draw (default 1)")
+        p.add_argument("--max-strain", type=_strain, default=max_strain,
+                       help="stop at this nominal strain if the load has "
+                            f"not dropped (default {max_strain:.1%})")
+        p.add_argument("--drop", type=_strain, default=0.5,
+                       help="stop when the load falls below this share of "
+                            "its peak (default 0.5)")
+        p.add_argument("--threads", type=int, default=None,
+                       help="OpenMP threads (default: OpenMP's)")
+        p.add_argument("--out", type=Path, default=Path("."),
+                       help="output directory (default: current)")
+        p.set_defaults(handler=lambda args, name=name: _run(args, name))
+
+
+def _run(args, name: str) -> int:
+    from . import fracture
+    from .calculators import CLibrary
+    from .trajectory import Trajectory
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    if name == "ucs":
+        scene = fracture.ucs(args.dx, seed=args.seed)
+    else:
+        scene = fracture.brazilian_disc(args.dx, seed=args.seed)
+    if args.threads is not None:
+        scene.calc = CLibrary(threads=args.threads)
+    info = scene.failure
+    print(f"{name}: dx = {args.dx * 1e3:g} mm, "
+          + ", ".join(f"{k} {v}" for k, v in scene.body_counts().items())
+          + f" particles, platen speed {info['speed'] * 1e3:g} mm/s, "
+          f"seed {args.seed}")
+    h5 = args.out / f"{name}.h5"
+    specimen = scene.body_slice("specimen")
+    state = {"peak": None, "samples": 0}
+    expected = args.max_strain * 2e4 if name == "ucs" else \
+        args.max_strain * 2e3
+    every = max(1, int(expected / _SNAPSHOTS))
+
+    with Trajectory(h5, "w", scene) as traj:
+        def on_sample(scene, t, load, peak):
+            state["samples"] += 1
+            if load >= peak:
+                state["peak"] = (t, scene.positions[specimen].copy(),
+                                 scene.damage[specimen])
+            if state["samples"] % every == 0:
+                traj.write()
+        start = wallclock.perf_counter()
+        run = fracture.load_to_failure(
+            scene, max_strain=args.max_strain, drop=args.drop,
+            samples_per_strain=2e4 if name == "ucs" else 2e3,
+            on_sample=on_sample)
+        traj.write()
+        wall = wallclock.perf_counter() - start
+    summary = run.summary()
+    summary.update(scene=name, dx_m=args.dx, seed=args.seed,
+                   steps=int(scene.step), wall_s=wall)
+    (args.out / "summary.json").write_text(json.dumps(summary, indent=2))
+    csv = args.out / f"{name}_load.csv"
+    with open(csv, "w") as f:
+        f.write("time_s,strain,load_N_per_m\n")
+        for t, e, load in zip(run.time, run.strain, run.load):
+            f.write(f"{t!r},{e!r},{load!r}\n")
+    png = args.out / f"{name}_damage.png"
+    _damage_figure(png, state["peak"], (scene.time,
+                   scene.positions[specimen], scene.damage[specimen]),
+                   f"{name}, dx = {args.dx * 1e3:g} mm, seed {args.seed}")
+    label = "UCS" if name == "ucs" else "2P/(pi D t)"
+    onset = run.damage_onset_s
+    print(f"{scene.step} steps in {wall:.1f} s; peak load "
+          f"{run.peak_load_N:.4g} N/m at strain {run.strain_at_peak:.4g}; "
+          f"{label} = {run.strength_Pa / 1e6:.4g} MPa; damage onset "
+          + (f"{onset * 1e3:.4g} ms" if onset is not None else "none")
+          + f"; {run.fragments} fragment(s); load at the end "
+          f"{run.post_peak_ratio:.2f} x peak")
+    for path in (h5, Trajectory(h5).xdmf_path, csv, png,
+                 args.out / "summary.json"):
+        print(f"wrote {path}")
+    return 0
+
+
+def _damage_figure(path, at_peak, at_end, title) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    panels = [p for p in (at_peak, at_end) if p is not None]
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 5),
+                             squeeze=False)
+    for ax, (t, x, D), what in zip(axes[0], panels, ("peak", "end")):
+        dots = ax.scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=D, s=4,
+                          cmap="inferno_r", vmin=0, vmax=1)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+        ax.set_title(f"at the {what}: t = {t * 1e3:.3g} ms")
+    fig.colorbar(dots, ax=list(axes[0]), label="damage D")
+    fig.suptitle(title)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

@@ -1,0 +1,237 @@
+"""Brittle fracture scenes: the compression test and the Brazilian disc to
+failure, with the library's ``damage`` effect (docs/fracture.md).
+
+:func:`ucs` is the paper's specimen (86 mm x 140 mm, plane strain) between a
+fixed plate and a piston, loaded past its peak; :func:`brazilian_disc` a
+disc between flat platens, loaded until it splits. :func:`load_to_failure`
+runs either and returns the load history and the strength.
+
+A strength is one sample of the flaw draw (the ``seed``): compare ensembles
+over seeds, not single runs.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _lib
+from .build import disc, piston, plate, rectangle
+from .dynamics import ImprovedEuler
+from .material import Material
+from .scene import Scene
+
+__all__ = ["ucs", "brazilian_disc", "load_to_failure", "FailureRun",
+           "fracture_material", "UCS_STRAIN_RATE", "DISC_SPEED"]
+
+#: Axial strain rate of the compression test [1/s]: the load rises over
+#: ~50 wave transits of the specimen (0.14 m / 2300 m/s = 61 us) before the
+#: peak, and a run at dx = 2 mm takes well under a minute.
+UCS_STRAIN_RATE = 1.0
+#: Piston speed of the Brazilian disc [m/s] (the plate below is fixed).
+DISC_SPEED = 0.02
+#: The artificial viscosity of the wave scenes (alpha 1).
+_VISCOSITY = {"alpha": 1.0, "beta": 0.0}
+
+
+def fracture_material(weibull_k: float = 1e28, weibull_m: float = 9.0,
+                      name: str = "rock") -> Material:
+    """The paper's rock (K = 12.2 GPa, mu = 2.67 GPa, rho0 = 2300 kg/m^3)
+    with Weibull flaws: k [m^-3], m [-].
+
+    The defaults put the strain at which a 2 mm plane-strain particle
+    (V = 4e-6 m^3 per metre of depth) expects one active flaw at
+    (1 / (k V))^(1/m) = 3.0e-3.
+    """
+    return Material(K=12.2e9, mu=2.67e9, rho0=2300.0, name=name,
+                    weibull_k=weibull_k, weibull_m=weibull_m)
+
+
+def _damage_effects(seed: int, flaws: float, viscosity) -> dict:
+    effects = {"damage": {"seed": seed, "flaws": flaws}}
+    if viscosity:
+        effects["artificial_viscosity"] = dict(viscosity)
+    return effects
+
+
+def _fracture_watchdog(scene: Scene) -> None:
+    """Damaged particles that separate expand freely (they carry no
+    tension), so the watchdog's lower density bound is off; the speed and
+    upper density bounds stay (1 x c_p, 2 rho0)."""
+    _lib.check(_lib.lib.sph_set_watchdog(scene.handle, 1.0, 0.0, 2.0),
+               scene.handle, "watchdog")
+
+
+def ucs(dx: float = 2e-3, material: Material | None = None,
+        strain_rate: float = UCS_STRAIN_RATE, seed: int = 1,
+        flaws: float = 10.0, viscosity=_VISCOSITY,
+        width: float = 0.086, height: float = 0.140) -> Scene:
+    """The uniaxial compression test to failure (2D plane strain).
+
+    The specimen ``width`` x ``height`` [m] (the paper's 86 mm x 140 mm)
+    stands on a fixed plate under a piston moving down at
+    ``strain_rate * height`` [m/s], with the ``damage`` effect on.
+
+    Parameters
+    ----------
+    dx : float
+        Particle spacing [m].
+    material : Material, optional
+        Must have Weibull flaws; default :func:`fracture_material`.
+    strain_rate : float
+        Nominal axial strain rate [1/s].
+    seed, flaws :
+        The damage effect's parameters (the flaw draw).
+    viscosity : dict or None
+        Artificial viscosity (alpha, beta); None: off.
+
+    The scene's ``failure`` attribute records what :func:`load_to_failure`
+    needs: the loaded body, the gauge length and the loaded area.
+    """
+    material = material or fracture_material()
+    specimen = rectangle((-width / 2, width / 2), (0.0, height), dx,
+                         material, "specimen")
+    scene = Scene(2, [specimen],
+                  effects=_damage_effects(seed, flaws, viscosity))
+    layers = scene.support_layers(dx)
+    scene.add(plate(under=specimen, layers=layers))
+    scene.add(piston(over=specimen, layers=layers,
+                     velocity=(0.0, -strain_rate * height)))
+    _fracture_watchdog(scene)
+    scene.failure = {"kind": "ucs", "piston": "piston", "length": height,
+                     "speed": strain_rate * height, "area": width * 1.0,
+                     "diameter": None}
+    return scene
+
+
+def brazilian_disc(dx: float = 1e-3, diameter: float = 0.05,
+                   material: Material | None = None,
+                   speed: float = DISC_SPEED, seed: int = 1,
+                   flaws: float = 10.0, viscosity=_VISCOSITY) -> Scene:
+    """The Brazilian (indirect tensile) test: a disc of ``diameter`` [m]
+    (2D plane strain, 1 m deep) between a fixed flat plate and a flat
+    piston moving down at ``speed`` [m/s], with the ``damage`` effect on.
+
+    The indirect tensile strength is 2P / (pi D t) with P the peak load
+    and t the depth (1 m in 2D: P in N per metre).
+    """
+    material = material or fracture_material()
+    specimen = disc((0.0, 0.0), diameter / 2, dx, material, "specimen")
+    scene = Scene(2, [specimen],
+                  effects=_damage_effects(seed, flaws, viscosity))
+    layers = scene.support_layers(dx)
+    scene.add(plate(under=specimen, layers=layers))
+    scene.add(piston(over=specimen, layers=layers, velocity=(0.0, -speed)))
+    _fracture_watchdog(scene)
+    scene.failure = {"kind": "brazilian", "piston": "piston",
+                     "length": diameter, "speed": speed, "area": None,
+                     "diameter": diameter}
+    return scene
+
+
+@dataclass
+class FailureRun:
+    """The load history of a test to failure.
+
+    Attributes
+    ----------
+    time, load, strain : ndarray
+        Time [s], the piston's load [N; N/m in 2D, compression positive]
+        and the nominal strain (piston travel / length).
+    peak_load_N : float
+        Largest load [N/m in 2D].
+    strength_Pa : float
+        UCS = peak load / area, or 2P/(pi D t) for the disc (t = 1 m).
+    strain_at_peak : float
+    damage_onset_s : float or None
+        First sample time with some D > 0.
+    fragments : int
+        Connected regions with D < 1 at the end.
+    post_peak_ratio : float
+        Load at the end over the peak (the drop after the peak).
+    """
+
+    time: np.ndarray
+    load: np.ndarray
+    strain: np.ndarray
+    peak_load_N: float
+    strength_Pa: float
+    strain_at_peak: float
+    damage_onset_s: float | None
+    fragments: int
+    post_peak_ratio: float
+    peak_time: float = 0.0
+    frames: list = field(default_factory=list)
+
+    def summary(self) -> dict:
+        """The fields of ``summary.json``."""
+        return {"peak_load_N": self.peak_load_N,
+                "strength_Pa": self.strength_Pa,
+                "strain_at_peak": self.strain_at_peak,
+                "fragments": self.fragments,
+                "damage_onset_s": self.damage_onset_s,
+                "post_peak_ratio": self.post_peak_ratio,
+                "peak_time_s": self.peak_time}
+
+
+def load_to_failure(scene: Scene, max_strain: float = 0.02,
+                    drop: float = 0.5, samples_per_strain: float = 2e4,
+                    dynamics=None, on_sample=None) -> FailureRun:
+    """Load a scene of :func:`ucs` or :func:`brazilian_disc` until the load
+    falls below ``drop`` times its peak (or the strain reaches
+    ``max_strain``), sampling the piston's load.
+
+    ``on_sample(scene, time, load, peak)`` is called at each sample (a
+    place to write snapshots). The load is the piston's reaction
+    (``Scene.reaction``) at the last rate evaluation of each sample.
+    """
+    info = getattr(scene, "failure", None)
+    if info is None:
+        raise ValueError("load_to_failure: the scene was not built by "
+                         "sphsolid.scenes.ucs or brazilian_disc")
+    if not 0.0 < drop < 1.0:
+        raise ValueError(f"drop must be in (0, 1), got {drop!r}")
+    if not max_strain > 0.0:
+        raise ValueError(f"max_strain must be > 0, got {max_strain!r}")
+    dyn = dynamics or ImprovedEuler(scene, progress=False)
+    length, speed = info["length"], info["speed"]
+    interval = 1.0 / (samples_per_strain * speed / length)   # [s]
+    steps = max(1, int(round(interval / dyn.dt)))
+    times, loads, strains = [], [], []
+    onset = None
+    peak, t0 = 0.0, dyn.time
+    while True:
+        dyn.run(steps=steps)
+        t = dyn.time
+        load = float(scene.reaction(info["piston"])[1])  # pushed up: > 0
+        strain = speed * (t - t0) / length
+        times.append(t)
+        loads.append(load)
+        strains.append(strain)
+        if onset is None and float(scene.damage.max()) > 0.0:
+            onset = t
+        peak = max(peak, load)
+        if on_sample is not None:
+            on_sample(scene, t, load, peak)
+        if strain >= max_strain or (peak > 0 and load < drop * peak
+                                    and onset is not None):
+            break
+    time = np.asarray(times)
+    load = np.asarray(loads)
+    strain = np.asarray(strains)
+    k = int(np.argmax(load))
+    peak = float(load[k])
+    if info["kind"] == "ucs":
+        strength = peak / info["area"]
+    else:
+        strength = 2.0 * peak / (math.pi * info["diameter"] * 1.0)
+    fragments = scene.fragments
+    return FailureRun(time=time, load=load, strain=strain,
+                      peak_load_N=peak, strength_Pa=strength,
+                      strain_at_peak=float(strain[k]),
+                      damage_onset_s=onset,
+                      fragments=int(fragments.max() + 1)
+                      if fragments.size else 0,
+                      post_peak_ratio=float(load[-1] / peak) if peak else 0.0,
+                      peak_time=float(time[k]))
