@@ -143,8 +143,10 @@ def _common(parser, dx, until, frames):
     parser.add_argument("--times", type=_times, default=None,
                         help="comma-separated times of the von Mises maps "
                              f"(default {frames} evenly to --until)")
-    parser.add_argument("--probe-interval", type=_whole(1), default=10,
-                        help="steps between probe samples (default 10)")
+    parser.add_argument("--probe-interval", type=_whole(1), default=None,
+                        help="steps between probe samples (default: every "
+                        "step within 0.25 us, a quarter of the accuracy "
+                        "metric's smoothing)")
     parser.add_argument("--viscosity", type=_finite(0.0, "must be finite "
                         "and >= 0 (0 switches it off)"), default=None,
                         metavar="ALPHA",
@@ -221,7 +223,7 @@ def _plan_parser(sub) -> None:
         "plan", help="cheapest settings for a requested error (calibration "
         "runs, error and cost models); writes plan.json")
     plan.add_argument("scene", nargs="?", choices=("piston", "gravity",
-                                                   "strip"),
+                                                   "strip", "piston_nu045"),
                       help="project scene (or --deck)")
     plan.add_argument("--error", type=_fraction, required=True,
                       help="requested error, e.g. 3%% or 0.03")
@@ -238,6 +240,11 @@ def _plan_parser(sub) -> None:
     plan.add_argument("--ladder", type=_spacings, default=None,
                       help="calibration spacings, e.g. 4mm,3mm,2mm")
     plan.add_argument("--out", type=Path, default=Path("plan.json"))
+    plan.add_argument("--no-cache", action="store_true",
+                      help="calibrate anew and keep no runs on disk (by "
+                      "default calibration runs are kept in "
+                      "$SPHSOLID_CACHE, else ~/.cache/sphsolid/plan, and "
+                      "reused by later plans of the same scene)")
     deck = plan.add_argument_group("LAMMPS decks")
     deck.add_argument("--deck", type=Path, default=None,
                       help="plan a LAMMPS input deck through the plugin")
@@ -267,10 +274,10 @@ def _run_plan_options(parser) -> None:
 
 
 def _plan(args, argv) -> int:
-    from . import plan as planner
+    from . import planner
     log = lambda message: print(message, flush=True)  # noqa: E731
     if args.deck is not None:
-        from .plan_deck import plan_deck
+        from .planner.deck import plan_deck
         result = plan_deck(args.deck, error=args.error, until=args.until,
                            probes=args.probe, variable=args.var,
                            time_variable=args.time_var, norm=args.norm,
@@ -280,15 +287,18 @@ def _plan(args, argv) -> int:
         if args.scene is None:
             raise ValueError("sphsolid plan: name a scene (piston, gravity, "
                              "strip) or give --deck")
+        from .planner.cache import RunCache
         spec = planner.project_scenes()[args.scene]
         until = args.until or spec.until
+        cache = RunCache(args.scene, root=None if args.no_cache
+                         else "default")
         result = planner.plan(
             spec.factory, error=args.error, until=until, probes=spec.probes,
             quantity=spec.quantity, norm=args.norm, threads=args.threads,
             max_seconds=args.max_seconds,
             ladder=args.ladder or spec.ladder,
             window=spec.window(until) if spec.window else None,
-            scene=args.scene, log=log)
+            scene=args.scene, log=log, cache=cache)
     print()
     print(result.summary())
     result.save(args.out)
@@ -299,7 +309,7 @@ def _plan(args, argv) -> int:
 def _planned_scene(args, name: str, argv):
     """The scene of ``--plan plan.json`` (its spacing, h/dx, kernel,
     integrator and effects); ``--threads`` and ``--until`` override."""
-    from . import plan as planner
+    from . import planner
     loaded = planner.Plan.load(args.plan)
     if not loaded.feasible:
         raise ValueError(f"{args.plan}: the plan was refused: "
@@ -392,6 +402,7 @@ def _build_plugin(args) -> int:
 
 def _run_scene(args, scene, name: str) -> int:
     from . import Probes, scenes
+    from .metrics import probe_interval_for
     from .dynamics import dynamics_for
     from .figures import probe_curves, von_mises_map
     from .trajectory import Frame, Trajectory
@@ -413,6 +424,8 @@ def _run_scene(args, scene, name: str) -> int:
         # the preset's step: a fraction of the integrator's default
         dyn = dynamics_for(args.integrator)(scene, dt=dyn.dt * chosen.step,
                                             progress=args.progress)
+    if args.probe_interval is None:
+        args.probe_interval = probe_interval_for(dyn.dt)
     late = [t for t in (args.times or []) if t > args.until]
     if late:
         raise ValueError(f"--times {', '.join(f'{t * 1e3:g}ms' for t in late)}"
@@ -530,7 +543,7 @@ def _error_estimate(args, probes, planned):
     """``--error-estimate``: shadow runs at 2dx (and 4dx for the order)."""
     if not getattr(args, "error_estimate", False) or len(probes.times) < 2:
         return None
-    from .estimate import ErrorEstimate
+    from .planner.estimate import ErrorEstimate
     # a plan's calibration of its setting gives the order (when it is
     # well determined); without one, the two-grid rule
     estimate = ErrorEstimate(

@@ -42,7 +42,7 @@ time. Lengths, times, velocities, pressures and forces take unit strings
     [output]
     file = "pull.h5"             # relative to the output folder
     snapshot_every = "0.025ms"   # or snapshot_interval = <steps>
-    probe_interval = 10          # steps
+    probe_interval = 10          # steps (default: every step within 0.25 us)
 
 Top-level keys: ``dimension`` (2 or 3, default 2), ``until`` (end time,
 required unless given on the command line), ``dt``, ``integrator``
@@ -75,6 +75,7 @@ from pathlib import Path
 
 from . import build
 from .material import Material
+from .metrics import probe_interval_for
 from .units import length, quantity, time, to_si
 
 __all__ = ["load", "SceneFile", "run_file"]
@@ -331,7 +332,8 @@ def run_file(path, out=None, until=None, progress=None, log=print) -> dict:
         interval = max(1, int(round(every / dyn.dt)))
     if interval is None:
         interval = max(1, math.ceil(until / dyn.dt / 10))   # ~10 frames
-    probe_interval = int(output.get("probe_interval", 10))
+    probe_interval = int(output.get("probe_interval",
+                                    probe_interval_for(dyn.dt)))
     h5 = out / output.get("file", f"{spec.path.stem}.h5")
     counts = ", ".join(f"{k} {v:,}" for k, v in scene.body_counts().items())
     log(f"{spec.title}: {scene.dimension}D, {counts} particles, dt = "
