@@ -304,3 +304,32 @@ def test_default_probe_interval_keeps_the_metric_of_a_wave_series():
     fine = metrics.deviation(sampled(metrics.probe_interval_for(dt)), full)
     coarse = metrics.deviation(sampled(62), full)
     assert fine < 1e-3 < coarse
+
+
+def test_finer_levels_of_earlier_plans_enter_the_fit(monkeypatch, tmp_path):
+    # one verdict per setting: a level an earlier plan of the scene
+    # calibrated is part of every later fit of that setting
+    spec = planner.project_scenes()["strip"]
+    setting = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
+    until = 20e-6
+    times = np.linspace(0.0, until, 201)
+
+    def fake_run(factory, dx, setting_, until_, probes, quantity, threads):
+        series = {n: 1e6 * (1 + 30 * dx * np.sin(2e5 * times))
+                  for n in spec.probes}
+        n, steps = int(0.8 / dx), int(until / (0.1 * dx / 3000.0))
+        return planner.LadderRun(setting_, dx, n, steps, until / steps, 1.0,
+                                 until, times, series, cpu=n * steps * 1e-8,
+                                 threads=1)
+    monkeypatch.setattr(planner.search, "ladder_run", fake_run)
+    cache = RunCache("strip-test", tmp_path)
+    key = (0.5e-3, setting, until, spec.quantity, 1)
+    cache[key] = fake_run(None, 0.5e-3, setting, until, None, None, 1)
+    plan = planner.plan(spec.factory, error=0.03, until=until,
+                        probes=spec.probes, quantity=spec.quantity,
+                        norm="max", threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
+                        candidates=[setting], timing_checks=0, refinements=0,
+                        cache=RunCache("strip-test", tmp_path), record=None)
+    (cand,) = plan.candidates
+    assert [r.dx for r in cand.runs] == [2e-3, 1.4e-3, 1e-3, 0.5e-3]
+    assert cand.model.finest == pytest.approx(0.5e-3)

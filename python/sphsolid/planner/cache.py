@@ -97,6 +97,32 @@ class RunCache(MutableMapping):
             # a cache that cannot be written costs time, never a result
             self.folder = None
 
+    def runs_of(self, setting, until: float, quantity: str,
+                threads) -> list:
+        """Every calibration run of ``setting`` kept in this cache (in
+        memory or on disk) to ``until``, of ``quantity``, on ``threads``."""
+        def wanted(key) -> bool:
+            return (isinstance(key, tuple) and len(key) == 5
+                    and key[1] == setting and key[2] == float(until)
+                    and key[3] == quantity and key[4] == threads)
+        found = {repr(k): v for k, v in self.memory.items() if wanted(k)}
+        if self.folder is not None and self.folder.is_dir():
+            for path in self.folder.glob("*.pkl"):
+                try:
+                    with open(path, "rb") as handle:
+                        stored_key, value = pickle.load(handle)
+                except Exception:
+                    continue
+                run_setting = getattr(value, "setting", None)
+                if stored_key in found or run_setting != setting:
+                    continue
+                key = (float(f"{value.dx:.6g}"), setting, float(until),
+                       quantity, threads)
+                if repr(key) == stored_key:
+                    found[stored_key] = value
+                    self.memory[key] = value
+        return list(found.values())
+
     def __delitem__(self, key) -> None:
         self.memory.pop(key, None)
         path = self._path(key)

@@ -474,6 +474,24 @@ def candidate_settings(scene_factory, until: float, probes, quantity: str,
     return settings, findings
 
 
+def cached_levels(cache, setting: Setting, until: float, quantity: str,
+                  threads) -> list:
+    """The successful calibration runs of ``setting`` in ``cache`` (to
+    ``until``, of ``quantity``, on ``threads``), coarsest first."""
+    if cache is None:
+        return []
+    if hasattr(cache, "runs_of"):
+        runs = cache.runs_of(setting, until, quantity, threads)
+    else:
+        runs = [v for k, v in cache.items()
+                if isinstance(k, tuple) and len(k) == 5 and k[1] == setting
+                and k[2] == float(until) and k[3] == quantity
+                and k[4] == threads and isinstance(v, LadderRun)]
+    runs = [r for r in runs if not r.failed]
+    unique = {float(f"{r.dx:.6g}"): r for r in runs}
+    return [unique[dx] for dx in sorted(unique, reverse=True)]
+
+
 class Progress:
     """A progress bar with the time left for the calibration runs: each
     run's work scales as dx^-p (p fitted on the particle-steps of the runs
@@ -713,6 +731,17 @@ def plan(scene_factory: Callable, error: float = 0.03,
             cand.note = cand.note or ("failed: " + next(
                 (r.failed for r in cand.runs if r.failed), ""))[:80]
             continue
+        # every finer level of this setting that an earlier plan of the
+        # scene calibrated enters its fit: one verdict per setting, not
+        # one per request
+        finer = [r for r in cached_levels(cache, cand.setting, until,
+                                          quantity, threads)
+                 if r.dx < ladder[-1] * (1 - 1e-6)]
+        if finer:
+            say(f"{cand.setting.label()}: {len(finer)} finer level(s) from "
+                "earlier plans (" + ", ".join(f"{r.dx * 1e3:.3g}"
+                                              for r in finer) + " mm)")
+        cand.runs.extend(finer)
         cand.smoothed = [_smoothed(r, grid) for r in cand.runs]
         usable.append(cand)
 
