@@ -333,3 +333,15 @@ def test_finer_levels_of_earlier_plans_enter_the_fit(monkeypatch, tmp_path):
     (cand,) = plan.candidates
     assert [r.dx for r in cand.runs] == [2e-3, 1.4e-3, 1e-3, 0.5e-3]
     assert cand.model.finest == pytest.approx(0.5e-3)
+
+
+def test_a_scene_file_is_planned_at_the_spacing_asked_for():
+    example = ROOT / "examples" / "scene_file" / "pull.toml"
+    spec = planner.scenes.scene_file(example, probes=["top"])
+    assert list(spec.probes) == ["top"]
+    assert spec.ladder[-1] == pytest.approx(2e-3)
+    coarse, fine = spec.factory(4e-3), spec.factory(2e-3)
+    # the block is 40 x 60 mm: halving dx gives four times its particles
+    assert fine.body_counts()["block"] == 4 * coarse.body_counts()["block"]
+    with pytest.raises(ValueError, match="no probe nowhere"):
+        planner.scenes.scene_file(example, probes=["nowhere"])

@@ -3,9 +3,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Callable
 
 import numpy as np
+
+from .settings import MANAGED_EFFECTS
 
 
 
@@ -184,3 +187,61 @@ def project_scenes() -> dict:
                            description="laterally periodic strip hit by the "
                            "piston, sigma_yy at y = 75, 50, 25 mm"),
     }
+
+
+def scene_file(path, probes=None, quantity: str = "von_mises") -> PlanScene:
+    """A scene file (``sphsolid run SCENE.toml``) as a planner scene: the
+    factory rebuilds the file's bodies at the planned spacing (every
+    body's ``dx`` scaled by one factor, so their ratios are kept), h/dx,
+    kernel and plate/piston inset, without the effects the planner
+    manages; the probes are the file's ``[probes]`` (those named in
+    ``probes``, or all); the ladder is 2, 1.4 and 1 times the file's
+    finest ``dx``; the end time is the file's ``until``."""
+    import copy
+
+    from .. import scenefile
+    from ..units import length
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"scene file {str(path)!r}: "
+                         + ("is a directory" if path.is_dir() else
+                            "no such file"))
+    data = scenefile._toml(path)
+    loaded = scenefile.SceneFile(path)       # every key checked once
+    points = dict(loaded.probe_points)
+    if not points:
+        raise ValueError(f"{path}: the planner measures its error at probes:"
+                         " the file has no [probes]")
+    if probes:
+        missing = [p for p in probes if p not in points]
+        if missing:
+            raise ValueError(f"{path}: no probe {', '.join(missing)} in "
+                             f"[probes] (defined: {', '.join(points)})")
+        points = {p: points[p] for p in probes}
+    if loaded.until is None:
+        raise ValueError(f"{path}: no end time: give until = \"...\" in the "
+                         "file")
+    spacings = [length(b["dx"], f"{path}: dx") for b in data["bodies"]
+                if isinstance(b, dict) and "dx" in b]
+    finest = min(spacings)
+    managed = set(MANAGED_EFFECTS)
+
+    def factory(dx: float, smoothing_ratio: float = 1.2,
+                kernel: str = "cubic_spline", inset: float | str = 0.0):
+        copy_ = copy.deepcopy(data)
+        for body in copy_["bodies"]:
+            if "dx" in body:
+                body["dx"] = length(body["dx"], "dx") * dx / finest
+            if body.get("shape") in ("plate", "piston") and inset:
+                body["inset"] = inset
+        copy_["smoothing_ratio"] = smoothing_ratio
+        copy_["kernel"] = kernel
+        copy_["effects"] = {k: v for k, v in copy_.get("effects", {}).items()
+                            if k not in managed}
+        built = scenefile.SceneFile.__new__(scenefile.SceneFile)
+        built.path = path
+        built._build(copy_, str(path))
+        return built.scene
+    return PlanScene(factory, points, quantity,
+                     (2.0 * finest, 1.4 * finest, finest), loaded.until,
+                     description=f"the scene file {path}")
