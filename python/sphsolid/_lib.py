@@ -374,6 +374,29 @@ def integrator_names() -> list[str]:
     return lib.sph_integrator_names().decode().split()
 
 
+def integrator_registry() -> dict:
+    """The library's integrator registry: for each integrator name, its
+    one-line ``description``, rate ``evaluations`` per step, and the
+    ``stable_factor`` and ``default_factor`` of its steps (stable step
+    stable_factor h / max(c_p + |v|), default step default_factor h / c0;
+    ``sph_integrator_info_get``)."""
+    out = {}
+    handle = new_handle(2)
+    try:
+        for name in integrator_names():
+            info = IntegratorInfo()
+            check(lib.sph_integrator_info_get(handle, name.encode(),
+                                              ctypes.byref(info)),
+                  handle, f"integrator {name!r}")
+            out[name] = {"description": info.description.decode(),
+                         "evaluations": int(info.evaluations),
+                         "stable_factor": float(info.stable_factor),
+                         "default_factor": float(info.default_factor)}
+    finally:
+        lib.sph_destroy(handle)
+    return out
+
+
 def steps_until(sim, t: float) -> tuple[int, float]:
     """How ``sph_run_until(sim, t)`` gets to ``t``: whole steps of the
     current dt, then one shortened step of the returned length (0: none)."""

@@ -550,6 +550,12 @@ class Scene:
             self.calc = CLibrary()
         return self._calc
 
+    @property
+    def has_calculator(self) -> bool:
+        """True once a calculator is bound (reading :attr:`calc` binds the
+        C library's on first use)."""
+        return self._calc is not None
+
     @calc.setter
     def calc(self, calculator) -> None:
         if self._calc is not None and self._calc is not calculator:
