@@ -156,6 +156,8 @@ _PROTOTYPES = {
     "sph_material_info_get": (c_int, [_sim, c_int, POINTER(MaterialInfo)]),
     "sph_add_block": (c_int, [_sim, c_char_p, c_int, _dp, _dp, c_double,
                               POINTER(c_int)]),
+    "sph_block_lattice": (c_int, [_sim, c_char_p, _dp, _dp, c_double,
+                                  POINTER(c_long), _dp]),
     "sph_add_particles": (c_int, [_sim, c_char_p, c_int, c_size_t, _dp, _dp,
                                   c_double, POINTER(c_int)]),
     "sph_add_prism": (c_int, [_sim, c_char_p, c_int, _dp, c_double, c_double,
