@@ -173,7 +173,7 @@ class Plan:
     effects_examined: bool = True
     #: the error model of the chosen setting (``ErrorModel.to_dict()``):
     #: the calibration a run's error estimate uses
-    #: (:class:`sphsolid.estimate.ErrorEstimate`)
+    #: (:class:`sphsolid.planner.estimate.ErrorEstimate`)
     calibration: dict | None = None
 
     # ------------------------------------------------------------ output
