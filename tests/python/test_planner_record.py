@@ -345,3 +345,33 @@ def test_a_scene_file_is_planned_at_the_spacing_asked_for():
     assert fine.body_counts()["block"] == 4 * coarse.body_counts()["block"]
     with pytest.raises(ValueError, match="no probe nowhere"):
         planner.scenes.scene_file(example, probes=["nowhere"])
+
+
+def test_a_scene_file_runs_with_the_settings_of_its_plan(tmp_path):
+    from sphsolid.scenefile import run_file
+    example = ROOT / "examples" / "scene_file" / "pull.toml"
+    data = _plan_dict()
+    data.update(scene="pull.toml", request={"until": 10e-6, "error": 0.1})
+    data["settings"].update(dx=4e-3, integrator="leapfrog")
+    path = tmp_path / "plan.json"
+    path.write_text(json.dumps(data))
+    lines = []
+    run_file(example, out=tmp_path, plan=path, log=lines.append)
+    # the block of 40 x 60 mm at 4 mm: 10 x 15 particles
+    assert any("block 150" in line for line in lines), lines
+    assert any("until 0.01 ms" in line for line in lines), lines
+    data["scene"] = "other.toml"
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match="other.toml"):
+        run_file(example, out=tmp_path, plan=path, log=lines.append)
+
+
+def test_plan_refuses_an_unwritable_output_before_any_work(tmp_path,
+                                                           capsys,
+                                                           monkeypatch):
+    from sphsolid.cli import main
+    calls = _record_plan_calls(monkeypatch)
+    assert main(["plan", "piston", "--error", "3%", "--out",
+                 str(tmp_path / "missing" / "plan.json")]) != 0
+    assert "missing does not exist" in capsys.readouterr().err
+    assert calls == []

@@ -20,10 +20,15 @@ def add_arguments(parser) -> None:
                         help="end time, overriding the file's")
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction,
                         default=None)
+    parser.add_argument("--plan", type=Path, default=None,
+                        help="run with the settings of a plan.json from "
+                        "'sphsolid plan SCENE.toml' (spacing, h/dx, kernel, "
+                        "integrator, effects)")
 
 
 def run(args) -> int:
     from ..scenefile import run_file
     run_file(args.scene, out=args.out, until=args.until,
-             progress=args.progress, log=lambda m: print(m, flush=True))
+             progress=args.progress, log=lambda m: print(m, flush=True),
+             plan=args.plan)
     return 0
