@@ -60,6 +60,26 @@ class Candidate:
 PLAN_FORMAT = "sphsolid-plan 1"
 
 
+def read_json(path: Path, what: str):
+    """The JSON contents of ``path``; a ValueError names the file and says
+    what is wrong (a directory, not UTF-8, unreadable, not JSON)."""
+    path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{path}: is a directory, not a {what}")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a {what} (not UTF-8 text)") from None
+    except OSError as error:
+        raise ValueError(f"{path}: cannot read the {what} "
+                         f"({error.strerror})") from None
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as error:
+        raise ValueError(f"{path}: not a JSON {what} ({error.msg} at line "
+                         f"{error.lineno}, column {error.colno})") from None
+
+
 def _number(value, where: str, positive: bool = False,
             optional: bool = True, integer: bool = False):
     if value is None and optional:
@@ -212,22 +232,7 @@ class Plan:
         checked (:func:`validate_plan_data`), and an error names the file
         and the key."""
         path = Path(path)
-        if path.is_dir():
-            raise ValueError(f"{path}: is a directory, not a plan file")
-        try:
-            text = path.read_text(encoding="utf-8")
-        except UnicodeDecodeError:
-            raise ValueError(f"{path}: not a plan file (not UTF-8 text)"
-                             ) from None
-        except OSError as error:
-            raise ValueError(f"{path}: cannot read the plan file "
-                             f"({error.strerror})") from None
-        try:
-            data = json.loads(text)
-        except json.JSONDecodeError as error:
-            raise ValueError(f"{path}: not a JSON plan file ({error.msg} at "
-                             f"line {error.lineno}, column {error.colno})"
-                             ) from None
+        data = read_json(path, "plan file")
         validate_plan_data(data, str(path))
         settings = data.get("settings")
         plan = cls(request=data.get("request") or {},
@@ -247,6 +252,16 @@ class Plan:
             plan.dx = float(settings["dx"])
             plan.threads = settings.get("threads")
         return plan
+
+    def adopt(self, best: Candidate) -> None:
+        """Take ``best``'s setting, spacing and predictions as the plan's."""
+        self.setting, self.dx = best.setting, best.dx
+        self.predicted_error = best.model.predict(best.dx)
+        self.error_upper = best.model.upper(best.dx)
+        self.predicted_seconds = best.seconds
+        self.predicted_cpu_seconds = best.cpu_seconds
+        self.particles, self.steps = best.particles, best.steps
+        self.calibration = best.model.to_dict()
 
     def build(self, scene_factory, threads: int | None = None,
               calculator: bool = True):
@@ -892,14 +907,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
                   threads=threads, findings=findings, candidates=cands + skipped,
                   scene=scene)
     if affordable:
-        best = affordable[0]
-        result.setting, result.dx = best.setting, best.dx
-        result.predicted_error = best.model.predict(best.dx)
-        result.error_upper = best.model.upper(best.dx)
-        result.predicted_seconds = best.seconds
-        result.predicted_cpu_seconds = best.cpu_seconds
-        result.particles, result.steps = best.particles, best.steps
-        result.calibration = best.model.to_dict()
+        result.adopt(affordable[0])
     else:
         result.best_reachable_error, result.reason = _refusal(
             usable, error, max_seconds, scene_factory, until)
