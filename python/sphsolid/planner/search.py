@@ -851,8 +851,15 @@ def plan(scene_factory: Callable, error: float = 0.03,
              and (c.model.anomalous or c.model.safety > SAFETY_GOOD)
              and next_cpu[id(c)] <= cheapest),
             key=lambda c: next_cost[id(c)])[:refine_best]
+        # a finer level that costs more CPU time than running the best
+        # plan found so far is not worth its price: that plan is the
+        # cheaper way to the answer (on the piston, levels of 0.3 mm
+        # were refined for 5 % requests that a 1 mm run met)
+        planned = min((c.cpu_seconds for c in usable
+                       if c.cpu_seconds is not None), default=math.inf)
         wanted = [c for c in wanted + undetermined
-                  if next_cost[id(c)] + spent <= budget]
+                  if next_cost[id(c)] + spent <= budget
+                  and next_cpu[id(c)] <= planned]
         if not wanted:
             break
         for cand in wanted:
