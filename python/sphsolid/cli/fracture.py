@@ -1,4 +1,4 @@
-"""The ``sphsolid ucs`` and ``sphsolid brazilian`` commands: the fracture
+"""What ``sphsolid ucs`` and ``sphsolid brazilian`` share: the fracture
 tests to failure (docs/fracture.md).
 
     sphsolid ucs       [--dx 2mm] [--seed 1] [--max-strain 0.8%] [--out DIR]
@@ -17,21 +17,12 @@ import math
 import time as wallclock
 from pathlib import Path
 
-__all__ = ["add_commands"]
+from .options import positive, whole
+
+__all__ = ["add_arguments", "run"]
 
 #: Snapshots written to the HDF5 file over a run.
 _SNAPSHOTS = 12
-
-
-def _length(text: str) -> float:
-    from .units import quantity
-    try:
-        value = quantity(text, None, "value")
-    except ValueError as error:
-        raise argparse.ArgumentTypeError(str(error)) from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"{text!r}: must be finite and > 0")
-    return value
 
 
 def _strain(text: str) -> float:
@@ -47,46 +38,29 @@ def _strain(text: str) -> float:
     return value
 
 
-def _seed(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: not an integer") \
-            from None
-    if not 0 <= value < 2 ** 53:
-        raise argparse.ArgumentTypeError(f"{text!r}: must be in [0, 2^53)")
-    return value
+def add_arguments(parser, name: str) -> None:
+    """The options of ``sphsolid ucs`` (name "ucs") or ``brazilian``."""
+    dx, max_strain = (2e-3, 0.008) if name == "ucs" else (1e-3, 0.02)
+    parser.add_argument("--dx", type=positive, default=dx,
+                        help=f"particle spacing (default {dx * 1e3:g}mm)")
+    parser.add_argument("--seed", type=int, default=1,
+                        help="seed of the flaw draw, in [0, 2^53) (default 1)")
+    parser.add_argument("--max-strain", type=_strain, default=max_strain,
+                        help="stop at this nominal strain if the load has "
+                             f"not dropped (default {max_strain:.1%})")
+    parser.add_argument("--drop", type=_strain, default=0.5,
+                        help="stop when the load falls below this share of "
+                             "its peak (default 0.5)")
+    parser.add_argument("--threads", type=whole(1), default=None,
+                        help="OpenMP threads (default: OpenMP's)")
+    parser.add_argument("--out", type=Path, default=Path("."),
+                        help="output directory (default: current)")
 
 
-def add_commands(sub) -> None:
-    """Add ``ucs`` and ``brazilian`` to the ``sphsolid`` subcommands."""
-    specs = (("ucs", "uniaxial compression test to failure (2D plane "
-              "strain, the paper's 86 x 140 mm specimen)", 2e-3, 0.008),
-             ("brazilian", "Brazilian disc (D = 50 mm, 2D) between flat "
-              "platens to splitting", 1e-3, 0.02))
-    for name, text, dx, max_strain in specs:
-        p = sub.add_parser(name, help=text, description=text)
-        p.add_argument("--dx", type=_length, default=dx,
-                       help=f"particle spacing (default {dx * 1e3:g}mm)")
-        p.add_argument("--seed", type=_seed, default=1,
-                       help="seed of the flaw draw (default 1)")
-        p.add_argument("--max-strain", type=_strain, default=max_strain,
-                       help="stop at this nominal strain if the load has "
-                            f"not dropped (default {max_strain:.1%})")
-        p.add_argument("--drop", type=_strain, default=0.5,
-                       help="stop when the load falls below this share of "
-                            "its peak (default 0.5)")
-        p.add_argument("--threads", type=int, default=None,
-                       help="OpenMP threads (default: OpenMP's)")
-        p.add_argument("--out", type=Path, default=Path("."),
-                       help="output directory (default: current)")
-        p.set_defaults(handler=lambda args, name=name: _run(args, name))
-
-
-def _run(args, name: str) -> int:
-    from . import fracture
-    from .calculators import CLibrary
-    from .trajectory import Trajectory
+def run(args, name: str) -> int:
+    from .. import fracture
+    from ..calculators import CLibrary
+    from ..trajectory import Trajectory
 
     args.out.mkdir(parents=True, exist_ok=True)
     if name == "ucs":
@@ -103,9 +77,8 @@ def _run(args, name: str) -> int:
     h5 = args.out / f"{name}.h5"
     specimen = scene.body_slice("specimen")
     state = {"peak": None, "samples": 0}
-    expected = args.max_strain * 2e4 if name == "ucs" else \
-        args.max_strain * 2e3
-    every = max(1, int(expected / _SNAPSHOTS))
+    samples = 2e4 if name == "ucs" else 1e4   # load samples per unit strain
+    every = max(1, int(args.max_strain * samples / _SNAPSHOTS))
 
     with Trajectory(h5, "w", scene) as traj:
         def on_sample(scene, t, load, peak):
@@ -118,7 +91,7 @@ def _run(args, name: str) -> int:
         start = wallclock.perf_counter()
         run = fracture.load_to_failure(
             scene, max_strain=args.max_strain, drop=args.drop,
-            samples_per_strain=2e4 if name == "ucs" else 2e3,
+            samples_per_strain=samples,
             on_sample=on_sample)
         traj.write()
         wall = wallclock.perf_counter() - start
