@@ -817,13 +817,18 @@ def plan(scene_factory: Callable, error: float = 0.03,
     spent = sum(r.wall for c in cands for r in c.runs if not r.failed)
     budget = (calibration_seconds if calibration_seconds is not None
               else math.inf)
-    for _ in range(refinements):
+    for round_ in range(refinements):
         # a setting that needs a spacing far below its ladder, or below
         # it with the large safety factor (a fit outside the asymptotic
         # range: a finer level may bring the small one, which costs
-        # Fs^(d/q) less), gets a finer level
+        # Fs^(d/q) less), gets a finer level -- if the rounds left can
+        # bring its need within the extrapolation limit (a setting that
+        # needs 1e-5 mm at the order its ladder shows is not worth a
+        # level: the piston's plans spent their rounds on such ones)
+        reach = 1.5 ** (refinements - round_) * max_refinement
         wanted = sorted(
             (c for c in usable if needs[id(c)] is not None
+             and needs[id(c)][0] >= c.model.finest / reach
              and (needs[id(c)][0] < c.model.finest / 2
                   or (c.model.safety > SAFETY_GOOD
                       and needs[id(c)][0] < c.model.finest))),
