@@ -145,8 +145,9 @@ def validate_plan_data(data, source: str = "plan") -> None:
     if "dx" not in settings:
         raise ValueError(f"{where}dx' is missing (the planned spacing [m])")
     _number(settings["dx"], f"{where}dx'", True, optional=False)
-    _number(settings.get("smoothing_ratio"), f"{where}smoothing_ratio'",
-            True)
+    if "smoothing_ratio" in settings:
+        _number(settings["smoothing_ratio"], f"{where}smoothing_ratio'",
+                True, optional=False)
     _number(settings.get("threads"), f"{where}threads'", True, integer=True)
     for key in ("kernel", "integrator"):
         if key in settings and not isinstance(settings[key], str):
