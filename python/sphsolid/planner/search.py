@@ -852,17 +852,22 @@ def plan(scene_factory: Callable, error: float = 0.03,
                     for c in usable}
         cheapest = min((needs[id(c)][1] for c in usable
                         if needs[id(c)] is not None), default=math.inf)
+        # a finer level that costs more CPU time than running the best
+        # plan found so far is not worth its price: that plan is the
+        # cheaper way to the answer (on the piston, levels of 0.3 mm
+        # were refined for 5 % requests that a 1 mm run met); while no
+        # plan is in reach, every undetermined setting gets its level
+        # (cubic_o4 with the leapfrog needs 0.75 mm on the piston before
+        # its max-norm ladder determines an order, and lost its rounds to
+        # cheaper settings two at a time)
+        planned = min((c.cpu_seconds for c in usable
+                       if c.cpu_seconds is not None), default=math.inf)
         undetermined = sorted(
             (c for c in usable if c not in wanted
              and (c.model.anomalous or c.model.safety > SAFETY_GOOD)
              and next_cpu[id(c)] <= cheapest),
-            key=lambda c: next_cost[id(c)])[:refine_best]
-        # a finer level that costs more CPU time than running the best
-        # plan found so far is not worth its price: that plan is the
-        # cheaper way to the answer (on the piston, levels of 0.3 mm
-        # were refined for 5 % requests that a 1 mm run met)
-        planned = min((c.cpu_seconds for c in usable
-                       if c.cpu_seconds is not None), default=math.inf)
+            key=lambda c: next_cost[id(c)])[
+                :refine_best if math.isfinite(planned) else None]
         wanted = [c for c in wanted + undetermined
                   if next_cost[id(c)] + spent <= budget
                   and next_cpu[id(c)] <= planned]
