@@ -108,6 +108,10 @@ class PairSPHSolid : public Pair {
 
  private:
   void check_deck();
+  /* Stops every rank, naming the first keyword whose value differs between
+   * ranks (pair_style, pair_coeff, timestep): a hash of each is reduced
+   * over the communicator (min and max). */
+  void check_ranks_agree();
   /* step_of (sph_default_dt, sph_stable_dt) of a handle without bodies with
    * `integrator`; 0 before every type has its pair_coeff */
   double handle_timestep(const char *integrator, double (*step_of)(const sph_sim *));
