@@ -59,6 +59,8 @@ struct output_file {
     int failed; /* a write failed: the file takes no more */
     char error[SPH_ERRMSG_SIZE];
     char *path;
+    dev_t dev; /* the open file's identity (fstat), to tell when the path */
+    ino_t ino; /* no longer names it (removed or replaced during a run) */
 };
 
 /* ----------------------------------------------------- error capture */
@@ -530,6 +532,55 @@ static sph_status output_failed(sph_sim *sim, const char *action, const io *c)
 
 /* Makes the frames and samples written so far count: their data is flushed
  * first, then the counts readers trust, then flushed again. */
+/* The file the run writes is still the one its path names: a file removed
+ * or replaced (renamed over, deleted and created again) during a run would
+ * take the frames that follow with it, and an XDMF written at the end would
+ * describe the other file.  Fails, and the file takes no more, if not. */
+static sph_status output_still_named(sph_sim *sim)
+{
+    struct output_file *o = sim->out;
+    if (o->failed)
+        return sph_fail(sim, SPH_ERR_IO, "%s", o->error);
+    struct stat now;
+    if (stat(o->path, &now) != 0) {
+        sph_fail(sim, SPH_ERR_IO,
+                 "output file '%s' was removed during the run (%s): the %ld frame%s written "
+                 "went with it; output stopped, no XDMF written",
+                 o->path, strerror(errno), o->frames, o->frames == 1 ? "" : "s");
+    } else if (now.st_dev != o->dev || now.st_ino != o->ino) {
+        sph_fail(sim, SPH_ERR_IO,
+                 "output file '%s' was replaced during the run: the path names another file "
+                 "(device %llu, inode %llu; the run wrote device %llu, inode %llu) and the %ld "
+                 "frame%s written are not in it; output stopped, no XDMF written",
+                 o->path, (unsigned long long)now.st_dev, (unsigned long long)now.st_ino,
+                 (unsigned long long)o->dev, (unsigned long long)o->ino, o->frames,
+                 o->frames == 1 ? "" : "s");
+    } else {
+        return SPH_OK;
+    }
+    o->failed = 1;
+    memcpy(o->error, sim->errmsg, sizeof o->error);
+    return SPH_ERR_IO;
+}
+
+/* The identity of the file just created at o->path: fstat of HDF5's
+ * descriptor (the sec2 driver), else stat of the path. */
+static int output_identify(struct output_file *o)
+{
+    struct stat s;
+    int *fd = NULL;
+    if (H5Fget_vfd_handle(o->file, H5P_DEFAULT, (void **)&fd) >= 0 && fd && fstat(*fd, &s) == 0) {
+        o->dev = s.st_dev;
+        o->ino = s.st_ino;
+        return 0;
+    }
+    if (stat(o->path, &s) != 0)
+        return -1;
+    o->dev = s.st_dev;
+    o->ino = s.st_ino;
+    return 0;
+}
+
 static int probes_append_pending(io *c, struct output_file *o)
 {
     if (o->pending > 0 && series_append_rows(c, o->file, "/observables/probes", (hsize_t)o->pending,
@@ -643,7 +694,9 @@ sph_status output_write_due(sph_sim *sim)
                        o->last_probe_step != sim->step;
     if (!snapshot && !probes)
         return SPH_OK;
-    sph_status st = SPH_OK;
+    sph_status st = output_still_named(sim);
+    if (st)
+        return st;
     quiet q;
     quiet_begin(&q);
     if (snapshot)
@@ -817,7 +870,12 @@ sph_status sph_output_open(sph_sim *sim, const char *path, long snapshot_interva
     o->last_snapshot_step = o->last_probe_step = -1;
     o->path = copy;
     sim->out = o;
-    if (write_static(&c, sim, file)) {
+    if (output_identify(o)) {
+        st = sph_fail(sim, SPH_ERR_IO, "cannot stat the output file '%s' just created: %s", path,
+                      strerror(errno));
+        io ignored = {0};
+        output_release(&ignored, sim);
+    } else if (write_static(&c, sim, file)) {
         st = sph_fail(sim, SPH_ERR_IO, "cannot write the header of '%s': %s (writing %s)", path,
                       c.cause, c.what);
         io ignored = {0};
@@ -839,9 +897,12 @@ sph_status sph_output_snapshot(sph_sim *sim)
         return sph_fail(sim, SPH_ERR_STATE, "no output file is open");
     if (sim->out->last_snapshot_step == sim->step && !sim->out->failed)
         return sph_ok(sim);
+    sph_status st = output_still_named(sim);
+    if (st)
+        return st;
     quiet q;
     quiet_begin(&q);
-    sph_status st = write_snapshot(sim);
+    st = write_snapshot(sim);
     quiet_end(&q);
     return st;
 }
@@ -873,6 +934,8 @@ sph_status sph_output_close(sph_sim *sim)
     char *path = malloc(strlen(o->path) + 1);
     if (path)
         strcpy(path, o->path);
+    if (!o->failed)
+        output_still_named(sim);
     const int failed = o->failed;
     char earlier[SPH_ERRMSG_SIZE];
     memcpy(earlier, o->error, sizeof earlier);

@@ -669,6 +669,62 @@ static void adding_a_body_while_output_is_open_is_refused(void **state)
     remove(path);
 }
 
+/* ------------------------------------------ output file moved away */
+
+/* The output file removed or replaced (another file renamed over its path)
+ * during a run: the next write stops the run with an error naming the path,
+ * closing reports it, and no XDMF is written (it would describe a file the
+ * run did not write); the replacing file is left as it was.  Untouched, the
+ * same run writes its XDMF.  Modes: 0 untouched, 1 removed, 2 replaced,
+ * 3 replaced after the last write (found at close). */
+static void output_file_removed_or_replaced_is_an_error(void **state)
+{
+    (void)state;
+    static const char other[] = "another program's file\n";
+    for (int mode = 0; mode < 4; ++mode) {
+        char dir[] = "/tmp/sphsolid-moved-XXXXXX";
+        assert_non_null(mkdtemp(dir));
+        char path[64], xmf[64], elsewhere[64];
+        snprintf(path, sizeof path, "%s/out.h5", dir);
+        snprintf(xmf, sizeof xmf, "%s/out.xmf", dir);
+        snprintf(elsewhere, sizeof elsewhere, "%s/other", dir);
+        sph_sim *sim = block(10, 10, PAPER_K);
+        check(sim, sph_output_open(sim, path, 1, 0));
+        check(sim, sph_run(sim, 3));
+        if (mode >= 2) {
+            FILE *f = fopen(elsewhere, "wb");
+            assert_non_null(f);
+            fputs(other, f);
+            fclose(f);
+            assert_int_equal(rename(elsewhere, path), 0);
+        } else if (mode == 1) {
+            assert_int_equal(unlink(path), 0);
+        }
+        const char *what = mode == 1 ? "was removed during the run" : "was replaced during the run";
+        if (mode == 1 || mode == 2) {
+            assert_int_equal(sph_run(sim, 3), SPH_ERR_IO);
+            assert_non_null(strstr(sph_errmsg(sim), path));
+            assert_non_null(strstr(sph_errmsg(sim), what));
+            assert_int_equal(sph_step_count(sim), 4); /* stopped at the first write */
+        }
+        const sph_status closed = sph_output_close(sim);
+        if (mode == 0) {
+            assert_int_equal(closed, SPH_OK);
+            assert_int_equal(access(xmf, F_OK), 0);
+        } else {
+            assert_int_equal(closed, SPH_ERR_IO);
+            assert_non_null(strstr(sph_errmsg(sim), what));
+            assert_int_equal(access(xmf, F_OK), -1); /* no XDMF of a file not written */
+        }
+        if (mode >= 2)
+            assert_true(same_file(path, other, (long)strlen(other)));
+        sph_destroy(sim);
+        remove(path);
+        remove(xmf);
+        assert_int_equal(rmdir(dir), 0);
+    }
+}
+
 /* ----------------------------------------------------- long paths */
 
 static void long_checkpoint_path_touches_no_other_file(void **state)
@@ -769,6 +825,7 @@ int main(int argc, char **argv)
         cmocka_unit_test_teardown(checkpoint_of_another_scene_names_the_difference, cleanup),
         cmocka_unit_test_teardown(checkpoint_with_other_effects_names_the_difference, cleanup),
         cmocka_unit_test_teardown(adding_a_body_while_output_is_open_is_refused, cleanup),
+        cmocka_unit_test_teardown(output_file_removed_or_replaced_is_an_error, cleanup),
         cmocka_unit_test_teardown(long_checkpoint_path_touches_no_other_file, cleanup),
         cmocka_unit_test_teardown(host_hdf5_error_handler_is_kept, cleanup),
     };
