@@ -87,6 +87,19 @@ void FixSPHSolidHeun::init()
                       "the SPH state of every atom; its group selects whose motion it integrates");
   if (utils::strmatch(update->integrate_style, "^respa"))
     error->all(FLERR, "fix {} does not support run_style respa", style);
+  // an empty group is a deck whose atoms all move by prescription (fix
+  // move); without such a fix nothing would move at all
+  if (group->count(igroup) == 0) {
+    bool others = false;
+    for (int k = 0; k < modify->nfix; k++)
+      if (modify->fix[k]->time_integrate && !utils::strmatch(modify->fix[k]->style, "^sphsolid/"))
+        others = true;
+    if (!others)
+      error->all(FLERR,
+                 "fix {} {}: group {} has no atoms and no other fix moves any atom, so nothing "
+                 "would move; give it the group of the atoms it should integrate (e.g. all)",
+                 id, style, group->names[igroup]);
+  }
   init_rigid_bodies();
   if (update->dt_default)
     error->all(FLERR,

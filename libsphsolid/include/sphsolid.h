@@ -169,7 +169,7 @@ SPH_API sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material
 
 /* Platens against any body (2D and 3D): sph_add_plate lays a fixed plate
  * under the body (against its face of least y), sph_add_piston a piston on
- * top of it moving down (-y) at `speed` [m/s].
+ * top of it moving down (-y) at `speed` [m/s], finite and >= 0.
  * Layer rule: a platen is `layers` lattice layers thick, spaced by the
  * body's lattice step dy along y, and covers the body's extent across y
  * (x in 2D, x and z in 3D) with round(extent / step) columns per axis, the
@@ -493,10 +493,17 @@ SPH_API sph_status sph_energy(sph_sim *sim, int all_bodies, sph_energy_info *inf
 /* Bytes of memory the handle holds (particle state, integrator and rate
  * scratch, neighbour list), for budgeting large runs. */
 SPH_API size_t sph_memory_bytes(const sph_sim *sim);
-/* SPH_ERR_MEMORY, with the bytes needed and available, when a run with
- * `particles` more particles (at the handle's smoothing ratio) would not
- * fit in the memory available; builders call it before allocating. */
+/* SPH_ERR_MEMORY, naming the particle count and the bytes needed and
+ * available, when a run with `particles` more particles (at the handle's
+ * smoothing ratio) would take more than half of the memory available, or
+ * with sph_set_allow_large(sim, 1) more than all of it.  Every builder
+ * (blocks, prisms, cylinders, platens, sph_add_particles) calls it with the
+ * count it is about to add, before allocating anything. */
 SPH_API sph_status sph_memory_check(sph_sim *sim, double particles);
+/* allow != 0: runs may take up to all of the memory available instead of
+ * half of it (the limit of sph_memory_check and of the builders). */
+SPH_API sph_status sph_set_allow_large(sph_sim *sim, int allow);
+SPH_API int sph_allow_large(const sph_sim *sim);
 /* The same bytes by part: fills up to `max` entries of names (static
  * strings, valid for the life of the program) and bytes, and returns the
  * number of parts (SPH_MEMORY_PARTS); their sum is sph_memory_bytes().

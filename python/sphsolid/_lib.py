@@ -229,6 +229,8 @@ _PROTOTYPES = {
     "sph_probe_sample": (c_int, [_sim, c_int, _dp]),
     "sph_set_probe_outside": (c_int, [_sim, c_int]),
     "sph_memory_check": (c_int, [_sim, c_double]),
+    "sph_set_allow_large": (c_int, [_sim, c_int]),
+    "sph_allow_large": (c_int, [_sim]),
     "sph_output_open": (c_int, [_sim, c_char_p, c_long, c_long]),
     "sph_output_snapshot": (c_int, [_sim]),
     "sph_output_close": (c_int, [_sim]),

@@ -155,6 +155,25 @@ def test_only_one_integrator(lmp_factory):
                "only one fix sphsolid/heun or sphsolid/leapfrog")
 
 
+@pytest.mark.parametrize("fix", ["heun", "leapfrog"])
+def test_integrator_on_an_empty_group_is_refused(lmp_factory, fix):
+    fails_with(lmp_factory, BOX + GOOD_PAIR + [
+        "region nowhere block 0.009 0.0095 0.009 0.0095 -0.001 0.001 units box",
+        "group nothing region nowhere", f"fix integrate nothing sphsolid/{fix}",
+        "timestep 1e-7", "run 1"],
+        f"fix integrate sphsolid/{fix}: group nothing has no atoms and no other fix moves")
+
+
+def test_integrator_on_an_empty_group_beside_prescribed_motion_runs(lmp_factory):
+    # every atom moved by fix move: the integrator only evolves their state
+    lmp = lmp_factory()
+    for c in BOX + GOOD_PAIR + [
+            "region nowhere block 0.009 0.0095 0.009 0.0095 -0.001 0.001 units box",
+            "group nothing region nowhere", "fix integrate nothing sphsolid/heun",
+            "fix push all move linear 0.0 -1e-3 0.0", "timestep 1e-7", "run 2"]:
+        lmp.command(c)
+
+
 def test_probe_needs_its_coordinates(lmp_factory):
     fails_with(lmp_factory, BOX + GOOD_PAIR + ["compute A all sphsolid/probe 0.0"],
                "2 coordinates", "got 1")
