@@ -561,7 +561,14 @@ SPH_API sph_status sph_output_close(sph_sim *sim);
  * message and may be NULL. */
 SPH_API sph_status sph_write_xdmf(sph_sim *sim, const char *h5_path);
 
-/* Number of snapshot frames in a file written by sph_output_open(). */
+/* The version of the file format this library writes (the root attribute
+ * `sphsolid_format`).  Outputs of every version from 1 (libsphsolid 0.1.0
+ * and 0.2.0, written before the version was recorded) up to this one are
+ * read; checkpoints of this version only. */
+SPH_API int sph_output_format_version(void);
+
+/* Number of snapshot frames in a file written by sph_output_open() (of any
+ * format up to sph_output_format_version()). */
 SPH_API sph_status sph_read_frame_count(sph_sim *sim, const char *path, long *frames);
 /* Load frame `frame` (negative counts from the end) of a file into the
  * state of a simulation whose particles match it (same count and bodies):

@@ -32,15 +32,17 @@
 #include "integrator.h"
 #include "sim.h"
 
+/* The version of the layout this library writes.  Version 1 files (before
+ * the version was recorded) have no `sphsolid_format` attribute. */
+#define SPH_FILE_FORMAT 2L
+
+int sph_output_format_version(void) { return (int)SPH_FILE_FORMAT; }
+
 #ifdef SPHSOLID_HAVE_HDF5
 #include <fcntl.h>
 #include <hdf5.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-/* The version of the layout this library writes and reads. Version 1 files
- * (before the version was recorded) have no `sphsolid_format` attribute. */
-#define SPH_FILE_FORMAT 2L
 
 /* Probe samples are kept in memory and appended to the file PROBE_BLOCK at
  * a time, and whenever the file is committed (output_commit), so a reader
@@ -1026,11 +1028,16 @@ static int read_attr_doubles(hid_t obj, const char *name, double *v, size_t size
     return err;
 }
 
-/* Opens a libsphsolid file of the given content and this format version
- * into *file (-1 on failure); fails naming the path and what is wrong. */
-static sph_status open_checked(sph_sim *sim, const char *path, const char *content, hid_t *file)
+/* Opens a libsphsolid file of the given content into *file (-1 on
+ * failure) and its format version into *version; fails naming the path and
+ * what is wrong.  Outputs of every format up to SPH_FILE_FORMAT are read
+ * (format 1: before the version was recorded, libsphsolid 0.1.0 and 0.2.0);
+ * checkpoints only of this format. */
+static sph_status open_checked(sph_sim *sim, const char *path, const char *content, hid_t *file,
+                               long *version_out)
 {
     *file = -1;
+    *version_out = 0;
     if (!path || !*path)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "file path is empty");
     hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -1049,24 +1056,42 @@ static sph_status open_checked(sph_sim *sim, const char *path, const char *conte
     long version = 0;
     char kind[32] = "";
     if (read_attr_long(f, "sphsolid_format", &version)) {
-        const int ours =
-            H5Lexists(f, "checkpoint", H5P_DEFAULT) > 0 || H5Lexists(f, "h5md", H5P_DEFAULT) > 0;
-        if (ours)
+        /* format 1 wrote no version: an output has the H5MD group and the
+         * position series, a checkpoint its /checkpoint group */
+        const int checkpoint = H5Lexists(f, "checkpoint", H5P_DEFAULT) > 0;
+        const int output = H5Lexists(f, "h5md", H5P_DEFAULT) > 0 &&
+                           H5Lexists(f, "particles", H5P_DEFAULT) > 0 &&
+                           H5Lexists(f, "/particles/all", H5P_DEFAULT) > 0 &&
+                           H5Lexists(f, "/particles/all/position", H5P_DEFAULT) > 0;
+        if (!checkpoint && output && strcmp(content, "output") == 0) {
+            *file = f;
+            *version_out = 1;
+            return SPH_OK;
+        }
+        if (checkpoint && strcmp(content, "checkpoint") == 0)
             sph_fail(sim, SPH_ERR_IO,
-                     "'%s' is in libsphsolid file format 1 (written before the format was "
-                     "versioned); this library reads format %ld: "
-                     "read it with the version that wrote it, or rerun",
+                     "'%s' is a checkpoint in libsphsolid file format 1 (written before the "
+                     "format was versioned); checkpoints are read only in the format of the "
+                     "library that wrote them (format %ld): continue that run with the "
+                     "version that wrote it, or start from a frame of its output file "
+                     "(sph_read_frame reads every earlier output format)",
                      path, SPH_FILE_FORMAT);
+        else if (checkpoint || output)
+            sph_fail(sim, SPH_ERR_IO, "'%s' is a libsphsolid %s file (format 1), not %s %s file",
+                     path, checkpoint ? "checkpoint" : "output", content[0] == 'o' ? "an" : "a",
+                     content);
         else
             sph_fail(sim, SPH_ERR_IO,
                      "'%s' is not a libsphsolid file (no sphsolid_format attribute)", path);
         H5Fclose(f);
         return SPH_ERR_IO;
     }
-    if (version != SPH_FILE_FORMAT) {
+    if (version < 1 || version > SPH_FILE_FORMAT ||
+        (version != SPH_FILE_FORMAT && strcmp(content, "checkpoint") == 0)) {
         sph_fail(sim, SPH_ERR_IO,
-                 "'%s' has libsphsolid file format %ld; this library reads format %ld", path,
-                 version, SPH_FILE_FORMAT);
+                 "'%s' has libsphsolid file format %ld; this library writes format %ld and "
+                 "reads outputs of formats 1 to %ld, checkpoints of format %ld only",
+                 path, version, SPH_FILE_FORMAT, SPH_FILE_FORMAT, SPH_FILE_FORMAT);
         H5Fclose(f);
         return SPH_ERR_IO;
     }
@@ -1078,6 +1103,7 @@ static sph_status open_checked(sph_sim *sim, const char *path, const char *conte
         return SPH_ERR_IO;
     }
     *file = f;
+    *version_out = version;
     return SPH_OK;
 }
 
@@ -1150,7 +1176,8 @@ static sph_status effects_match(sph_sim *sim, hid_t par, const char *path)
  * effects too, effects_match); fails naming the first difference
  * (SPH_ERR_ARGUMENT: another scene, SPH_ERR_IO: a record that cannot be
  * read). */
-static sph_status scene_matches(sph_sim *sim, hid_t f, const char *path, int with_effects)
+static sph_status scene_matches(sph_sim *sim, hid_t f, const char *path, int with_effects,
+                                long version)
 {
     hid_t par = H5Gopen2(f, "parameters", H5P_DEFAULT);
     if (par < 0)
@@ -1238,8 +1265,12 @@ static sph_status scene_matches(sph_sim *sim, hid_t f, const char *path, int wit
                         read_attr_long(g, "material", &material) ||
                         read_attr_string(g, "motion", motion, sizeof motion) ||
                         read_attr_doubles(g, "spacing", &spacing, 1, &ns) ||
-                        read_attr_doubles(g, "extent_lo", lo, 3, &nlo) ||
-                        read_attr_doubles(g, "extent_hi", hi, 3, &nhi);
+                        (version > 1 && (read_attr_doubles(g, "extent_lo", lo, 3, &nlo) ||
+                                         read_attr_doubles(g, "extent_hi", hi, 3, &nhi)));
+        if (!bad && version == 1 && /* format 1 files record extents from 0.2.0 on */
+            (read_attr_doubles(g, "extent_lo", lo, 3, &nlo) ||
+             read_attr_doubles(g, "extent_hi", hi, 3, &nhi)))
+            nlo = nhi = 0;
         close_id(g);
         if (bad) {
             st = sph_fail(sim, SPH_ERR_IO, "'%s': cannot read the record of body '%s'", path,
@@ -1461,10 +1492,40 @@ static int state_plausible(sph_sim *sim, const state_copy *s, const char *path, 
     return 1;
 }
 
-static sph_status frame_count(sph_sim *sim, hid_t f, const char *path, long *frames)
+/* Frames of an output file that count: complete_frames (format 2), or in
+ * format 1, which appended each series by itself, the frames every series
+ * read back holds. */
+static sph_status frame_count(sph_sim *sim, hid_t f, const char *path, long version, long *frames)
 {
     hid_t all = H5Gopen2(f, "/particles/all", H5P_DEFAULT);
     long complete = -1;
+    if (version == 1 && all >= 0) {
+        static const char *const series[6] = {"position/value", "position/step",
+                                              "position/time",  "velocity/value",
+                                              "density/value",  "deviatoric_stress/value"};
+        for (int k = 0; k < 6; ++k) {
+            hid_t d = H5Dopen2(all, series[k], H5P_DEFAULT);
+            hid_t space = d >= 0 ? H5Dget_space(d) : -1;
+            hsize_t dims[4] = {0};
+            const int rank = space >= 0 ? H5Sget_simple_extent_dims(space, dims, NULL) : -1;
+            close_id(space);
+            close_id(d);
+            if (rank < 1) {
+                complete = -1;
+                break;
+            }
+            if (complete < 0 || (long)dims[0] < complete)
+                complete = (long)dims[0];
+        }
+        close_id(all);
+        if (complete < 0)
+            return sph_fail(sim, SPH_ERR_IO,
+                            "'%s' (file format 1) lacks a series of /particles/all (position, "
+                            "velocity, density, deviatoric_stress)",
+                            path);
+        *frames = complete;
+        return SPH_OK;
+    }
     const int bad = all < 0 || read_attr_long(all, "complete_frames", &complete) || complete < 0;
     close_id(all);
     if (bad)
@@ -1482,9 +1543,10 @@ sph_status sph_read_frame_count(sph_sim *sim, const char *path, long *frames)
     quiet q;
     quiet_begin(&q);
     hid_t f = -1;
-    st = open_checked(sim, path, "output", &f);
+    long version = 0;
+    st = open_checked(sim, path, "output", &f, &version);
     if (!st)
-        st = frame_count(sim, f, path, frames);
+        st = frame_count(sim, f, path, version, frames);
     close_id(f);
     quiet_end(&q);
     return st ? st : sph_ok(sim);
@@ -1506,9 +1568,10 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
     state_copy s = {0};
     hid_t all = -1;
     hid_t f = -1;
-    if ((st = open_checked(sim, path, "output", &f)))
+    long version = 0;
+    if ((st = open_checked(sim, path, "output", &f, &version)))
         goto done;
-    if ((st = frame_count(sim, f, path, &frames)))
+    if ((st = frame_count(sim, f, path, version, &frames)))
         goto done;
     const long asked = frame;
     if (frame < 0)
@@ -1518,7 +1581,7 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
                       frames);
         goto done;
     }
-    if ((st = scene_matches(sim, f, path, 0)))
+    if ((st = scene_matches(sim, f, path, 0, version)))
         goto done;
     if (state_alloc(&s, sim)) {
         st = sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate scratch arrays to read '%s'", path);
@@ -1774,7 +1837,8 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
     state_copy s = {0};
     hid_t g = -1;
     hid_t f = -1;
-    if ((st = open_checked(sim, path, "checkpoint", &f)))
+    long version = 0;
+    if ((st = open_checked(sim, path, "checkpoint", &f, &version)))
         goto done;
     g = H5Gopen2(f, "checkpoint", H5P_DEFAULT);
     if (g < 0) {
@@ -1810,7 +1874,7 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
                       path, n, nb, dim, sim->n, sim->n_bodies, sim->dim);
         goto done;
     }
-    if ((st = scene_matches(sim, f, path, 1)))
+    if ((st = scene_matches(sim, f, path, 1, version)))
         goto done;
     {
         /* the checksummed copy of the clock decides */

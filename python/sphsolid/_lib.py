@@ -235,6 +235,7 @@ _PROTOTYPES = {
     "sph_output_snapshot": (c_int, [_sim]),
     "sph_output_close": (c_int, [_sim]),
     "sph_write_xdmf": (c_int, [_sim, c_char_p]),
+    "sph_output_format_version": (c_int, []),
     "sph_read_frame_count": (c_int, [_sim, c_char_p, POINTER(c_long)]),
     "sph_read_frame": (c_int, [_sim, c_char_p, c_long]),
     "sph_checkpoint_write": (c_int, [_sim, c_char_p]),
