@@ -267,7 +267,7 @@ sph_status state_check(sph_sim *sim);
  * `particles` more particles would not fit in memory during a run. */
 sph_status memory_check(sph_sim *sim, double particles, const char *what);
 
-/* io_hdf5.c */
+/* io_output.c */
 sph_status output_write_due(sph_sim *sim);
 void output_free(sph_sim *sim);
 
