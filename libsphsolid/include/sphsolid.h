@@ -49,6 +49,12 @@ extern "C" {
 #else
 #define SPH_API
 #endif
+/* Marks a deprecated alias: compilers warn where it is used. */
+#if defined(__GNUC__) || defined(__clang__)
+#define SPH_DEPRECATED(replacement) __attribute__((deprecated("use " replacement)))
+#else
+#define SPH_DEPRECATED(replacement)
+#endif
 
 /* SPHSOLID_VERSION_MAJOR/_MINOR/_PATCH and SPHSOLID_VERSION_STRING, as
  * sph_version() reports them. */
@@ -433,7 +439,7 @@ SPH_API sph_status sph_set_watchdog(sph_sim *sim, double max_speed_over_cp,
                                     double min_density_ratio, double max_density_ratio);
 
 /* The watchdog's test on external arrays (n particles, material indices of
- * sim; integrate_motion as for sph_heun_correct, NULL for all): returns
+ * sim; integrate_motion as for sph_improved_euler_correct, NULL for all): returns
  * SPH_ERR_UNSTABLE, with *particle the lowest offending index and a message
  * naming speed or density ratio, or SPH_OK (*particle = -1). */
 SPH_API sph_status sph_watchdog_check(sph_sim *sim, size_t n, const double *v, const double *rho,
@@ -723,12 +729,15 @@ SPH_API sph_status sph_rates_pass_half(sph_sim *sim, int pass, const sph_particl
  * particles whose velocity is prescribed: their velocity is left alone
  * while their position still advances by dt v and their density and stress
  * evolve (pass NULL to integrate all). */
-SPH_API sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt, double *x, double *v,
-                                    double *rho, double *S, const sph_rates *rates,
-                                    const unsigned char *integrate_motion, double *saved);
-SPH_API sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt, double *x, double *v,
-                                    double *rho, double *S, const sph_rates *rates,
-                                    const unsigned char *integrate_motion, const double *saved);
+SPH_API sph_status sph_improved_euler_predict(sph_sim *sim, size_t n, double dt, double *x,
+                                              double *v, double *rho, double *S,
+                                              const sph_rates *rates,
+                                              const unsigned char *integrate_motion, double *saved);
+SPH_API sph_status sph_improved_euler_correct(sph_sim *sim, size_t n, double dt, double *x,
+                                              double *v, double *rho, double *S,
+                                              const sph_rates *rates,
+                                              const unsigned char *integrate_motion,
+                                              const double *saved);
 
 /* Rigid translation under an applied force (SPH_MOTION_FORCE), split for
  * distributed particles.  sph_rigid_force_sum() adds the contributions of
@@ -753,16 +762,39 @@ SPH_API sph_status sph_rigid_force_apply(sph_sim *sim, size_t n, const double *a
  * (sph_set_watchdog) to the integrated particles, `material` giving each
  * particle's material: on SPH_ERR_UNSTABLE or SPH_ERR_NONFINITE,
  * *particle is the first particle concerned (else -1). */
+SPH_API sph_status sph_improved_euler_predict_strided(sph_sim *sim, size_t n, double dt, double *x,
+                                                      double *v, size_t stride, double *rho,
+                                                      double *S, const sph_rates *rates,
+                                                      const unsigned char *integrate_motion,
+                                                      double *saved);
+SPH_API sph_status sph_improved_euler_correct_strided(sph_sim *sim, size_t n, double dt, double *x,
+                                                      double *v, size_t stride, double *rho,
+                                                      double *S, const sph_rates *rates,
+                                                      const unsigned char *integrate_motion,
+                                                      const int *material, const double *saved,
+                                                      long *particle);
+
+/* Deprecated aliases, kept for one release (0.3.x) and removed after it:
+ * the Improved Euler stages were named after Heun's method before the
+ * registry's name "improved_euler" was used throughout.  Each calls the
+ * function named in its warning with the same arguments. */
+SPH_API sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                    double *rho, double *S, const sph_rates *rates,
+                                    const unsigned char *integrate_motion, double *saved)
+    SPH_DEPRECATED("sph_improved_euler_predict");
+SPH_API sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                    double *rho, double *S, const sph_rates *rates,
+                                    const unsigned char *integrate_motion, const double *saved)
+    SPH_DEPRECATED("sph_improved_euler_correct");
 SPH_API sph_status sph_heun_predict_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
                                             size_t stride, double *rho, double *S,
                                             const sph_rates *rates,
-                                            const unsigned char *integrate_motion, double *saved);
-SPH_API sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
-                                            size_t stride, double *rho, double *S,
-                                            const sph_rates *rates,
-                                            const unsigned char *integrate_motion,
-                                            const int *material, const double *saved,
-                                            long *particle);
+                                            const unsigned char *integrate_motion, double *saved)
+    SPH_DEPRECATED("sph_improved_euler_predict_strided");
+SPH_API sph_status sph_heun_correct_strided(
+    sph_sim *sim, size_t n, double dt, double *x, double *v, size_t stride, double *rho, double *S,
+    const sph_rates *rates, const unsigned char *integrate_motion, const int *material,
+    const double *saved, long *particle) SPH_DEPRECATED("sph_improved_euler_correct_strided");
 
 /* The leapfrog (sph_set_integrator "leapfrog") in three stages on external
  * arrays, `stride` doubles apart (>= dim), for a code that owns its
