@@ -454,7 +454,7 @@ void PairSPHSolid::check_ranks_agree()
 void PairSPHSolid::check_deck()
 {
   // integrators of the SPH state: fixes of style sphsolid/... that
-  // integrate (sphsolid/heun, sphsolid/leapfrog, ...)
+  // integrate (sphsolid/improved_euler, sphsolid/leapfrog, ...)
   std::vector<Fix *> sph_integrators, others;
   for (int k = 0; k < modify->nfix; k++) {
     Fix *f = modify->fix[k];
@@ -465,10 +465,9 @@ void PairSPHSolid::check_deck()
       others.push_back(f);
   }
   if (update->whichflag == 1 && update->nsteps > 0 && sph_integrators.empty())
-    error->all(
-        FLERR,
-        "pair sphsolid: no sphsolid integrator fix (e.g. 'fix 1 all sphsolid/heun'): without one "
-        "the density and stress never evolve and the run has no elastic forces");
+    error->all(FLERR, "pair sphsolid: no sphsolid integrator fix (e.g. 'fix 1 all "
+                      "sphsolid/improved_euler'): without one "
+                      "the density and stress never evolve and the run has no elastic forces");
   // another integrator (fix nve, fix move, ...) on the same atoms would
   // move them twice and leave the SPH state behind
   for (Fix *mine : sph_integrators)
@@ -527,7 +526,7 @@ double PairSPHSolid::stable_timestep(const char *integrator)
 const char *PairSPHSolid::integrator_name()
 {
   // fix sphsolid/<name> integrates with the library's <name>; sphsolid/heun
-  // is improved_euler
+  // is the deprecated name of sphsolid/improved_euler
   for (int k = 0; k < modify->nfix; k++) {
     Fix *f = modify->fix[k];
     if (!f->time_integrate || !utils::strmatch(f->style, "^sphsolid/")) continue;

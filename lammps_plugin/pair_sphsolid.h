@@ -4,7 +4,7 @@
  * A translation layer: LAMMPS's atoms, ghost atoms and half neighbour list
  * go in, the library's pair pass and finish compute every rate, and the
  * accelerations come back as forces (f = m dv/dt).  The density and deviatoric stress
- * rates are kept for the integrator (fix sphsolid/heun).  Materials come
+ * rates are kept for the integrator (fix sphsolid/improved_euler or sphsolid/leapfrog).  Materials come
  * from pair_coeff per atom type; effects (artificial viscosity, artificial
  * stress, XSPH, damping) are pair_style keywords, off by default.
  */

@@ -44,7 +44,7 @@ PAIR_COEFF = "* * K 12.2e9 mu 2.67e9 rho0 2300.0"
 
 
 def run_two_ranks(tmp_path, plugin, **settings):
-    values = dict(pair_style=PAIR_STYLE, pair_coeff=PAIR_COEFF, fix="heun", timestep="1e-7")
+    values = dict(pair_style=PAIR_STYLE, pair_coeff=PAIR_COEFF, fix="improved_euler", timestep="1e-7")
     values.update(settings)
     deck = tmp_path / "in.deck"
     deck.write_text(DECK.format(**values))
@@ -56,7 +56,7 @@ def run_two_ranks(tmp_path, plugin, **settings):
     return done, done.stdout + done.stderr + log
 
 
-@pytest.mark.parametrize("fix", ["heun", "leapfrog"])
+@pytest.mark.parametrize("fix", ["improved_euler", "leapfrog"])
 def test_same_settings_on_both_ranks_run(tmp_path, plugin, fix):
     done, text = run_two_ranks(tmp_path, plugin, fix=fix)
     assert done.returncode == 0, text
