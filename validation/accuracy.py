@@ -1161,7 +1161,7 @@ in [1, 3] in at least 90 % of the cases**. The estimate runs the
 planner's candidate settings (the leapfrog), so each has its
 calibration.
 
-How the planner decides (python/sphsolid/planner/, docs/planner.md):
+How the planner decides (python/sphsolid/planner/, docs/planner_method.md):
 effects from one coarse run with none per integrator and kernel family;
 a calibration ladder per candidate setting (kernels at h/dx 1.2 and 1.5,
 cubic_o4 at its own h/dx 1.65 and static platen inset, integrators and
