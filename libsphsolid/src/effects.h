@@ -83,7 +83,8 @@ static inline double artificial_stress_factor_4(double W_ab, double inv_W_dx)
 
 /* The artificial stress's term, Gray et al. (2001) eq. (23):
  * T_ab += f_ab^n (R_a + R_b) (symmetric in a and b). */
-static inline void artificial_stress_term(int dim, double inv_W_dx, double n, pair_block *p)
+static inline void artificial_stress_term(int dim, double inv_W_dx, double n,
+                                          pair_block *restrict p)
 {
     const int nsym = pair_tensor_components(dim);
     if (n == 4.0)
@@ -109,8 +110,8 @@ void artificial_stress_tensor(int dim, const double *S, double P, double rho, do
 
 /* Monaghan (1989) XSPH: dx_a/dt += epsilon (m_b / rho_ab) (v_b - v_a) W_ab
  * (odd: b gets -m_a times the same).  dim components. */
-static inline void xsph_term(int dim, double epsilon, const pair_block *p, pair_rows *ta,
-                             pair_rows *tb)
+static inline void xsph_term(int dim, double epsilon, const pair_block *restrict p,
+                             pair_rows *restrict ta, pair_rows *restrict tb)
 {
     for (int k = 0; k < p->n; ++k) {
         const double s = epsilon / p->rho_mean[k] * p->W[k];
@@ -127,8 +128,8 @@ static inline void xsph_term(int dim, double epsilon, const pair_block *p, pair_
  * grad_a W_ab is parallel to r_ab (even: b gets V_a times the same); nsym
  * components in the compact order of pair_tensor_index (xx yy xy, or xx
  * yy zz xy xz yz). */
-static inline void correction_moment_term(int dim, const pair_block *p, pair_rows *ta,
-                                          pair_rows *tb)
+static inline void correction_moment_term(int dim, const pair_block *restrict p,
+                                          pair_rows *restrict ta, pair_rows *restrict tb)
 {
     const int nsym = pair_tensor_components(dim);
     for (int k = 0; k < p->n; ++k) {

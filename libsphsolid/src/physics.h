@@ -70,7 +70,7 @@ static inline void stress_over_rho2(int dim, const double *S, double P, double r
  * unweighted value, an odd one its negative; written out so, the one-sided
  * form (the pair seen from b) gives b's contribution to the bit.
  */
-#define PAIR_BLOCK 32
+#define PAIR_BLOCK 16
 
 typedef struct pair_block {
     int n;                    /* pairs in the block */
@@ -92,7 +92,8 @@ typedef double pair_rows[PAIR_BLOCK];
 
 /* Continuity, paper eq. (3): drho_a/dt += m_b v_ab . grad_a W_ab (even:
  * b gets m_a times the same).  1 component. */
-static inline void continuity_term(int dim, const pair_block *p, pair_rows *ta, pair_rows *tb)
+static inline void continuity_term(int dim, const pair_block *restrict p, pair_rows *restrict ta,
+                                   pair_rows *restrict tb)
 {
     for (int k = 0; k < p->n; ++k) {
         double s = 0.0;
@@ -105,8 +106,8 @@ static inline void continuity_term(int dim, const pair_block *p, pair_rows *ta, 
 
 /* Velocity gradient: (dv^i/dx^j)_a += V_b (v_b^i - v_a^i) dW_ab/dx_a^j
  * = -V_b v_ab^i (grad_a W_ab)^j (even).  dim x dim components, row-major. */
-static inline void velocity_gradient_term(int dim, const pair_block *p, pair_rows *ta,
-                                          pair_rows *tb)
+static inline void velocity_gradient_term(int dim, const pair_block *restrict p,
+                                          pair_rows *restrict ta, pair_rows *restrict tb)
 {
     for (int i = 0; i < dim; ++i)
         for (int j = 0; j < dim; ++j)
@@ -120,7 +121,8 @@ static inline void velocity_gradient_term(int dim, const pair_block *p, pair_row
  * dv_a/dt += m_b T_ab . grad_a W_ab (odd: b gets -m_a times the same).
  * T_ab is built from a per-particle stress factor (sigma/rho^2, made in
  * the pair pass's first pass) and the effect terms.  dim components. */
-static inline void momentum_term(int dim, const pair_block *p, pair_rows *ta, pair_rows *tb)
+static inline void momentum_term(int dim, const pair_block *restrict p, pair_rows *restrict ta,
+                                 pair_rows *restrict tb)
 {
     for (int i = 0; i < dim; ++i)
         for (int k = 0; k < p->n; ++k) {

@@ -40,9 +40,14 @@
  * zeros, so the extra pairs of the skin do not change any sum either:
  * results do not depend on when the list was rebuilt.
  *
- * The pair loop is compiled in one variant per (dimension, kernel); the
- * effects are runtime switches tested once per block of PAIR_BLOCK pairs,
- * each effect's terms computed in its own short loop that vectorises.
+ * The pair loop is compiled in one variant per (dimension, kernel, pass,
+ * sums layout) and instruction-set path.  A row's neighbours are taken in
+ * blocks of PAIR_BLOCK: gathered into structure-of-arrays form, then every
+ * pair term (physics.h, effects.h; one function each, the only place its
+ * equation is written) runs over the block in a short loop that
+ * vectorises; effects are runtime switches tested once per block.  The
+ * terms are written as records of the sums, which one scatter
+ * (add_record) adds to a particle's sums wherever they are kept.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -95,6 +100,7 @@ typedef struct engine {
     effects fx;
     double inv_W_dx;
     int pass; /* PASS_CONTINUITY | PASS_MOMENTUM */
+    int path; /* RATE_PATH_*: the instruction set of the pair loop */
     /* pair pass */
     int full;       /* full list: a pair with b < a is skipped unless far */
     int reverse;    /* a far pair of locals is in both rows (no far records) */
@@ -142,7 +148,13 @@ size_t rates_chunk_rows(int dim, size_t n)
     return c > least ? c : least;
 }
 
-static inline void neighbours_of(const engine *e, size_t a, const int **list, int *count)
+#if defined(__GNUC__)
+#define ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define ALWAYS_INLINE inline
+#endif
+
+static ALWAYS_INLINE void neighbours_of(const engine *e, size_t a, const int **list, int *count)
 {
     if (e->offsets32) {
         *list = e->indices + e->offsets32[a];
@@ -171,12 +183,6 @@ static inline double separation(const engine *e, const double *xa, size_t b, con
     }
     return r2;
 }
-
-#if defined(__GNUC__)
-#define ALWAYS_INLINE inline __attribute__((always_inline))
-#else
-#define ALWAYS_INLINE inline
-#endif
 
 /* Append one far record (the terms for particle b, `record` <= f->record
  * doubles); on allocation failure the list is marked and the pass reports
@@ -211,6 +217,7 @@ static void far_append(far_list *f, int record, size_t b, const double *terms)
  * own rows, partners, far records and the partial-sum buffer. */
 static ALWAYS_INLINE void add_record(const sums *s, size_t b, const double *t, size_t step)
 {
+#pragma GCC unroll 6
     for (int q = 0; q < N_SUMS; ++q) {
         if (!s->width[q])
             continue;
@@ -222,9 +229,14 @@ static ALWAYS_INLINE void add_record(const sums *s, size_t b, const double *t, s
 
 /* The engine's sums with what the variant fixes at compile time: the
  * widths of the pass and, in the rate arrays, the strides. */
-static ALWAYS_INLINE sums loop_sums(const engine *e, const int dim, const int split, const int pass)
+static ALWAYS_INLINE sums loop_sums(const engine *e, const int dim, const int split, const int pass,
+                                    const int plain)
 {
     sums s = e->acc;
+    if (plain) { /* no sums of effects (M, u): the record's length is fixed */
+        s.width[SUM_M] = s.width[SUM_U] = 0;
+        s.record = (pass & PASS_CONTINUITY ? 1 + dim * dim : 0) + (pass & PASS_MOMENTUM ? dim : 0);
+    }
     const int cont = (pass & PASS_CONTINUITY) != 0, mom = (pass & PASS_MOMENTUM) != 0;
     const int ncomp = dim == 2 ? 4 : 6, nL = split ? dim * dim : ncomp;
     s.width[SUM_RHO] = cont;
@@ -289,21 +301,29 @@ static ALWAYS_INLINE void gather_block(const engine *e, size_t a, const int *lis
                 p->R[c][k] = Ra[c] + e->R[(size_t)b * (size_t)nsym + (size_t)c];
     }
     p->n = n;
-    for (int k = 0; k < n; ++k) {
-        if (cont) /* volumes m/rho (rounded as when they were stored) */
+    /* the rest in short loops without branches, which vectorise */
+    if (cont) /* volumes m/rho (rounded as when they were stored) */
+        for (int k = 0; k < n; ++k)
             p->V_b[k] = p->m_b[k] / rho_b[k];
-        if (viscosity || xsph)
+    if (viscosity || xsph)
+        for (int k = 0; k < n; ++k)
             p->rho_mean[k] = 0.5 * (rho_a + rho_b[k]);
+    double q[PAIR_BLOCK];
+    for (int k = 0; k < n; ++k) {
         double q2 = 0.0;
         for (int i = 0; i < dim; ++i)
             q2 += p->r[i][k] * p->r[i][k];
         p->r2[k] = q2;
-        const double F = kernel_f(kernel, dim, sqrt(q2) * e->inv_h) * e->f_norm;
+        q[k] = sqrt(q2) * e->inv_h;
+    }
+    for (int k = 0; k < n; ++k) {
+        const double F = kernel_f(kernel, dim, q[k]) * e->f_norm;
         for (int i = 0; i < dim; ++i)
             p->gW[i][k] = F * p->r[i][k];
-        if (stress || xsph)
-            p->W[k] = kernel_w(kernel, dim, sqrt(q2) * e->inv_h) * e->w_norm;
     }
+    if (stress || xsph)
+        for (int k = 0; k < n; ++k)
+            p->W[k] = kernel_w(kernel, dim, q[k]) * e->w_norm;
 }
 
 /* The terms of a block: every pair term of the pass whose switch is on,
@@ -335,11 +355,14 @@ static ALWAYS_INLINE void pair_terms(const engine *e, pair_block *p, const sums 
  * b's added to b's sums, or left to b's row (a far pair listed in both
  * rows), or appended to the chunk's far records. */
 static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t dend, far_list *far,
-                                   const int dim, const int kernel, const int split, const int pass)
+                                   const int dim, const int kernel, const int split, const int pass,
+                                   const int plain)
 {
-    const sums s = loop_sums(e, dim, split, pass);
+    const sums s = loop_sums(e, dim, split, pass, plain);
     const int record = s.record;
-    double acc[MAX_RECORD] = {0.0};
+    double acc[MAX_RECORD];
+    for (int c = 0; c < record; ++c)
+        acc[c] = 0.0;
     const int *list;
     int count;
     neighbours_of(e, a, &list, &count);
@@ -352,8 +375,9 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
         const int kn = count - k0 < PAIR_BLOCK ? count - k0 : PAIR_BLOCK;
         gather_block(e, a, list + k0, kn, far_below, dim, kernel, pass, &p, bidx);
         pair_terms(e, &p, &s, dim, pass, ta, tb);
-        for (int c = 0; c < record; ++c)
-            for (int k = 0; k < p.n; ++k)
+        for (int k = 0; k < p.n; ++k) /* each sum in neighbour order */
+#pragma GCC unroll 22
+            for (int c = 0; c < record; ++c)
                 acc[c] += ta[c][k];
         for (int k = 0; k < p.n; ++k) {
             const size_t b = (size_t)bidx[k];
@@ -372,13 +396,19 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
     add_record(&s, a, acc, 1);
 }
 
-/* One function per (dimension, kernel): the rows of one chunk.  Compiled
- * for AVX2+FMA as well as the baseline and picked at load time where the
- * CPU has it. */
+/* One function per (dimension, kernel, sums, pass) and instruction-set
+ * path: the rows of one chunk.  The baseline path is compiled for the
+ * build's target; on x86-64 with GCC also for x86-64-v3 (AVX2, FMA) and
+ * x86-64-v4 (AVX-512, 512-bit vectors), and each call takes the widest
+ * path the CPU has (rates_path), unless the handle asks for another.  The
+ * paths compute the same sums in the same order; they may differ in the
+ * last bits where the compiler fuses a multiply and an add (FMA). */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(SPHSOLID_NO_CLONES)
-#define RATE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define RATE_WIDE_PATHS 1
+#define TARGET_AVX2     __attribute__((target("arch=x86-64-v3")))
+#define TARGET_AVX512   __attribute__((target("arch=x86-64-v4,prefer-vector-width=512")))
 #else
-#define RATE_CLONES
+#define RATE_WIDE_PATHS 0
 #endif
 
 typedef void (*chunk_fn)(const engine *, long);
@@ -389,15 +419,27 @@ static ALWAYS_INLINE void chunk_rows(const engine *e, long c, const int dim, con
     const size_t b0 = (size_t)c * e->chunk;
     const size_t b1 = b0 + e->chunk < e->n_local ? b0 + e->chunk : e->n_local;
     const size_t dend = b1 + e->chunk < e->n_local ? b1 + e->chunk : e->n_local;
-    for (size_t a = b0; a < b1; ++a)
-        row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split, pass);
+    if (!e->acc.width[SUM_M] && !e->acc.width[SUM_U])
+        for (size_t a = b0; a < b1; ++a)
+            row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split, pass, 1);
+    else
+        for (size_t a = b0; a < b1; ++a)
+            row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split, pass, 0);
 }
 
-#define CHUNK_VARIANT(DIM, KERNEL, SPLIT, PASS)                                                \
-    RATE_CLONES static void chunk_##DIM##_##KERNEL##_##SPLIT##_##PASS(const engine *e, long c) \
-    {                                                                                          \
-        chunk_rows(e, c, DIM, KERNEL, SPLIT, PASS);                                            \
+#define CHUNK_FN(ATTR, PATH, DIM, KERNEL, SPLIT, PASS)                                           \
+    ATTR static void chunk_##PATH##_##DIM##_##KERNEL##_##SPLIT##_##PASS(const engine *e, long c) \
+    {                                                                                            \
+        chunk_rows(e, c, DIM, KERNEL, SPLIT, PASS);                                              \
     }
+#if RATE_WIDE_PATHS
+#define CHUNK_VARIANT(DIM, KERNEL, SPLIT, PASS)           \
+    CHUNK_FN(, base, DIM, KERNEL, SPLIT, PASS)            \
+    CHUNK_FN(TARGET_AVX2, avx2, DIM, KERNEL, SPLIT, PASS) \
+    CHUNK_FN(TARGET_AVX512, avx512, DIM, KERNEL, SPLIT, PASS)
+#else
+#define CHUNK_VARIANT(DIM, KERNEL, SPLIT, PASS) CHUNK_FN(, base, DIM, KERNEL, SPLIT, PASS)
+#endif
 #define CHUNK_VARIANTS_OF_PASS(ID, PASS) \
     CHUNK_VARIANT(2, ID, 0, PASS)        \
     CHUNK_VARIANT(3, ID, 0, PASS) CHUNK_VARIANT(2, ID, 1, PASS) CHUNK_VARIANT(3, ID, 1, PASS)
@@ -405,25 +447,56 @@ static ALWAYS_INLINE void chunk_rows(const engine *e, long c, const int dim, con
 #define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP) \
     CHUNK_VARIANTS_OF_PASS(ID, 1) CHUNK_VARIANTS_OF_PASS(ID, 2) CHUNK_VARIANTS_OF_PASS(ID, 3)
 SPH_KERNELS(CHUNK_VARIANTS_OF_KERNEL)
-#define CHUNK_PASS_ENTRY(ID, PASS)                           \
-    {                                                        \
-        {chunk_2_##ID##_0_##PASS, chunk_3_##ID##_0_##PASS},  \
-        {                                                    \
-            chunk_2_##ID##_1_##PASS, chunk_3_##ID##_1_##PASS \
-        }                                                    \
+#define CHUNK_PASS_ENTRY(PATH, ID, PASS)                                       \
+    {                                                                          \
+        {chunk_##PATH##_2_##ID##_0_##PASS, chunk_##PATH##_3_##ID##_0_##PASS},  \
+        {                                                                      \
+            chunk_##PATH##_2_##ID##_1_##PASS, chunk_##PATH##_3_##ID##_1_##PASS \
+        }                                                                      \
     }
-#define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT, STEP) \
-    [ID] = {CHUNK_PASS_ENTRY(ID, 1), CHUNK_PASS_ENTRY(ID, 2), CHUNK_PASS_ENTRY(ID, 3)},
-/* [kernel][pass - 1][partial-sum buffer][dimension - 2] */
-static const chunk_fn chunk_variants[][3][2][2] = {SPH_KERNELS(CHUNK_ENTRY)};
+#define CHUNK_ENTRY(PATH, ID)                                             \
+    [ID] = {CHUNK_PASS_ENTRY(PATH, ID, 1), CHUNK_PASS_ENTRY(PATH, ID, 2), \
+            CHUNK_PASS_ENTRY(PATH, ID, 3)},
+#define CHUNK_ENTRY_BASE(ID, NAME, PREFIX, SUPPORT, STEP)   CHUNK_ENTRY(base, ID)
+#define CHUNK_ENTRY_AVX2(ID, NAME, PREFIX, SUPPORT, STEP)   CHUNK_ENTRY(avx2, ID)
+#define CHUNK_ENTRY_AVX512(ID, NAME, PREFIX, SUPPORT, STEP) CHUNK_ENTRY(avx512, ID)
+#define COUNT_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP)       +1
+enum { N_KERNELS = 0 SPH_KERNELS(COUNT_KERNEL) };
+#undef COUNT_KERNEL
+/* [path - 1][kernel][pass - 1][partial-sum buffer][dimension - 2] */
+static const chunk_fn chunk_variants[][N_KERNELS][3][2][2] = {
+    {SPH_KERNELS(CHUNK_ENTRY_BASE)},
+#if RATE_WIDE_PATHS
+    {SPH_KERNELS(CHUNK_ENTRY_AVX2)},
+    {SPH_KERNELS(CHUNK_ENTRY_AVX512)},
+#endif
+};
 #undef CHUNK_ENTRY
 #undef CHUNK_PASS_ENTRY
+
+int rates_path(int wanted)
+{
+#if RATE_WIDE_PATHS
+    __builtin_cpu_init();
+    int widest = RATE_PATH_BASELINE;
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+        widest = RATE_PATH_AVX2;
+    if (widest == RATE_PATH_AVX2 && __builtin_cpu_supports("avx512f") &&
+        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") &&
+        __builtin_cpu_supports("avx512dq"))
+        widest = RATE_PATH_AVX512;
+    return wanted == RATE_PATH_AUTO || wanted > widest ? widest : wanted;
+#else
+    (void)wanted;
+    return RATE_PATH_BASELINE;
+#endif
+}
 
 /* Pass 2: the pair sums.  Even chunks, then odd chunks, then the far
  * records in chunk order (each thread adds those of its own particles). */
 static void pass_pairs(const engine *e, int kernel, size_t n_sums)
 {
-    const chunk_fn run = chunk_variants[kernel][e->pass - 1][e->split][e->dim - 2];
+    const chunk_fn run = chunk_variants[e->path - 1][kernel][e->pass - 1][e->split][e->dim - 2];
     const long n_chunks = e->n_chunks;
 #pragma omp parallel num_threads(e->threads)
     {
@@ -686,6 +759,7 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
         e->periodic |= e->periodic_axis[i];
     }
     e->pass = call->pass ? call->pass : PASS_ALL;
+    e->path = rates_path(sim->rate_path);
     e->full = !call->half;
     e->reverse = e->full || call->far_in_both_rows;
     e->ghost_sums = call->partial != NULL;
