@@ -13,6 +13,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/setup.sh --lammps
+# the tree as the suite finds it, ignored files included but for the
+# caches and build folders: the suite must leave it so (in CI: clean)
+tree_state() {
+    git status --porcelain --ignored \
+        | grep -v -E '^!! (\.pytest_cache|\.ruff_cache|\.venv|build[^/]*)/$|__pycache__/$' || true
+}
+tree_before=$(tree_state)
 
 echo "== format and lint (clang-format, ruff)"
 bash scripts/format.sh
@@ -70,3 +77,15 @@ suites=(tests/python)
 [ -d tests/lammps ] && suites+=(tests/lammps)
 [ -f tests/stability/test_fast.py ] && suites+=(tests/stability/test_fast.py)
 .venv/bin/python -m pytest -q "${suites[@]}"
+
+echo "== a clean tree: the tests wrote nothing into it, nothing ignored is tracked"
+tree_after=$(tree_state)
+if [ "$tree_after" != "$tree_before" ]; then
+    echo "the tests changed the working tree (git status --porcelain --ignored, before, then after):" >&2
+    echo "$tree_before" >&2; echo "--" >&2; echo "$tree_after" >&2; exit 1
+fi
+ignored=$(git ls-files -ci --exclude-standard)
+if [ -n "$ignored" ]; then
+    echo "tracked files that .gitignore ignores (git ls-files -ci --exclude-standard):" >&2
+    echo "$ignored" >&2; exit 1
+fi

@@ -90,7 +90,7 @@ def run(dx: float, until: float, out: Path, every: int = 5,
 
 
 def main(argv=None):
-    from sphsolid.cli import quantity
+    from sphsolid.cli.options import quantity
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--dx", type=quantity, required=True)
     parser.add_argument("--until", type=quantity, default=4e-3)

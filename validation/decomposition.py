@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import time as wallclock
 from pathlib import Path
 
@@ -72,13 +71,6 @@ def scene(dx, strip=False, ratio=1.2, kernel="cubic_spline", alpha=1.0,
     H = scenes.SPECIMEN_Y[1]
     x = (-4 * dx, 4 * dx) if strip else scenes.SPECIMEN_X
     specimen = build.rectangle(x, (0.0, H), dx, rock, "specimen")
-    layers = int(math.ceil(2 * ratio))
-    d = ends_in * dx
-    plate = build.block((x[0], -layers * dx + d), (x[1], d), dx, rock,
-                        "plate", "fixed", role="plate")
-    piston = build.block((x[0], H - d), (x[1], H - d + layers * dx), dx, rock,
-                         "piston", Velocity((0.0, -scenes.PISTON_SPEED)),
-                         role="piston")
     effects = {}
     if alpha:
         effects["artificial_viscosity"] = {"alpha": alpha, "beta": 0.0}
@@ -86,8 +78,17 @@ def scene(dx, strip=False, ratio=1.2, kernel="cubic_spline", alpha=1.0,
         effects["kernel_correction"] = {}
     extra = ({"domain": ((x[0], -0.02), (x[1], H + 0.03)),
               "periodic": (True, False)} if strip else {})
-    return Scene(2, [specimen, plate, piston], effects=effects,
-                 smoothing_ratio=ratio, kernel=kernel, **extra)
+    scene = Scene(2, [specimen], effects=effects, smoothing_ratio=ratio,
+                  kernel=kernel, **extra)
+    # plate and piston one kernel support thick (sph_support_layers)
+    layers = scene.support_layers(dx)
+    d = ends_in * dx
+    scene.add(build.block((x[0], -layers * dx + d), (x[1], d), dx, rock,
+                          "plate", "fixed", role="plate"))
+    scene.add(build.block((x[0], H - d), (x[1], H - d + layers * dx), dx,
+                          rock, "piston", Velocity((0.0, -scenes.PISTON_SPEED)),
+                          role="piston"))
+    return scene
 
 
 def run(dx, strip=False, until=WINDOW, dt_factor=1.0,

@@ -141,10 +141,10 @@ def strip_front(dx: float, ratio: float = 1.2, alpha: float = 1.0,
     width = 8 * dx
     strip = build.rectangle((-width / 2, width / 2), (0.0, height), dx, rock,
                             name="strip")
-    layers = int(math.ceil(2 * ratio))
-    scene = Scene(2, [strip, build.plate(under=strip, layers=layers),
-                      build.piston(over=strip, layers=layers,
-                                   velocity=(0.0, -speed))],
+    # plate and piston: the least layers one kernel support thick (the
+    # library's sph_support_layers)
+    scene = Scene(2, [strip, build.plate(under=strip),
+                      build.piston(over=strip, velocity=(0.0, -speed))],
                   effects={"artificial_viscosity": {"alpha": alpha,
                                                     "beta": 0.0}},
                   domain=((-width / 2, -0.02), (width / 2, height + 0.03)),
@@ -196,9 +196,8 @@ def piston_scene(dx: float, ratio: float = 1.2, kernel: str = "cubic_spline",
         rock = scenes.paper_material()
         specimen = build.rectangle(scenes.SPECIMEN_X, scenes.SPECIMEN_Y, dx,
                                    rock, "specimen")
-        layers = int(math.ceil(2 * ratio))
-        scene = Scene(2, [specimen, build.plate(under=specimen, layers=layers),
-                          build.piston(over=specimen, layers=layers,
+        scene = Scene(2, [specimen, build.plate(under=specimen),
+                          build.piston(over=specimen,
                                        velocity=(0.0, -scenes.PISTON_SPEED))],
                       effects={"artificial_viscosity": {"alpha": alpha,
                                                         "beta": 0.0}},

@@ -137,6 +137,14 @@ typedef enum sph_motion {
 SPH_API sph_status sph_add_block(sph_sim *sim, const char *name, int material, const double lo[3],
                                  const double hi[3], double dx, int *body);
 
+/* The lattice sph_add_block would lay, without laying it: particles per
+ * axis (count, 1 beyond dim) and lattice step per axis [m] (0 beyond dim),
+ * after the same checks (dx, extents, the memory a run of that many
+ * particles needs).  `name` only labels the messages; either output may be
+ * NULL. */
+SPH_API sph_status sph_block_lattice(sph_sim *sim, const char *name, const double lo[3],
+                                     const double hi[3], double dx, long count[3], double step[3]);
+
 /* A body from given particle centres (n * dim doubles) and volumes (n
  * doubles, or NULL for spacing^dim each).  `spacing` is the body's nominal
  * particle spacing. */

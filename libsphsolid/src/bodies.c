@@ -222,8 +222,8 @@ sph_status sph_add_particles(sph_sim *sim, const char *name, int material_id, si
     return sph_ok(sim);
 }
 
-sph_status sph_add_block(sph_sim *sim, const char *name, int material_id, const double lo[3],
-                         const double hi[3], double dx, int *body_id)
+sph_status sph_block_lattice(sph_sim *sim, const char *name, const double lo[3], const double hi[3],
+                             double dx, long count[3], double step[3])
 {
     if (!sim)
         return SPH_ERR_ARGUMENT;
@@ -234,8 +234,8 @@ sph_status sph_add_block(sph_sim *sim, const char *name, int material_id, const 
         return sph_fail(sim, SPH_ERR_ARGUMENT, "block '%s': dx=%g must be finite and > 0",
                         name ? name : "", dx);
     const int dim = sim->dim;
-    long count[3] = {1, 1, 1};
-    double step[3] = {0, 0, 0};
+    long n_axis[3] = {1, 1, 1};
+    double h[3] = {0, 0, 0};
     size_t n = 1;
     double cells = 1.0;
     sph_status st;
@@ -250,13 +250,13 @@ sph_status sph_add_block(sph_sim *sim, const char *name, int material_id, const 
                             "block '%s': extent %g m along %c is %g spacings dx=%g m: too many",
                             name ? name : "", L, "xyz"[i], L / dx, dx);
         cells *= round(L / dx);
-        count[i] = lround(L / dx);
-        if (count[i] < 1)
+        n_axis[i] = lround(L / dx);
+        if (n_axis[i] < 1)
             return sph_fail(sim, SPH_ERR_ARGUMENT,
                             "block '%s': extent %g along %c is less than half of dx=%g",
                             name ? name : "", L, "xyz"[i], dx);
-        step[i] = L / (double)count[i];
-        n *= (size_t)count[i];
+        h[i] = L / (double)n_axis[i];
+        n *= (size_t)n_axis[i];
     }
     {
         /* before allocating anything: would a run of this many fit? */
@@ -269,6 +269,23 @@ sph_status sph_add_block(sph_sim *sim, const char *name, int material_id, const 
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "block '%s': %zu particles is too many (at most 2^31)", name ? name : "",
                         n);
+    for (int i = 0; i < 3; ++i) {
+        if (count)
+            count[i] = n_axis[i];
+        if (step)
+            step[i] = h[i];
+    }
+    return sph_ok(sim);
+}
+
+sph_status sph_add_block(sph_sim *sim, const char *name, int material_id, const double lo[3],
+                         const double hi[3], double dx, int *body_id)
+{
+    long count[3];
+    double step[3];
+    sph_status st = sph_block_lattice(sim, name, lo, hi, dx, count, step);
+    if (st)
+        return st;
     int id;
     if ((st = lattice_add(sim, name, material_id, lo, hi, count, step, dx, "block", &id)))
         return st;

@@ -156,6 +156,8 @@ _PROTOTYPES = {
     "sph_material_info_get": (c_int, [_sim, c_int, POINTER(MaterialInfo)]),
     "sph_add_block": (c_int, [_sim, c_char_p, c_int, _dp, _dp, c_double,
                               POINTER(c_int)]),
+    "sph_block_lattice": (c_int, [_sim, c_char_p, _dp, _dp, c_double,
+                                  POINTER(c_long), _dp]),
     "sph_add_particles": (c_int, [_sim, c_char_p, c_int, c_size_t, _dp, _dp,
                                   c_double, POINTER(c_int)]),
     "sph_add_prism": (c_int, [_sim, c_char_p, c_int, _dp, c_double, c_double,
@@ -372,6 +374,29 @@ def effect_names() -> list[str]:
 def integrator_names() -> list[str]:
     """Integrator names the library knows (``sph_integrator_names``)."""
     return lib.sph_integrator_names().decode().split()
+
+
+def integrator_registry() -> dict:
+    """The library's integrator registry: for each integrator name, its
+    one-line ``description``, rate ``evaluations`` per step, and the
+    ``stable_factor`` and ``default_factor`` of its steps (stable step
+    stable_factor h / max(c_p + |v|), default step default_factor h / c0;
+    ``sph_integrator_info_get``)."""
+    out = {}
+    handle = new_handle(2)
+    try:
+        for name in integrator_names():
+            info = IntegratorInfo()
+            check(lib.sph_integrator_info_get(handle, name.encode(),
+                                              ctypes.byref(info)),
+                  handle, f"integrator {name!r}")
+            out[name] = {"description": info.description.decode(),
+                         "evaluations": int(info.evaluations),
+                         "stable_factor": float(info.stable_factor),
+                         "default_factor": float(info.default_factor)}
+    finally:
+        lib.sph_destroy(handle)
+    return out
 
 
 def steps_until(sim, t: float) -> tuple[int, float]:

