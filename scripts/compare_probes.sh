@@ -17,19 +17,8 @@ shift || true
 extra=("$@")
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-mkdir -p "$tmp/base"
-git archive "$base" | tar -x -C "$tmp/base"
-cp bench/probe_series.c "$tmp/base/bench/"
-grep -q probe_series "$tmp/base/bench/CMakeLists.txt" ||
-    printf 'add_executable(probe_series probe_series.c)\ntarget_link_libraries(probe_series PRIVATE sphsolid_static)\n' \
-        >>"$tmp/base/bench/CMakeLists.txt"
-build() { # source folder, build folder
-    cmake -S "$1" -B "$2" -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=OFF \
-        -DSPHSOLID_TESTS=OFF -DSPHSOLID_EXAMPLES=OFF ${extra[@]+"${extra[@]}"} >/dev/null
-    cmake --build "$2" -j2 --target probe_series >/dev/null
-}
-build "$tmp/base" "$tmp/build-base"
-build . "$tmp/build-head"
+. scripts/build_beside.sh
+build_beside "$base" "$tmp" probe_series ${extra[@]+"${extra[@]}"}
 "$tmp/build-base/bench/probe_series" --threads 1 >"$tmp/base.txt"
 "$tmp/build-head/bench/probe_series" --threads 1 >"$tmp/head.txt"
 "$tmp/build-head/bench/probe_series" --threads 3 >"$tmp/head3.txt"

@@ -16,16 +16,8 @@ shift $(($# < 2 ? $# : 2))
 [ "${1:-}" = "--" ] && shift
 extra=("$@")
 work=${TMPDIR:-/tmp}/sphsolid-throughput-$(git rev-parse --short "$base")
-mkdir -p "$work/base"
-[ -f "$work/base/CMakeLists.txt" ] || git archive "$base" | tar -x -C "$work/base"
-cp bench/bench_piston.c bench/bench_timing.h "$work/base/bench/"
-build() { # source folder, build folder
-    cmake -S "$1" -B "$2" -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=OFF \
-        -DSPHSOLID_TESTS=OFF -DSPHSOLID_EXAMPLES=OFF ${extra[@]+"${extra[@]}"} >/dev/null
-    cmake --build "$2" -j2 --target bench_piston >/dev/null
-}
-build "$work/base" "$work/build-base"
-build . "$work/build-head"
+. scripts/build_beside.sh
+build_beside "$base" "$work" bench_piston ${extra[@]+"${extra[@]}"}
 : >"$work/runs.txt"
 for ((r = 0; r < repeats; ++r)); do
     for side in base head; do
