@@ -44,6 +44,7 @@ from ._lib import check as _check
 from ._lib import encode_name as _lib_encode
 from ._lib import steps_until as _steps_until
 from .calculators import Calculator, Progress
+from .units import time as _time
 
 __all__ = ["Lammps", "open_lammps", "find_plugin", "plugin_directory",
            "available", "preload_mpi", "mpi_bin_dir", "user_plugin_directory"]
@@ -475,20 +476,17 @@ class Lammps(Calculator):
         return lib.sph_stable_dt(self.scene.handle)
 
     def set_dt(self, dt: float, allow_unstable: bool = False) -> None:
-        value = float(dt)
-        if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"dt must be > 0 s, got {dt!r}")
-        if not allow_unstable and value > self.stable_dt():
-            raise ValueError(f"dt={value!r} s exceeds the stability limit "
-                             f"{self.stable_dt()!r} s; pass allow_unstable "
-                             "to force it")
+        value = _time(dt, "dt")          # 1e-7 or "0.1us"
+        # the library judges the step (> 0, within the stability limit of
+        # the synced state) and keeps it: checkpoints record it
+        if not allow_unstable:
+            self.sync()
+        _check(lib.sph_set_dt(self.scene.handle, value, int(allow_unstable)),
+               self.scene.handle, "dt")
         if value != self._dt:
             self._timestep(value)
             self._dt = value
             self._prepared = False
-            # the library's step too: checkpoints record it
-            _check(lib.sph_set_dt(self.scene.handle, value, 1),
-                   self.scene.handle, "set_dt")
 
     @property
     def dt(self) -> float:
@@ -569,7 +567,7 @@ class Lammps(Calculator):
 
     def advance_until(self, t: float, progress: Progress = None,
                       interval: int = 10) -> None:
-        t = float(t)
+        t = _time(t, "t")
         # the library's steps to t from its clock (which follows LAMMPS's)
         whole, last = _steps_until(self.scene.handle, t)
         if whole:

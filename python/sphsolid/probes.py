@@ -14,6 +14,7 @@ import numpy as np
 
 from . import _lib
 from ._lib import lib
+from .units import lengths as _lengths
 
 __all__ = ["Probes", "PAPER_PROBES", "value_names"]
 
@@ -84,7 +85,9 @@ class Probes:
         if self._samples:
             raise RuntimeError("cannot add a probe after samples were taken")
         dim = self.scene.dimension
-        coords = _lib.as_doubles(point, dim, f"probe {name!r} point")
+        coords = _lib.as_doubles(          # (0, "50mm") too
+            _lengths(point, f"probe {name!r} point", dim), dim,
+            f"probe {name!r} point")
         index = ctypes.c_int()
         _lib.check(lib.sph_add_probe(self.scene.handle, name.encode(), coords,
                                      ctypes.byref(index)),

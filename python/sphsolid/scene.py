@@ -15,7 +15,7 @@ import numpy as np
 from . import _lib
 from ._lib import lib
 from .build import Body, Free
-from .units import check_scale
+from .units import check_scale, length as _length, lengths as _lengths
 
 __all__ = ["Scene", "DEFAULT_SMOOTHING_RATIO"]
 
@@ -156,8 +156,8 @@ class Scene:
         """Bounding box [m] and periodic axes (set it before adding bodies
         for them to be checked against it)."""
         dim = self.dimension
-        lo_d = list(_lib.as_doubles(lo, dim, "domain lo"))
-        hi_d = list(_lib.as_doubles(hi, dim, "domain hi"))
+        lo_d = list(_lengths(lo, "domain lo", dim))     # (0, "50mm") too
+        hi_d = list(_lengths(hi, "domain hi", dim))
         lo3 = (ctypes.c_double * 3)(*(lo_d + [0.0] * (3 - dim)))
         hi3 = (ctypes.c_double * 3)(*(hi_d + [0.0] * (3 - dim)))
         if periodic is None:
@@ -284,7 +284,7 @@ class Scene:
         needs to be one kernel support thick (``sph_support_layers``; 0
         until the first body sets the smoothing length)."""
         return int(lib.sph_support_layers(self._handle,
-                                          _lib.as_double(spacing, "spacing")))
+                                          _length(spacing, "spacing")))
 
     def _body_index(self, name: str) -> int:
         index = ctypes.c_int()

@@ -315,7 +315,7 @@ def run_file(path, out=None, until=None, progress=None, log=print) -> dict:
     from .trajectory import Trajectory
 
     spec = load(path)
-    until = spec.until if until is None else until
+    until = spec.until if until is None else time(until, "until")
     if until is None:
         raise SceneFileError(f"{path}: no end time: give until = \"...\" in "
                              "the file or --until")

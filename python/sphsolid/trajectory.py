@@ -23,6 +23,7 @@ import numpy as np
 
 from . import _lib
 from ._lib import lib
+from .units import time as _time
 
 __all__ = ["Trajectory", "Frame", "ProbeSeries", "write_xdmf"]
 
@@ -328,8 +329,10 @@ class Trajectory:
             yield self.frame(i)
 
     def nearest(self, time: float) -> Frame:
-        """The frame closest to ``time`` [s]."""
-        return self.frame(int(np.argmin(np.abs(self.times - time))))
+        """The frame closest to ``time`` [s] (or a string such as
+        ``"0.2ms"``)."""
+        t = _time(time, "time")
+        return self.frame(int(np.argmin(np.abs(self.times - t))))
 
     @property
     def probes(self) -> ProbeSeries | None:

@@ -10,25 +10,37 @@ import argparse
 import math
 from pathlib import Path
 
-__all__ = ["quantity", "positive", "finite", "whole", "fraction",
-           "positive_list", "add_scene_options", "add_plan_options"]
+__all__ = ["quantity", "positive", "positive_length", "positive_time",
+           "finite", "whole", "fraction", "length_list", "time_list",
+           "add_scene_options", "add_plan_options"]
 
 
-def quantity(text: str) -> float:
-    """'2mm' -> 0.002, '0.3ms' -> 3e-4, '1e-3' -> 0.001 (sphsolid.units)."""
+def quantity(text: str, kind: str | None = None) -> float:
+    """'2mm' -> 0.002, '0.3ms' -> 3e-4, '1e-3' -> 0.001 (sphsolid.units);
+    ``kind`` ("length", "time"): a unit of another kind is refused."""
     from ..units import quantity as to_si
     try:
-        return to_si(text, None, "value")
+        return to_si(text, kind, "value")
     except ValueError as error:
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
-def positive(text: str) -> float:
-    """A quantity that must be finite and > 0 (a spacing, a time)."""
-    value = quantity(text)
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"{text!r}: must be finite and > 0")
-    return value
+def _positive(kind: str | None):
+    def parse(text: str) -> float:
+        value = quantity(text, kind)
+        if not (math.isfinite(value) and value > 0):
+            raise argparse.ArgumentTypeError(
+                f"{text!r}: must be finite and > 0")
+        return value
+    parse.__name__ = kind or "quantity"      # argparse's name of the type
+    return parse
+
+
+#: A quantity that must be finite and > 0: of any kind, a length (a
+#: spacing) or a time.
+positive = _positive(None)
+positive_length = _positive("length")
+positive_time = _positive("time")
 
 
 def finite(low: float, what: str):
@@ -71,9 +83,15 @@ def fraction(text: str) -> float:
             "(3%)") from None
 
 
-def positive_list(text: str) -> list[float]:
+def length_list(text: str) -> list[float]:
     """'1mm,2mm' -> [0.001, 0.002], each finite and > 0."""
-    return [positive(part) for part in text.split(",") if part.strip()]
+    return [positive_length(part) for part in text.split(",")
+            if part.strip()]
+
+
+def time_list(text: str) -> list[float]:
+    """'0.1ms,0.2ms' -> [1e-4, 2e-4], each finite and > 0."""
+    return [positive_time(part) for part in text.split(",") if part.strip()]
 
 
 def inset(text: str):
@@ -118,7 +136,7 @@ def add_integrator_options(parser) -> None:
     from .._lib import integrator_names
     from ..presets import PRESETS
     rule = _step_rule()
-    parser.add_argument("--dt", type=positive, default=None,
+    parser.add_argument("--dt", type=positive_time, default=None,
                         help="time step (default: the preset's fraction of "
                              "the integrator's default step"
                              + (f", {rule}" if rule else "") + ")")
@@ -135,9 +153,9 @@ def add_scene_options(parser, dx: float | None, until: float,
     """The options of the project scenes (``sphsolid piston``, ``gravity``);
     ``dx`` None: the command says its default in its own help."""
     if dx is not None:
-        parser.add_argument("--dx", type=positive, default=dx,
+        parser.add_argument("--dx", type=positive_length, default=dx,
                             help=f"particle spacing (default {dx * 1e3:g}mm)")
-    parser.add_argument("--until", type=positive, default=None,
+    parser.add_argument("--until", type=positive_time, default=None,
                         help=f"end time (default {until * 1e3:g}ms, or the "
                              "plan's)")
     parser.add_argument("--out", type=Path, default=Path("."),
@@ -160,7 +178,7 @@ def add_scene_options(parser, dx: float | None, until: float,
                              " closer to the specimen, or 'static' (the "
                              "inset that makes the quasi-static stiffness "
                              "exact); default: the preset's (paper: 0)")
-    parser.add_argument("--times", type=positive_list, default=None,
+    parser.add_argument("--times", type=time_list, default=None,
                         help="comma-separated times of the von Mises maps "
                              f"(default {frames} evenly to --until)")
     parser.add_argument("--probe-interval", type=whole(1), default=10,

@@ -2,7 +2,7 @@
 or the laboratory cylinder in 3D)."""
 from __future__ import annotations
 
-from .options import add_scene_options, finite, positive
+from .options import add_scene_options, finite, positive_length
 
 help = "the paper's uniaxial piston test"
 
@@ -12,7 +12,7 @@ _FRAMES = 4
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument("--dx", type=positive, default=None,
+    parser.add_argument("--dx", type=positive_length, default=None,
                         help="particle spacing (default 1mm; 2mm with "
                              "--dim 3)")
     add_scene_options(parser, None, _UNTIL, _FRAMES)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .options import quantity
+from .options import positive_time
 
 help = "build and run a scene file (TOML)"
 description = ("Build and run the scene a TOML file describes "
@@ -16,7 +16,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("scene", type=Path)
     parser.add_argument("--out", type=Path, default=None,
                         help="output folder (default: the scene file's)")
-    parser.add_argument("--until", type=quantity, default=None,
+    parser.add_argument("--until", type=positive_time, default=None,
                         help="end time, overriding the file's")
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction,
                         default=None)
