@@ -544,6 +544,12 @@ class Scene:
         return self._calc
 
     @property
+    def integrator(self) -> str:
+        """The library integrator selected on this scene (by the last
+        Dynamics object made on it, or a checkpoint read)."""
+        return lib.sph_integrator_name(self._handle).decode()
+
+    @property
     def has_calculator(self) -> bool:
         """True once a calculator is bound (reading :attr:`calc` binds the
         C library's on first use)."""

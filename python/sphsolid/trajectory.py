@@ -365,9 +365,10 @@ class Trajectory:
         lines = [f"{self.path}: libsphsolid output "
                  f"({_attr(self._file['h5md/creator'].attrs.get('version', b'?'))})",
                  f"  dimension {p.get('dimension')}, kernel {p.get('kernel')},"
+                 f" integrator {_attr(p.get('integrator', 'unknown'))},"
                  f" h = {float(np.ravel(p['smoothing_length'])[0]) * 1e3:.4g}"
                  f" mm, dt = {float(np.ravel(p['dt'])[0]) * 1e6:.4g} us",
-                 f"  effects: {p.get('effects') or 'none'}"]
+                 f"  effects: {_effect_list(p.get('effects'))}"]
         bodies = self._file["parameters/bodies"]
         total = 0
         for name in self.body_names:
@@ -436,6 +437,13 @@ def _attr(value):
     if isinstance(value, np.ndarray) and value.dtype.kind == "S":
         return [v.decode() for v in value]
     return value
+
+
+def _effect_list(value) -> str:
+    """The file's effects attribute ("name k=v; name k=v; ") as "name
+    k=v; name k=v" ("none" without effects)."""
+    parts = [part.strip() for part in _attr(value or "").split(";")]
+    return "; ".join(part for part in parts if part) or "none"
 
 
 def write_xdmf(h5_path) -> Path:

@@ -118,7 +118,7 @@ def _step_rule() -> str:
                      for name, info in registry.items())
 
 
-def _preset_help() -> str:
+def _preset_help(default: str) -> str:
     from ..presets import PRESETS
     listed = "; ".join(
         f"{p.name}: {p.integrator}"
@@ -126,11 +126,12 @@ def _preset_help() -> str:
         + f", {p.kernel} at h = {p.smoothing_ratio:g} dx"
         for p in PRESETS.values())
     return (f"named setting (kernel, h/dx, integrator, viscosity, platen "
-            f"inset, step): {listed} (docs/validation.md); default paper "
-            f"(Das & Cleary's scheme); the options below override it")
+            f"inset, step): {listed} (docs/validation.md); default "
+            f"{default}; the other options override it")
 
 
-def add_integrator_options(parser) -> None:
+def add_integrator_options(parser, preset_default: str = "paper (Das & "
+                           "Cleary's scheme)") -> None:
     """--preset, --integrator and --dt (``sphsolid piston``, ``gravity``,
     ``run``)."""
     from .._lib import integrator_names
@@ -141,11 +142,24 @@ def add_integrator_options(parser) -> None:
                              "the integrator's default step"
                              + (f", {rule}" if rule else "") + ")")
     parser.add_argument("--preset", choices=tuple(PRESETS), default=None,
-                        help=_preset_help())
+                        help=_preset_help(preset_default))
     parser.add_argument("--integrator", default=None,
                         choices=integrator_names(),
                         help="time integrator of the library (default: the "
                              "preset's)")
+
+
+def add_checkpoint_options(parser) -> None:
+    """--checkpoint-every and --resume (``sphsolid piston``, ``gravity``,
+    ``run``)."""
+    parser.add_argument("--checkpoint-every", type=positive_time,
+                        default=None, metavar="TIME",
+                        help="write NAME_checkpoint.h5 beside the output "
+                        "every TIME of simulated time (the last one kept)")
+    parser.add_argument("--resume", type=Path, default=None, metavar="FILE",
+                        help="continue from a checkpoint of the same scene "
+                        "and integrator (C backend); the outputs hold the "
+                        "run from there")
 
 
 def add_scene_options(parser, dx: float | None, until: float,
@@ -166,10 +180,11 @@ def add_scene_options(parser, dx: float | None, until: float,
                         help="OpenMP threads (default: OpenMP's)")
     from .._lib import kernel_names
     add_integrator_options(parser)
+    add_checkpoint_options(parser)
     parser.add_argument("--kernel", default=None, choices=kernel_names(),
                         help="smoothing kernel (default: the preset's)")
-    parser.add_argument("--h-over-dx", type=finite(0.0, "must be finite "
-                        "and > 0"), default=None, dest="smoothing_ratio",
+    parser.add_argument("--h-over-dx", type=finite(-math.inf, "must be "
+                        "finite"), default=None, dest="smoothing_ratio",
                         metavar="RATIO",
                         help="smoothing length over spacing (default: the "
                              "preset's; paper: 1.2)")

@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .options import positive_time
+from .options import (add_checkpoint_options, add_integrator_options,
+                      positive_time, whole)
 
 help = "build and run a scene file (TOML)"
 description = ("Build and run the scene a TOML file describes "
@@ -18,6 +19,13 @@ def add_arguments(parser) -> None:
                         help="output folder (default: the scene file's)")
     parser.add_argument("--until", type=positive_time, default=None,
                         help="end time, overriding the file's")
+    parser.add_argument("--threads", type=whole(1), default=None,
+                        help="OpenMP threads (default: the file's threads, "
+                        "else OpenMP's)")
+    add_integrator_options(parser, preset_default=(
+        "the file's preset key, else none: the file and the library's "
+        "defaults"))
+    add_checkpoint_options(parser)
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction,
                         default=None)
 
@@ -25,5 +33,8 @@ def add_arguments(parser) -> None:
 def run(args) -> int:
     from ..scenefile import run_file
     run_file(args.scene, out=args.out, until=args.until,
-             progress=args.progress, log=lambda m: print(m, flush=True))
+             progress=args.progress, log=lambda m: print(m, flush=True),
+             threads=args.threads, integrator=args.integrator,
+             preset=args.preset, checkpoint_every=args.checkpoint_every,
+             resume=args.resume, dt=args.dt)
     return 0
