@@ -16,6 +16,7 @@ from . import _lib
 from ._lib import lib
 from .build import Body, Free
 from .units import check_scale, length as _length, lengths as _lengths
+from .units import quantity as _quantity
 
 __all__ = ["Scene", "DEFAULT_SMOOTHING_RATIO"]
 
@@ -31,12 +32,6 @@ class _Buffer:
         self.__array_interface__ = {
             "shape": shape, "typestr": "<f8", "version": 3,
             "data": (address, not writeable)}
-
-
-def _format_value(key, value):
-    """key=value with the value as the shortest exact decimal; the library
-    checks it (finite, in range)."""
-    return f"{key}={_lib.as_double(value, f'effect parameter {key}')!r}"
 
 
 class Scene:
@@ -178,10 +173,12 @@ class Scene:
         Parameters are passed to the library as ``key=value`` words; an
         unknown effect name or key is a ValueError that names it.
         """
-        words = " ".join(_format_value(k, v) for k, v in parameters.items())
+        numbers = {k: _quantity(v, None, f"effect parameter {k}")
+                   for k, v in parameters.items()}       # "-9.81m/s2" too
+        words = " ".join(f"{k}={v!r}" for k, v in numbers.items())
         self._check(lib.sph_effect(self._handle, _lib.as_name(name, "effect"),
                                    words.encode()), "effect")
-        self._effects[name] = dict(parameters)
+        self._effects[name] = numbers
 
     def effect_off(self, name: str) -> None:
         """Switch an effect off."""

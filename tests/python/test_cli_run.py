@@ -161,3 +161,17 @@ def test_info_lists_effects_without_a_trailing_separator(tmp_path, capsys):
     effects = [line for line in lines if line.strip().startswith("effects:")]
     assert effects and "damping" in effects[0]
     assert not any(line.rstrip().endswith(";") for line in lines), lines
+
+
+def test_a_plans_end_time_that_is_not_a_time_names_the_key(tmp_path,
+                                                           capsys):
+    from sphsolid import plan as planner
+    fake = planner.Plan(request={"until": "abc"}, feasible=True,
+                        setting=planner.Setting.make(), dx=8e-3, threads=1,
+                        predicted_error=0.1, error_upper=0.12,
+                        predicted_seconds=1.0, scene="piston")
+    path = fake.save(tmp_path / "plan.json")
+    assert main(["piston", "--plan", str(path), "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert f"{path}: request.until: 'abc' is not a number" in err
+    assert "could not convert" not in err and "Traceback" not in err

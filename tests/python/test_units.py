@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import sphsolid
+import sphsolid.lammps
 from sphsolid import build, scenes
 
 LENGTHS = {"dx", "lo", "hi", "x", "y", "z", "width", "depth", "height",
@@ -285,3 +286,18 @@ def test_a_unit_of_the_wrong_kind_is_named(call, message):
     with pytest.raises(ValueError) as info:
         call()
     assert message in str(info.value)
+
+
+def test_effect_parameters_take_units_on_every_backend():
+    scene = small_scene("8mm")
+    scene.effect("gravity", gx=0, gy="-9.81m/s2")
+    # the scene keeps the SI numbers it passed to the library (a LAMMPS
+    # backend builds its deck from them)
+    assert scene.effects["gravity"] == {"gx": 0.0, "gy": -9.81}
+    with pytest.raises(ValueError, match="effect parameter alpha: 'x' is "
+                       "not a number"):
+        scene.effect("artificial_viscosity", alpha="x")
+    if sphsolid.lammps.available():
+        scene.calc = sphsolid.lammps.Lammps(threads=1)
+        sphsolid.ImprovedEuler(scene).run(steps=1)
+        scene.calc.close()

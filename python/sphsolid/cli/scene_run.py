@@ -44,7 +44,10 @@ def resolve(args, name: str, dx: float, until: float,
             raise ValueError(f"{args.plan} plans the {loaded.scene!r} "
                              f"scene, not {name!r}")
         dx = loaded.dx
-        until = float(loaded.request.get("until") or until)
+        requested = loaded.request.get("until")
+        if requested is not None:
+            from ..units import time
+            until = time(requested, f"{args.plan}: request.until")
         integrator = loaded.setting.integrator
     else:
         integrator = args.integrator or chosen.integrator
