@@ -23,7 +23,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
 
-from sphsolid import plan as planner  # noqa: E402
+from sphsolid import planner  # noqa: E402
 
 
 def main() -> int:

@@ -25,7 +25,30 @@ from .material import Material
 from .probes import PAPER_PROBES, Probes
 from .scene import Scene
 from . import scenes
-from . import plan          # sphsolid.plan(factory, error=...) plans a run
+from . import planner
+
+
+class _PlanEntry:
+    """``sphsolid.plan(factory, error=...)`` plans a run
+    (:func:`sphsolid.planner.plan`); ``sphsolid.plan.Plan`` and the other
+    names of :mod:`sphsolid.planner` are reachable through it."""
+
+    __wrapped__ = staticmethod(planner.plan)
+
+    def __call__(self, *args, **kwargs):
+        return planner.plan(*args, **kwargs)
+
+    def __getattr__(self, name):
+        return getattr(planner, name)
+
+    def __dir__(self):
+        return dir(planner)
+
+    def __repr__(self):
+        return "<sphsolid.plan: the planner (sphsolid.planner.plan)>"
+
+
+plan = _PlanEntry()
 
 
 
@@ -45,7 +68,7 @@ __version__ = _package_version()
 __all__ = ["Material", "Scene", "Body", "Free", "Fixed", "Velocity", "Force",
            "Pressure", "Rotation", "block", "rectangle", "box", "prism", "cylinder",
            "particles", "plate", "piston", "disc", "ring", "Calculator", "CLibrary", "Dynamics", "ImprovedEuler",
-           "Leapfrog", "Probes", "PAPER_PROBES", "Trajectory", "scenes", "plan",
+           "Leapfrog", "Probes", "PAPER_PROBES", "Trajectory", "scenes", "plan", "planner",
            "effect_names", "effect_registry", "kernel_names", "kernel_values",
            "version",
            "library_path", "SimulationError", "StoppedError",

@@ -150,7 +150,7 @@ def probe_curves(times: Sequence[float],
         Label of the y axis (its unit is added).
     bands : mapping of label to array [Pa], optional
         Half-widths of an error band per series (e.g. from
-        :class:`sphsolid.estimate.ErrorEstimate`), drawn shaded.
+        :class:`sphsolid.planner.estimate.ErrorEstimate`), drawn shaded.
 
     Returns
     -------

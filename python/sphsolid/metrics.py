@@ -14,14 +14,30 @@ from __future__ import annotations
 
 from typing import Mapping
 
+import math
+
 import numpy as np
 
 __all__ = ["SMOOTHING", "time_grid", "smooth", "on_grid", "deviation",
            "scale_of",
-           "probe_deviations", "worst_deviation"]
+           "probe_deviations", "worst_deviation", "PROBE_SPACING",
+           "probe_interval_for"]
 
 #: Standard deviation of the Gaussian both series are smoothed with [s].
 SMOOTHING = 1e-6
+#: The default time between probe samples [s]: a quarter of the metric's
+#: smoothing, so that a series sampled at it and interpolated linearly
+#: differs from the every-step series by far less than any error the
+#: planner is asked for (a 6.2 us interval put a 1.6 % run at 2.9 % RMS).
+PROBE_SPACING = SMOOTHING / 4
+
+
+def probe_interval_for(dt: float, spacing: float = PROBE_SPACING) -> int:
+    """Steps between probe samples for a step ``dt`` [s]: the most steps
+    whose time is within ``spacing`` (at least 1)."""
+    if not (dt > 0 and math.isfinite(dt)):
+        raise ValueError(f"dt must be a time > 0 s, got {dt!r}")
+    return max(1, int(math.floor(spacing / dt * (1 + 1e-9))))
 
 
 def time_grid(start: float, stop: float, sigma: float = SMOOTHING,

@@ -42,7 +42,7 @@ time. Lengths, times, velocities, pressures and forces take unit strings
     [output]
     file = "pull.h5"             # relative to the output folder
     snapshot_every = "0.025ms"   # or snapshot_interval = <steps>
-    probe_interval = 10          # steps
+    probe_interval = 10          # steps (default: every step within 0.25 us)
 
 Top-level keys: ``dimension`` (2 or 3, default 2), ``until`` (end time
 > 0, required unless given on the command line), ``dt``, ``integrator``
@@ -82,6 +82,7 @@ from pathlib import Path
 
 from . import build
 from .material import Material
+from .metrics import probe_interval_for
 from .units import length, lengths, quantity, time, to_si
 
 __all__ = ["load", "SceneFile", "run_file"]
@@ -428,8 +429,14 @@ def load(path, preset=None, integrator=None) -> SceneFile:
 
 def run_file(path, out=None, until=None, progress=None, log=print,
              threads=None, integrator=None, preset=None,
-             checkpoint_every=None, resume=None, dt=None) -> dict:
+             checkpoint_every=None, resume=None, dt=None,
+             plan=None) -> dict:
     """Build and run a scene file; returns the paths written.
+
+    ``plan`` (a plan.json path or :class:`~sphsolid.planner.Plan` from
+    ``sphsolid plan SCENE.toml``) rebuilds the file's scene at the plan's
+    spacing, h/dx, kernel, inset, integrator and effects; its end time
+    applies unless ``until`` is given.
 
     The HDF5 file (with its XDMF companion, written by the library on
     close) goes to ``out`` (default: the scene file's folder), with the
@@ -451,6 +458,29 @@ def run_file(path, out=None, until=None, progress=None, log=print,
     from .trajectory import Trajectory
 
     spec = load(path, preset=preset, integrator=integrator)
+    integrator, step = spec.integrator, spec.step
+    given_dt = None if dt is None else time(dt, "dt")
+    dt = spec.dt if given_dt is None else given_dt
+    if plan is not None:
+        from .planner import Plan
+        from .planner.scenes import scene_file
+        loaded = plan if isinstance(plan, Plan) else Plan.load(plan)
+        if not loaded.feasible:
+            raise ValueError(f"{plan}: the plan was refused: "
+                             f"{loaded.reason}")
+        if loaded.scene and loaded.scene != Path(path).name:
+            raise ValueError(f"{plan} plans the scene {loaded.scene!r}, not "
+                             f"{Path(path).name!r}")
+        spec.scene = loaded.build(scene_file(path).factory)
+        # the plan's integrator at its default step (a --dt still applies)
+        integrator, step = loaded.setting.integrator, 1.0
+        dt = given_dt
+        if until is None and loaded.request.get("until"):
+            until = time(loaded.request["until"], f"{plan}: request.until")
+        log(f"plan {plan}: {loaded.setting.label()}, dx = "
+            f"{loaded.dx * 1e3:.4g} mm; predicted error "
+            f"{loaded.predicted_error * 100:.2f} % (at most "
+            f"{loaded.error_upper * 100:.2f} %)")
     until = spec.until if until is None else time(until, "until")
     if until is None:
         raise SceneFileError(f"{path}: no end time: give until = \"...\" in "
@@ -464,25 +494,25 @@ def run_file(path, out=None, until=None, progress=None, log=print,
     threads = spec.threads if threads is None else threads
     if threads is not None:
         scene.calc = CLibrary(threads=threads)
-    dt = spec.dt if dt is None else time(dt, "dt")
     if resume is not None:
-        resumed_dt = read_checkpoint(scene, resume, spec.integrator)
+        resumed_dt = read_checkpoint(scene, resume, integrator)
         dt = resumed_dt if dt is None else dt
     probes = Probes(scene, spec.probe_points) if spec.probe_points else None
-    kind = dynamics_for(spec.integrator)
+    kind = dynamics_for(integrator)
     dyn = kind(scene, dt=dt, progress=progress)
-    if dt is None and spec.step != 1.0:       # the preset's step
-        dyn = kind(scene, dt=dyn.dt * spec.step, progress=progress)
+    if dt is None and step != 1.0:            # the preset's step
+        dyn = kind(scene, dt=dyn.dt * step, progress=progress)
     interval = output.get("snapshot_interval")
     if "snapshot_every" in output:
         interval = max(1, int(round(output["snapshot_every"] / dyn.dt)))
     if interval is None:
         interval = max(1, math.ceil(until / dyn.dt / 10))   # ~10 frames
-    probe_interval = int(output.get("probe_interval", 10))
+    probe_interval = int(output.get("probe_interval",
+                                    probe_interval_for(dyn.dt)))
     stops = marks(checkpoint_every, dyn.time, until)
     counts = ", ".join(f"{k} {v:,}" for k, v in scene.body_counts().items())
     log(f"{spec.title}: {scene.dimension}D, {counts} particles, "
-        f"{spec.integrator}, dt = {dyn.dt * 1e6:.4g} us, until "
+        f"{integrator}, dt = {dyn.dt * 1e6:.4g} us, until "
         f"{until * 1e3:g} ms"
         + (f" (from t = {dyn.time * 1e3:.6g} ms, {resume})" if resume
            else ""))

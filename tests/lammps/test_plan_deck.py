@@ -7,8 +7,8 @@ import pytest
 
 from conftest import PISTON_DECK
 
-from sphsolid import plan as planner
-from sphsolid import plan_deck
+from sphsolid import planner
+from sphsolid.planner import deck as plan_deck
 
 
 def test_deck_run_records_the_library_series(tmp_path, plugin):

@@ -1,4 +1,4 @@
-"""The planner and the per-run error estimate (sphsolid.plan, .estimate).
+"""The planner and the per-run error estimate (sphsolid.planner, sphsolid.planner.estimate).
 
 The physics checks use the laterally periodic strip hit by the piston,
 whose exact answer is derived here: linear acoustics in uniaxial strain,
@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from sphsolid import metrics, scenes
-from sphsolid import plan as planner
+from sphsolid import planner
 
 STRIP = planner.project_scenes()["strip"]
 #: a short ladder and window keep the planner test fast
@@ -104,7 +104,7 @@ def test_planner_fits_calibration_levels_at_most_at_the_formal_order():
                           1e-7, 1.0, 1e-5, cpu=0.5) for dx in spacings])
     cand.smoothed = [{"A": limit + 0.02 * (dx * 1e3) ** 2 * np.cos(3 * t)}
                      for dx in spacings]
-    planner._fit_candidate(cand, "max", 2.0, 1)
+    planner.search._fit_candidate(cand, "max", 2.0, 1)
     assert cand.model.observed_order == pytest.approx(2.0, abs=0.02)
     assert cand.model.order == planner.FORMAL_ORDER == 1.0
 
@@ -236,7 +236,7 @@ def test_planner_lowers_the_law_by_the_share_that_repeats():
             planner.LadderRun(setting, dx, int(1e3 / dx ** 2), 100, 1e-7,
                               1.0, 1e-5, cpu=0.5) for dx in spacings])
         cand.smoothed = levels
-        planner._fit_candidate(cand, "rms", 2.0, 1)
+        planner.search._fit_candidate(cand, "rms", 2.0, 1)
         scale = metrics.scale_of(levels[-1]["P"], "rms")
         assert cand.model.predict(spacings[-1]) == pytest.approx(
             errors[-1] / scale, rel=0.08)
@@ -505,7 +505,7 @@ def test_refusal_below_the_observed_floor_says_so():
     model = planner.fit_error_model(spacings, [0.02, 0.01], floor=0.1)
     cand = planner.Candidate(planner.Setting.make(), [], model=model,
                              cost=planner.CostModel(0.0, 1e-6, 1))
-    error, reason = planner._refusal([cand], 0.05, None,
+    error, reason = planner.search._refusal([cand], 0.05, None,
                                      STRIP.factory, STRIP.until)
     assert "below the observed error floor" in reason
     assert error >= 0.1 and f"{error * 100:.2f} %" in reason
@@ -543,7 +543,7 @@ def test_bad_requests_name_the_value():
 # ------------------------------------------------------- error estimate
 def test_error_estimate_band_covers_the_strip_error():
     from sphsolid import Probes
-    from sphsolid.estimate import ErrorEstimate
+    from sphsolid.planner.estimate import ErrorEstimate
     setting = planner.Setting.make(effects={"artificial_viscosity":
                                             {"alpha": 1.0, "beta": 0.0}})
     scene = planner.build_scene(STRIP.factory, 1e-3, setting, 1)
@@ -613,7 +613,7 @@ def test_cli_runs_a_plan_and_writes_error_columns(tmp_path):
 
 class _SyntheticProbes:
     """A run's probe series without a run: f(dx) = f* + C dx^p g(t) at
-    two probes (what :class:`sphsolid.estimate.ErrorEstimate` reads)."""
+    two probes (what :class:`sphsolid.planner.estimate.ErrorEstimate` reads)."""
 
     def __init__(self, order, dx=1e-3):
         self.times = np.linspace(0.0, 60e-6, 241)
@@ -638,7 +638,7 @@ class _SyntheticProbes:
 
 
 def _synthetic_estimate(true_order, **calibration):
-    from sphsolid.estimate import ErrorEstimate
+    from sphsolid.planner.estimate import ErrorEstimate
     probes = _SyntheticProbes(true_order)
     # the shadows at 2 dx and 4 dx are the same synthetic series: no runs
     shadows = {f: probes.level(f) for f in (2.0, 4.0)}
@@ -658,7 +658,7 @@ def test_error_estimate_order_from_the_shadows_and_a_calibration(true_order):
     # f(dx) = f* + C dx^p g: the shadows' triplet (dx, 2dx, 4dx) observes
     # p exactly, and the band Fs |f_dx - f_2dx| / (2^q - 1) over the error
     # C dx^p |g| is Fs (2^p - 1) / (2^q - 1) for the order q used
-    from sphsolid.estimate import FORMAL_ORDER
+    from sphsolid.planner.estimate import FORMAL_ORDER
     two_grid, ratio = _synthetic_estimate(true_order)
     assert two_grid.observed_order["von_mises"] == pytest.approx(
         true_order, abs=0.01)
@@ -731,7 +731,7 @@ class _AlternatingProbes(_SyntheticProbes):
 
 
 def test_error_estimate_tells_oscillatory_from_monotone_convergence():
-    from sphsolid.estimate import oscillates
+    from sphsolid.planner.estimate import oscillates
     for probes, expected in ((_SyntheticProbes(1.0), False),
                              (_AlternatingProbes(1.0), True)):
         f1, f2, f4 = (probes.level(f) for f in (1.0, 2.0, 4.0))
@@ -740,7 +740,7 @@ def test_error_estimate_tells_oscillatory_from_monotone_convergence():
 
 
 def test_oscillatory_shadows_out_of_range_do_not_lower_a_calibration():
-    from sphsolid.estimate import ErrorEstimate, gci_factor
+    from sphsolid.planner.estimate import ErrorEstimate, gci_factor
     # an oscillatory triplet's order outside [0.5, 2.1] is not counted
     assert gci_factor(0.2, 1.26, oscillatory=True) == (1.25, 1.0)
     assert gci_factor(0.2, 0.86, oscillatory=True) == (1.25, 0.86)
@@ -767,7 +767,7 @@ def test_oscillatory_shadows_out_of_range_do_not_lower_a_calibration():
 def test_error_estimate_ignores_a_calibration_with_a_floor():
     # a plan's error model with a floor (a bias refinement does not
     # remove): the shadows cannot see it, the two-grid rule's Fs 3 stays
-    from sphsolid.estimate import calibrated_order
+    from sphsolid.planner.estimate import calibrated_order
     model = {"observed_order": 0.85, "safety": 1.25, "anomalous": False}
     assert calibrated_order(model) == pytest.approx(0.85)
     assert calibrated_order({**model, "floor": 0.0365}) is None
@@ -805,7 +805,7 @@ def test_planner_refines_a_setting_whose_ladder_determines_no_order(
         return planner.LadderRun(setting, dx, n, steps, until / steps, 1.0,
                                  until, times, series, cpu=n * steps * 1e-8,
                                  threads=1)
-    monkeypatch.setattr(planner, "ladder_run", fake_run)
+    monkeypatch.setattr(planner.search, "ladder_run", fake_run)
     # a request that needs "converging" well below its ladder: a finer
     # level of "late" costs less than that plan
     plan = planner.plan(STRIP.factory, error=0.01, until=until,

@@ -24,7 +24,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from .. import plan as planner
+    from .. import planner
     from .. import scenes
     from .scene_run import (check_spacing, planned_scene, resolve,
                             run_scene, scene_setting)

@@ -196,8 +196,10 @@ def add_scene_options(parser, dx: float | None, until: float,
     parser.add_argument("--times", type=time_list, default=None,
                         help="comma-separated times of the von Mises maps "
                              f"(default {frames} evenly to --until)")
-    parser.add_argument("--probe-interval", type=whole(1), default=10,
-                        help="steps between probe samples (default 10)")
+    parser.add_argument("--probe-interval", type=whole(1), default=None,
+                        help="steps between probe samples (default: every "
+                        "step within 0.25 us, a quarter of the accuracy "
+                        "metric's smoothing)")
     parser.add_argument("--viscosity", type=finite(0.0, "must be finite "
                         "and >= 0 (0 switches it off)"), default=None,
                         metavar="ALPHA",

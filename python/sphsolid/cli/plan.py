@@ -12,9 +12,10 @@ help = ("cheapest settings for a requested error (calibration runs, error "
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument("scene", nargs="?", choices=("piston", "gravity",
-                                                     "strip"),
-                        help="project scene (or --deck)")
+    parser.add_argument("scene", nargs="?",
+                        help="a project scene (piston, gravity, strip, "
+                        "piston_nu045), a scene file (SCENE.toml, with "
+                        "--probe), or --deck")
     parser.add_argument("--error", type=fraction, required=True,
                         help="requested error, e.g. 3%% or 0.03")
     parser.add_argument("--until", type=positive_time, default=None,
@@ -31,6 +32,11 @@ def add_arguments(parser) -> None:
     parser.add_argument("--ladder", type=length_list, default=None,
                         help="calibration spacings, e.g. 4mm,3mm,2mm")
     parser.add_argument("--out", type=Path, default=Path("plan.json"))
+    parser.add_argument("--no-cache", action="store_true",
+                        help="calibrate anew and keep no runs on disk (by "
+                        "default calibration runs are kept in "
+                        "$SPHSOLID_CACHE, else ~/.cache/sphsolid/plan, and "
+                        "reused by later plans of the same scene)")
     deck = parser.add_argument_group("LAMMPS decks")
     deck.add_argument("--deck", type=Path, default=None,
                       help="plan a LAMMPS input deck through the plugin")
@@ -39,17 +45,39 @@ def add_arguments(parser) -> None:
     deck.add_argument("--time-var", default="t_end",
                       help="the deck's end-time variable (default t_end)")
     deck.add_argument("--probe", action="append", default=[],
-                      help="a sphsolid/probe compute of the deck (repeat)")
+                      help="where the error is measured: a probe of the "
+                      "scene file's [probes] or a sphsolid/probe compute of "
+                      "the deck (repeat; default for a scene file: all its "
+                      "probes)")
     deck.add_argument("--set", action="append", default=[],
                       metavar="NAME=V1,V2",
                       help="another deck variable to choose from (repeat)")
 
 
+def writable(path: Path, option: str = "--out") -> None:
+    """Refuse an output path that cannot be written, before any work."""
+    import tempfile
+    folder = path.parent
+    if path.is_dir():
+        raise ValueError(f"{option} {path}: is a directory; give a file name")
+    if not folder.is_dir():
+        raise ValueError(f"{option} {path}: the folder {folder} does not "
+                         "exist")
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder):
+            pass
+    except OSError as error:
+        raise ValueError(f"{option} {path}: cannot write in {folder} "
+                         f"({error.strerror})") from None
+
+
 def run(args) -> int:
-    from .. import plan as planner
+    from .. import planner
+    from ..planner.cache import RunCache
     log = lambda message: print(message, flush=True)  # noqa: E731
+    writable(args.out)
     if args.deck is not None:
-        from ..plan_deck import plan_deck
+        from ..planner.deck import plan_deck
         result = plan_deck(args.deck, error=args.error, until=args.until,
                            probes=args.probe, variable=args.var,
                            time_variable=args.time_var, norm=args.norm,
@@ -58,16 +86,32 @@ def run(args) -> int:
     else:
         if args.scene is None:
             raise ValueError("sphsolid plan: name a scene (piston, gravity, "
-                             "strip) or give --deck")
-        spec = planner.project_scenes()[args.scene]
+                             "strip, piston_nu045), a scene file or give "
+                             "--deck")
+        projects = planner.project_scenes()
+        if args.scene in projects:
+            spec, key = projects[args.scene], args.scene
+        elif args.scene.endswith(".toml") or Path(args.scene).exists():
+            import hashlib
+            spec = planner.scenes.scene_file(args.scene, args.probe or None)
+            # runs are kept per file contents: an edited file is a new scene
+            digest = hashlib.sha256(Path(args.scene).read_bytes()).hexdigest()
+            key = f"file:{digest[:16]}"
+        else:
+            raise ValueError(f"sphsolid plan: {args.scene!r} is neither a "
+                             f"project scene ({', '.join(projects)}) nor a "
+                             "scene file")
         until = args.until or spec.until
+        cache = RunCache(key, root=None if args.no_cache else "default")
         result = planner.plan(
             spec.factory, error=args.error, until=until, probes=spec.probes,
             quantity=spec.quantity, norm=args.norm, threads=args.threads,
             max_seconds=args.max_seconds,
             ladder=args.ladder or spec.ladder,
             window=spec.window(until) if spec.window else None,
-            scene=args.scene, log=log)
+            scene=(args.scene if args.scene in projects
+                   else Path(args.scene).name),
+            log=log, cache=cache)
     print()
     print(result.summary())
     result.save(args.out)

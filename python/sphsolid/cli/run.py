@@ -28,6 +28,10 @@ def add_arguments(parser) -> None:
     add_checkpoint_options(parser)
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction,
                         default=None)
+    parser.add_argument("--plan", type=Path, default=None,
+                        help="run with the settings of a plan.json from "
+                        "'sphsolid plan SCENE.toml' (spacing, h/dx, kernel, "
+                        "integrator, effects)")
 
 
 def run(args) -> int:
@@ -36,5 +40,5 @@ def run(args) -> int:
              progress=args.progress, log=lambda m: print(m, flush=True),
              threads=args.threads, integrator=args.integrator,
              preset=args.preset, checkpoint_every=args.checkpoint_every,
-             resume=args.resume, dt=args.dt)
+             resume=args.resume, dt=args.dt, plan=args.plan)
     return 0

@@ -31,7 +31,7 @@ def resolve(args, name: str, dx: float, until: float,
             frames: int) -> Resolved:
     """The spacing, end time and integrator of the options, else the
     plan's, else the preset's and the command's defaults."""
-    from .. import plan as planner
+    from .. import planner
     from ..presets import preset
     chosen = preset(args.preset or "paper")
     loaded = None
@@ -117,6 +117,7 @@ def run_scene(args, scene, run: Resolved) -> int:
     from .. import Probes, scenes
     from ..checkpoint import marks, resume
     from ..figures import probe_curves, von_mises_map
+    from ..metrics import probe_interval_for
     from ..trajectory import Frame, Trajectory
 
     name, dx, until = run.name, run.dx, run.until
@@ -136,6 +137,8 @@ def run_scene(args, scene, run: Resolved) -> int:
                              "library's state (--backend c)")
         resumed_dt = resume(scene, args.resume, run.integrator)
     dyn = _dynamics(args, scene, run, resumed_dt)
+    probe_interval = (args.probe_interval if args.probe_interval is not None
+                      else probe_interval_for(dyn.dt))
     late = [t for t in (args.times or []) if t > until]
     if late:
         raise ValueError(f"--times {', '.join(f'{t * 1e3:g}ms' for t in late)}"
@@ -153,11 +156,11 @@ def run_scene(args, scene, run: Resolved) -> int:
     # The library writes the HDF5 file with its own clock, which only the C
     # backend advances; with LAMMPS the field maps come from copies.
     h5 = args.out / f"{name}.h5" if args.backend == "c" else None
-    traj = (Trajectory(h5, "w", scene, probe_interval=args.probe_interval)
+    traj = (Trajectory(h5, "w", scene, probe_interval=probe_interval)
             if h5 is not None else None)
     frames = []
     if traj is None:
-        dyn.attach(probes, interval=args.probe_interval)
+        dyn.attach(probes, interval=probe_interval)
     # else the library records the probes into the file as it steps (the
     # same samples), so the steps between frames run in one library call
     start, cpu_start = wallclock.perf_counter(), wallclock.process_time()
@@ -191,8 +194,7 @@ def run_scene(args, scene, run: Resolved) -> int:
         with Trajectory(h5) as reader:
             series = reader.probes
             if series is not None:
-                probes.load(series, interval=args.probe_interval,
-                            final=True)
+                probes.load(series, interval=probe_interval, final=True)
     print(f"{dyn.nsteps} steps to t = {dyn.time * 1e3:.6g} ms in {wall:.2f} s"
           f" ({len(scene) * dyn.nsteps / max(wall, 1e-9) / 1e6:.3g} M "
           "particle-steps/s)")
@@ -263,7 +265,7 @@ def _error_estimate(args, probes, planned):
     """``--error-estimate``: shadow runs at 2dx (and 4dx for the order)."""
     if len(probes.times) < 2:
         return None
-    from ..estimate import ErrorEstimate
+    from ..planner.estimate import ErrorEstimate
     # a plan's calibration of its setting gives the order (when it is
     # well determined); without one, the two-grid rule
     estimate = ErrorEstimate(

@@ -9,7 +9,7 @@ given with ``--set NAME=V1,V2`` (e.g. ``alpha=0.5,1``); the probes'
 von Mises column (``c_ID[1]``) is recorded by a ``fix ave/time`` the
 planner adds before the deck's first ``run``; the run's own ``Loop time``
 and atom count (from the LAMMPS log) feed the cost model. The error and
-cost models and the choice are :mod:`sphsolid.plan`'s. Nothing else in
+cost models and the choice are :mod:`sphsolid.planner`'s. Nothing else in
 the deck is changed.
 """
 from __future__ import annotations
@@ -26,8 +26,10 @@ from pathlib import Path
 
 import numpy as np
 
-from . import metrics
-from . import plan as planner
+from .. import metrics
+from . import error_model, search
+from .calibration import LadderRun
+from .search import Candidate, Plan
 
 __all__ = ["plan_deck", "DeckSetting", "run_deck", "deck_variables"]
 
@@ -88,10 +90,10 @@ def _lmp() -> str:
 
 def run_deck(deck: Path, dx: float, until: float, probes, variable: str,
              time_variable: str, values: dict, threads=None,
-             workdir: Path | None = None) -> planner.LadderRun:
+             workdir: Path | None = None) -> LadderRun:
     """One run of the deck; returns a LadderRun (times, {probe: von
     Mises}, atoms, steps, the deck's own Loop time)."""
-    from .lammps import find_plugin
+    from ..lammps import find_plugin
     deck = Path(deck).resolve()
     text = deck.read_text()
     declared = deck_variables(text)
@@ -120,7 +122,7 @@ def run_deck(deck: Path, dx: float, until: float, probes, variable: str,
     if done.returncode != 0:
         message = next((line for line in log.splitlines()[::-1]
                         if "ERROR" in line), f"lmp exit {done.returncode}")
-        return planner.LadderRun(setting, dx, 0, 0, math.nan, math.nan,
+        return LadderRun(setting, dx, 0, 0, math.nan, math.nan,
                                  until, failed=message.strip())
     loop = re.findall(r"Loop time of (\S+) on \d+ procs for (\d+) steps "
                       r"with (\d+) atoms", log)
@@ -129,7 +131,7 @@ def run_deck(deck: Path, dx: float, until: float, probes, variable: str,
     data = np.loadtxt(series_path, comments="#", ndmin=2)
     times = data[:, 1]
     series = {p: data[:, 2 + k] for k, p in enumerate(probes)}
-    return planner.LadderRun(setting, dx, atoms, steps,
+    return LadderRun(setting, dx, atoms, steps,
                              until / max(steps, 1), wall, until, times,
                              series)
 
@@ -138,7 +140,7 @@ def plan_deck(deck, error: float, until: float | None = None, probes=(),
               variable: str = "dx", time_variable: str = "t_end",
               norm: str = "max", threads=None, max_seconds=None,
               ladder=None, choices=(), max_refinement: float = 2.0,
-              log=None) -> planner.Plan:
+              log=None) -> Plan:
     """Plan a LAMMPS deck: see the module docstring. ``choices`` are
     ``NAME=V1,V2`` strings; ``ladder`` defaults to 3, 2 and 1.5 times the
     deck's own spacing."""
@@ -163,7 +165,7 @@ def plan_deck(deck, error: float, until: float | None = None, probes=(),
     if ladder is None:
         base = float(declared[variable])
         ladder = [3 * base, 2 * base, 1.5 * base]
-    planner._check_request(error, until, norm, max_seconds, ladder)
+    search._check_request(error, until, norm, max_seconds, ladder)
     ladder = sorted(ladder, reverse=True)
     options = []
     for choice in choices:
@@ -183,7 +185,7 @@ def plan_deck(deck, error: float, until: float | None = None, probes=(),
     cands = []
     with tempfile.TemporaryDirectory(prefix="sphsolid-deck-") as work:
         for k, values in enumerate(combos):
-            cand = planner.Candidate(DeckSetting(values), [])
+            cand = Candidate(DeckSetting(values), [])
             for dx in ladder:
                 say(f"[{k * len(ladder) + len(cand.runs) + 1}/"
                     f"{len(combos) * len(ladder)}] {cand.setting.label()}, "
@@ -200,9 +202,9 @@ def plan_deck(deck, error: float, until: float | None = None, probes=(),
             cands.append(cand)
     usable = [c for c in cands if not c.note]
     for cand in usable:
-        cand.smoothed = [planner._smoothed(r, grid) for r in cand.runs]
-        planner._fit_candidate(cand, norm, max_refinement, threads)
-    floors = planner.consistency_floors([c.model for c in usable],
+        cand.smoothed = [search._smoothed(r, grid) for r in cand.runs]
+        search._fit_candidate(cand, norm, max_refinement, threads)
+    floors = error_model.consistency_floors([c.model for c in usable],
                                         [c.smoothed for c in usable], norm,
                                         ladder)
     for cand, floor in zip(usable, floors):
@@ -219,13 +221,13 @@ def plan_deck(deck, error: float, until: float | None = None, probes=(),
                          f"calibrated / {max_refinement:g}")
             continue
         cand.dx = dx
-        cand.particles, cand.steps = planner._size_at(cand.runs, dx)
+        cand.particles, cand.steps = search._size_at(cand.runs, dx)
         cand.seconds = cand.cost.predict(cand.particles, cand.steps)
     priced = sorted((c for c in usable if c.seconds is not None),
                     key=lambda c: c.seconds)
     affordable = [c for c in priced
                   if max_seconds is None or c.seconds <= max_seconds]
-    result = planner.Plan(request=request, feasible=bool(affordable),
+    result = Plan(request=request, feasible=bool(affordable),
                           threads=threads, candidates=cands,
                           scene=f"deck {deck.name}",
                           effects_examined=False)

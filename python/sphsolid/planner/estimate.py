@@ -64,7 +64,7 @@ non-repeating parts. A monotone triplet's order is used whatever it is
 
 A calibration with a **floor** (the plan saw a bias that refinement does
 not remove: two settings whose difference does not shrink, see
-:func:`sphsolid.plan.consistency_floors`) is not used: the shadows'
+:func:`sphsolid.planner.consistency_floors`) is not used: the shadows'
 difference does not contain that bias, so the small safety factor would
 not cover it (the cubic spline on the piston, floor 3.7 % max, 1.8 % RMS:
 with its calibrated order 0.85 and Fs 1.25 the band came to 0.98 of its
@@ -72,7 +72,7 @@ error against the finite-element solution); the two-grid rule's Fs = 3
 does. A calibration that is not well determined (an order outside
 [0.5, 2.1], scattered or anomalous levels) is not used either. The
 estimate sees the error that shrinks with dx; a bias that does not (see
-:mod:`sphsolid.plan`, the floor) is covered only by the large factor.
+:mod:`sphsolid.planner`, the floor) is covered only by the large factor.
 
 The shadow scenes are the run's scene rebuilt with every block body at the
 coarser spacing (same extents, materials, motions, effects, h/dx, kernel,
@@ -89,8 +89,8 @@ import time as wallclock
 
 import numpy as np
 
-from . import metrics
-from ._lib import UnsupportedError
+from .. import metrics
+from .._lib import UnsupportedError
 
 __all__ = ["ErrorEstimate", "coarsened", "SAFETY", "SAFETY_TWO_GRID",
            "gci_factor", "calibrated_order", "oscillates"]
@@ -131,7 +131,7 @@ def calibrated_order(calibration=None, order: float | None = None
     """The calibrated order when it is well determined, else None.
 
     ``calibration`` is a plan's error model for the run's setting (a
-    :class:`sphsolid.plan.ErrorModel` or its ``to_dict()``, as in the
+    :class:`sphsolid.planner.ErrorModel` or its ``to_dict()``, as in the
     ``error_model`` of plan.json): well determined when its observed order
     is in [0.5, 2.1], its safety factor is 1.25 (a good fit, Eça &
     Hoekstra), it is not anomalous (convergence observed) and it carries
@@ -187,8 +187,8 @@ def _coarse_body(body, factor: float):
 def coarsened(scene, factor: float = 2.0):
     """The scene rebuilt at ``factor`` times its spacing (a new Scene with
     a calculator like the original's: C library, same threads)."""
-    from .calculators import CLibrary
-    from .scene import Scene
+    from ..calculators import CLibrary
+    from ..scene import Scene
     domain = None
     if scene.domain is not None:
         domain = scene.domain
@@ -213,7 +213,7 @@ class ErrorEstimate:
         before :meth:`compute`).
     calibration : ErrorModel or dict, optional
         The error model a plan fitted for the run's setting (``Plan``'s
-        :attr:`~sphsolid.plan.Plan.calibration`, the ``error_model`` of
+        :attr:`~sphsolid.planner.Plan.calibration`, the ``error_model`` of
         plan.json): used when well determined (:func:`calibrated_order`).
     order : float, optional
         A calibrated order given by hand instead (used when in
@@ -262,16 +262,16 @@ class ErrorEstimate:
         return self.shadows[factor]
 
     def _run_shadow(self, factor: float) -> dict:
-        from .probes import Probes
+        from ..probes import Probes
         if self.scene_factory is not None:
             shadow = self.scene_factory(self.dx * factor)
         else:
             shadow = coarsened(self.scene, factor)
         if self.threads is not None and getattr(shadow, "_calc",
                                                 None) is None:
-            from .calculators import CLibrary
+            from ..calculators import CLibrary
             shadow.calc = CLibrary(threads=self.threads)
-        from .plan import _set_integrator, make_dynamics
+        from .calibration import _set_integrator, make_dynamics
         if self.integrator:
             _set_integrator(shadow, self.integrator)
         shadow_probes = Probes(shadow, dict(self.probes.points))

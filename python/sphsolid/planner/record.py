@@ -1,0 +1,123 @@
+"""The verification record: how far each setting's self-convergence
+prediction is from its true error, measured once on reference scenes.
+
+Self-convergence (the error model of :mod:`.error_model`) sees the error
+that refinement removes; it cannot see a bias that does not go away (a
+lattice moment at fixed h/dx, a dissipation floor), nor a prediction that
+its own levels under-state. Following Roache, the code is verified before
+a solution is: ``python -m validation.record`` runs every setting the
+planner may choose (the CLI's default candidates,
+:func:`~sphsolid.planner.search.candidate_settings`) on reference scenes
+with a trusted answer, at the spacings a plan would use, and records for
+each setting and norm
+
+- ``ratio``: the largest ratio of its true error at a spacing to the
+  planner's upper prediction there, made from the coarser levels only
+  (the fit a plan would have made), over the fitted scenes;
+- ``bias``: the error that refinement does not remove (a non-negative
+  least-squares fit ``e(dx) = a dx^q + b`` of the true errors, at the
+  order the levels' differences show), the largest over the fitted scenes.
+
+The planner then multiplies a setting's upper prediction by
+``factor = max(1, MARGIN x ratio)`` and never plans it for a request at or
+below its bias; a setting the record does not list (never verified) is not
+planned. Scenes declared held out are run and reported beside the fitted
+ones, never used for the factors. The file ships with the package
+(``record.json``, next to this module); docs/accuracy.md's verification
+table is generated from it.
+"""
+from __future__ import annotations
+
+import json
+import math
+from functools import lru_cache
+from pathlib import Path
+
+#: The record's file, shipped with the package.
+RECORD_FILE = Path(__file__).with_name("record.json")
+#: Format of record.json (its "format" key).
+RECORD_FORMAT = 1
+#: Margin on the largest observed ratio of true to predicted error.
+MARGIN = 1.2
+
+
+def family(setting) -> str:
+    """The record's key of a setting: kernel, h/dx, end placement,
+    integrator and the names of its effects (their parameters are the
+    effect detection's, which may differ from scene to scene)."""
+    inset = ("" if setting.inset in (0, 0.0) else f" inset={setting.inset}"
+             if isinstance(setting.inset, str) else f" inset={setting.inset:g}")
+    names = sorted(name for name, _ in setting.effects)
+    return (f"{setting.kernel} h/dx={setting.smoothing_ratio:g}{inset} "
+            f"{setting.integrator}" + ("" if not names else
+                                        " + " + " + ".join(names)))
+
+
+class Record:
+    """The verification record (see the module's text)."""
+
+    def __init__(self, data: dict, source: str = "record"):
+        if not isinstance(data, dict):
+            raise ValueError(f"{source}: the verification record must be a "
+                             f"JSON object, got {type(data).__name__}")
+        if data.get("format") != RECORD_FORMAT:
+            raise ValueError(f"{source}: verification record format "
+                             f"{data.get('format')!r}, this version reads "
+                             f"{RECORD_FORMAT}")
+        settings = data.get("settings")
+        if not isinstance(settings, dict):
+            raise ValueError(f"{source}: 'settings' must be an object")
+        for key, entry in settings.items():
+            for norm in ("max", "rms"):
+                verdict = (entry or {}).get(norm)
+                if verdict is None:
+                    continue
+                for name in ("ratio", "bias"):
+                    value = verdict.get(name) if isinstance(
+                        verdict, dict) else None
+                    if not (isinstance(value, (int, float))
+                            and math.isfinite(value) and value >= 0):
+                        raise ValueError(
+                            f"{source}: settings[{key!r}][{norm!r}]"
+                            f"[{name!r}] must be a number >= 0, got "
+                            f"{value!r}")
+        self.data = data
+        self.settings = settings
+        self.margin = float(data.get("margin", MARGIN))
+
+    @classmethod
+    def load(cls, path: Path | str = RECORD_FILE) -> "Record":
+        path = Path(path)
+        try:
+            text = path.read_text()
+        except OSError as error:
+            raise ValueError(f"{path}: cannot read the verification record "
+                             f"({error.strerror})") from None
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as error:
+            raise ValueError(f"{path}: not a JSON verification record "
+                             f"({error})") from None
+        return cls(data, str(path))
+
+    def verdict(self, setting, norm: str) -> dict | None:
+        """{"ratio", "bias", "factor"} of a setting in a norm, or None when
+        the record does not verify it."""
+        entry = self.settings.get(family(setting))
+        verdict = (entry or {}).get(norm)
+        if not verdict:
+            return None
+        return {"ratio": float(verdict["ratio"]),
+                "bias": float(verdict["bias"]),
+                "factor": max(1.0, self.margin * float(verdict["ratio"]))}
+
+    def families(self) -> list[str]:
+        return sorted(self.settings)
+
+
+@lru_cache(maxsize=1)
+def shipped() -> Record | None:
+    """The record shipped with the package (None when it is absent)."""
+    if not RECORD_FILE.exists():
+        return None
+    return Record.load(RECORD_FILE)

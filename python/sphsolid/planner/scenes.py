@@ -1,0 +1,247 @@
+"""The project's reference scenes for ``sphsolid plan NAME``."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from .settings import MANAGED_EFFECTS
+
+
+
+# ------------------------------------------------ the project's scenes
+def _layers(smoothing_ratio: float) -> int:
+    """Plate and piston layers: at least the kernel support 2h thick,
+    with 1 % to spare for a lattice spacing round(L/dx) makes a little
+    wider than dx (h follows the lattice)."""
+    return int(math.ceil(2 * smoothing_ratio * 1.01))
+
+
+def piston_factory(dx: float, smoothing_ratio: float = 1.2,
+                   kernel: str = "cubic_spline",
+                   speed: float | None = None, inset: float | str = 0.0,
+                   material=None):
+    """The paper's piston scene (:func:`sphsolid.scenes.uniaxial_piston`)
+    with the planner's h/dx, kernel and end placement (``inset``, see
+    :func:`sphsolid.build.plate`) and no optional effect; plate and
+    piston ``ceil(2 h/dx)`` layers thick. ``material`` replaces the
+    paper's rock."""
+    from .. import build, scenes
+    from ..scene import Scene
+    rock = scenes.paper_material() if material is None else material
+    specimen = build.rectangle(scenes.SPECIMEN_X, scenes.SPECIMEN_Y, dx, rock,
+                               "specimen")
+    layers = _layers(smoothing_ratio)
+    v = scenes.PISTON_SPEED if speed is None else speed
+    return Scene(2, [specimen, build.plate(under=specimen, layers=layers,
+                                           inset=inset),
+                     build.piston(over=specimen, layers=layers,
+                                  velocity=(0.0, -v), inset=inset)],
+                 smoothing_ratio=smoothing_ratio, kernel=kernel)
+
+
+def nearly_incompressible_material():
+    """The paper's shear modulus with Poisson's ratio 0.45 (K = 25.8 GPa,
+    c_p = 3573 m/s): a held-out scene of the verification record."""
+    from ..material import Material
+    mu, nu = 2.67e9, 0.45
+    return Material(K=2.0 * mu * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu)),
+                    mu=mu, rho0=2300.0, name="nu = 0.45")
+
+
+def piston_nu045_factory(dx: float, smoothing_ratio: float = 1.2,
+                         kernel: str = "cubic_spline",
+                         inset: float | str = 0.0):
+    """:func:`piston_factory` with :func:`nearly_incompressible_material`."""
+    return piston_factory(dx, smoothing_ratio, kernel, inset=inset,
+                          material=nearly_incompressible_material())
+
+
+def gravity_factory(dx: float, smoothing_ratio: float = 1.2,
+                    kernel: str = "cubic_spline", g: float = 9.81,
+                    inset: float | str = 0.0):
+    """The paper's gravity scene: the specimen on the fixed plate under
+    gravity, with no optional effect (the planner finds what it needs)."""
+    from .. import build, scenes
+    from ..scene import Scene
+    rock = scenes.paper_material()
+    specimen = build.rectangle(scenes.SPECIMEN_X, scenes.SPECIMEN_Y, dx, rock,
+                               "specimen")
+    layers = _layers(smoothing_ratio)
+    return Scene(2, [specimen, build.plate(under=specimen, layers=layers,
+                                           inset=inset)],
+                 effects={"gravity": {"gx": 0.0, "gy": -float(g)}},
+                 smoothing_ratio=smoothing_ratio, kernel=kernel)
+
+
+#: Laterally periodic strip under the piston: height [m] and width in dx.
+STRIP_HEIGHT, STRIP_WIDTH_DX = 0.1, 8
+
+
+def strip_factory(dx: float, smoothing_ratio: float = 1.2,
+                  kernel: str = "cubic_spline", speed: float | None = None,
+                  inset: float | str = 0.0):
+    """A laterally periodic strip (the paper's material, 100 mm high, 8 dx
+    wide) on a fixed plate, hit by the piston at t = 0: a plane P-wave with
+    the exact stress jump -rho0 c_p v behind a front at y = H - c_p t."""
+    from .. import build, scenes
+    from ..scene import Scene
+    rock = scenes.paper_material()
+    width = STRIP_WIDTH_DX * dx
+    strip = build.rectangle((-width / 2, width / 2), (0.0, STRIP_HEIGHT), dx,
+                            rock, name="strip")
+    layers = _layers(smoothing_ratio)
+    v = scenes.PISTON_SPEED if speed is None else speed
+    return Scene(2, [strip, build.plate(under=strip, layers=layers,
+                                        inset=inset),
+                     build.piston(over=strip, layers=layers,
+                                  velocity=(0.0, -v), inset=inset)],
+                 domain=((-width / 2, -layers * dx - 0.01),
+                         (width / 2, STRIP_HEIGHT + layers * dx + 0.01)),
+                 periodic=(True, False), smoothing_ratio=smoothing_ratio,
+                 kernel=kernel)
+
+
+#: Probe points of the strip [m] (on the axis, a quarter, half and three
+#: quarters down).
+STRIP_PROBES = {"y75": (0.0, 0.075), "y50": (0.0, 0.050),
+                "y25": (0.0, 0.025)}
+#: Heights [m] of the gravity column's section means.
+GRAVITY_SECTIONS = {"y35": 0.035, "y70": 0.070, "y105": 0.105}
+
+
+def gravity_sections(scene) -> dict:
+    """Mean sigma_yy [Pa] over the specimen's section at each height of
+    :data:`GRAVITY_SECTIONS` (the section carries the weight above it:
+    exactly -rho0 g (H - y) at rest, whatever the base does).
+
+    The section between two particle rows is represented by the mean of
+    the two rows that meet there, interpolated linearly in y between the
+    cuts that bracket the height. The static SPH field carries a row-to-row
+    alternation of the row means (+-1 to 5 % of the weight at mid-height on
+    the cubic spline at h/dx 1.2, growing towards the free top): the
+    kernel-sum divergence of the stress does not see a mode that alternates
+    from row to row, so equilibrium leaves it undetermined. The mean of two
+    neighbouring rows cancels it, as the force carried across the cut (a
+    sum over pairs with one particle on each side) does; the mean of one
+    row, or an interpolation between single rows, picks up a share of it
+    that jumps with where the height falls between rows (errors of 8, 1,
+    4, 1, 3 % at 8, 6, 4, 3, 2 mm instead of a convergence)."""
+    part = scene.body_slice("specimen")
+    y = scene.positions[part, 1]
+    s_yy = scene.stress[part, 1]
+    tolerance = 1e-3 * (scene.h or 1.0)
+    order = np.argsort(y)
+    y, s_yy = y[order], s_yy[order]
+    starts = np.concatenate(([0], np.nonzero(np.diff(y) > tolerance)[0] + 1))
+    counts = np.diff(np.append(starts, len(y)))
+    rows_y = np.add.reduceat(y, starts) / counts
+    rows_s = np.add.reduceat(s_yy, starts) / counts
+    cuts_y = 0.5 * (rows_y[1:] + rows_y[:-1])
+    cuts_s = 0.5 * (rows_s[1:] + rows_s[:-1])
+    return {name: float(np.interp(height, cuts_y, cuts_s))
+            for name, height in GRAVITY_SECTIONS.items()}
+
+
+@dataclass
+class PlanScene:
+    """A named scene for ``sphsolid plan NAME``: factory, probes, quantity,
+    the default window, calibration ladder and end time."""
+    factory: Callable
+    probes: object
+    quantity: str
+    ladder: tuple
+    until: float
+    window: Callable | None = None     # until -> (t0, t1)
+    description: str = ""
+
+
+def project_scenes() -> dict:
+    from ..probes import PAPER_PROBES
+    from ..scenes import paper_material
+    # the strip's window ends before the front reaches the plate
+    strip_until = 0.95 * STRIP_HEIGHT / paper_material().c_p
+    return {
+        "piston": PlanScene(piston_factory, PAPER_PROBES, "von_mises",
+                            (3e-3, 2e-3, 1.5e-3), 0.3e-3,
+                            description="the paper's piston test, von Mises "
+                            "at A, B, C"),
+        "piston_nu045": PlanScene(piston_nu045_factory, PAPER_PROBES,
+                                  "von_mises", (3e-3, 2e-3, 1.5e-3), 0.3e-3,
+                                  description="the piston test with a "
+                                  "nearly incompressible material (nu = "
+                                  "0.45), von Mises at A, B, C"),
+        "gravity": PlanScene(gravity_factory, gravity_sections, "sigma_yy",
+                             (8e-3, 6e-3, 4e-3, 3e-3), 2.5e-3,
+                             window=lambda until: (0.5 * until, until),
+                             description="the specimen settling under "
+                             "gravity: section means of sigma_yy at y = 35, "
+                             "70, 105 mm over the second half of the run "
+                             "(damped at c_p/L, the waves have decayed by "
+                             "e^-12 at its start)"),
+        "strip": PlanScene(strip_factory, STRIP_PROBES, "sigma_yy",
+                           (2e-3, 1.4e-3, 1e-3, 0.7e-3), strip_until,
+                           description="laterally periodic strip hit by the "
+                           "piston, sigma_yy at y = 75, 50, 25 mm"),
+    }
+
+
+def scene_file(path, probes=None, quantity: str = "von_mises") -> PlanScene:
+    """A scene file (``sphsolid run SCENE.toml``) as a planner scene: the
+    factory rebuilds the file's bodies at the planned spacing (every
+    body's ``dx`` scaled by one factor, so their ratios are kept), h/dx,
+    kernel and plate/piston inset, without the effects the planner
+    manages; the probes are the file's ``[probes]`` (those named in
+    ``probes``, or all); the ladder is 2, 1.4 and 1 times the file's
+    finest ``dx``; the end time is the file's ``until``."""
+    import copy
+
+    from .. import scenefile
+    from ..units import length
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"scene file {str(path)!r}: "
+                         + ("is a directory" if path.is_dir() else
+                            "no such file"))
+    data = scenefile._toml(path)
+    loaded = scenefile.SceneFile(path)       # every key checked once
+    points = dict(loaded.probe_points)
+    if not points:
+        raise ValueError(f"{path}: the planner measures its error at probes:"
+                         " the file has no [probes]")
+    if probes:
+        missing = [p for p in probes if p not in points]
+        if missing:
+            raise ValueError(f"{path}: no probe {', '.join(missing)} in "
+                             f"[probes] (defined: {', '.join(points)})")
+        points = {p: points[p] for p in probes}
+    if loaded.until is None:
+        raise ValueError(f"{path}: no end time: give until = \"...\" in the "
+                         "file")
+    spacings = [length(b["dx"], f"{path}: dx") for b in data["bodies"]
+                if isinstance(b, dict) and "dx" in b]
+    finest = min(spacings)
+    managed = set(MANAGED_EFFECTS)
+
+    def factory(dx: float, smoothing_ratio: float = 1.2,
+                kernel: str = "cubic_spline", inset: float | str = 0.0):
+        copy_ = copy.deepcopy(data)
+        for body in copy_["bodies"]:
+            if "dx" in body:
+                body["dx"] = length(body["dx"], "dx") * dx / finest
+            if body.get("shape") in ("plate", "piston") and inset:
+                body["inset"] = inset
+        copy_["smoothing_ratio"] = smoothing_ratio
+        copy_["kernel"] = kernel
+        copy_["effects"] = {k: v for k, v in copy_.get("effects", {}).items()
+                            if k not in managed}
+        built = scenefile.SceneFile.__new__(scenefile.SceneFile)
+        built.path = path
+        built._build(copy_, str(path))
+        return built.scene
+    return PlanScene(factory, points, quantity,
+                     (2.0 * finest, 1.4 * finest, finest), loaded.until,
+                     description=f"the scene file {path}")
