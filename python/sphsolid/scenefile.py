@@ -195,7 +195,8 @@ class SceneFile:
         except ValueError as error:       # a value's own check, named
             raise SceneFileError(f"{self.path}: {error}") from None
 
-    def _build(self, data: dict, name: str, preset, integrator) -> None:
+    def _build(self, data: dict, name: str, preset=None,
+               integrator=None) -> None:
         from ._lib import integrator_names
         from .presets import preset as named_preset
         _unknown(name, data, _TOP)
