@@ -94,12 +94,18 @@ def quantities(values, kind: str | None = None, name: str = "value",
                          f"quantities such as '1mm', got {values!r}")
     out = tuple(quantity(v, kind, f"{name}[{i}]")
                 for i, v in enumerate(values))
-    allowed = (n,) if isinstance(n, int) else n
-    if allowed is not None and len(out) not in allowed:
-        want = " or ".join(str(k) for k in allowed)
-        raise ValueError(f"{name} must have {want} entries, got {len(out)}: "
-                         f"{values!r}")
+    check_entries(out, values, name, n)
     return out
+
+
+def check_entries(converted, values, name: str, n) -> None:
+    """A ValueError naming ``name`` unless ``converted`` has ``n`` entries
+    (an int, a tuple of the allowed numbers, or None: any)."""
+    allowed = (n,) if isinstance(n, int) else n
+    if allowed is not None and len(converted) not in allowed:
+        want = " or ".join(str(k) for k in allowed)
+        raise ValueError(f"{name} must have {want} entries, got "
+                         f"{len(converted)}: {values!r}")
 
 
 def lengths(values, name: str = "lengths", n=None) -> tuple:

@@ -10,43 +10,18 @@ import sphsolid
 from sphsolid.cli import main
 from sphsolid.presets import PRESETS
 
-SCENE = """
-dimension = 2
-until = "20us"
-{extra}
-[materials.rock]
-K = "12.2GPa"
-mu = "2.67GPa"
-rho0 = 2300
-[[bodies]]
-name = "block"
-shape = "rectangle"
-x = ["-12mm", "12mm"]
-y = ["0mm", "24mm"]
-dx = "3mm"
-material = "rock"
-[[bodies]]
-name = "base"
-shape = "plate"
-under = "block"
-[[bodies]]
-name = "top"
-shape = "piston"
-over = "block"
-motion = {{ velocity = [0, "-1m/s"] }}
+from scene_texts import block_toml
+
+DAMPED = """
 [effects]
-damping = {{ rate = 100 }}
-[probes]
-centre = [0, "12mm"]
-[output]
-probe_interval = 4
-figures = false
+damping = { rate = 100 }
 """
 
 
 def scene_file(tmp_path, extra=""):
     path = tmp_path / "block.toml"
-    path.write_text(SCENE.format(extra=extra))
+    path.write_text(block_toml(12, "3mm", until="20us", platens=True,
+                               top=extra, tail=DAMPED, probe_interval=4))
     return path
 
 

@@ -5,25 +5,9 @@ import pytest
 from sphsolid.cli import main
 from sphsolid.scenefile import SceneFileError, load
 
-BASE = """
-dimension = 2
-until = "2us"
-[materials.rock]
-K = "12.2GPa"
-mu = "2.67GPa"
-rho0 = 2300
-[[bodies]]
-name = "block"
-shape = "rectangle"
-x = ["-6mm", "6mm"]
-y = ["0mm", "12mm"]
-dx = "3mm"
-material = "rock"
-[probes]
-centre = [0, "6mm"]
-[output]
-figures = false
-"""
+from scene_texts import block_toml
+
+BASE = block_toml(6, "3mm")
 
 
 def with_output(lines):

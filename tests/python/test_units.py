@@ -11,6 +11,8 @@ import sphsolid
 import sphsolid.lammps
 from sphsolid import build, scenes
 
+from scene_texts import block_toml
+
 LENGTHS = {"dx", "lo", "hi", "x", "y", "z", "width", "depth", "height",
            "radius", "length", "diameter", "base", "center", "centre",
            "r_inner", "r_outer", "point", "points", "spacing", "domain"}
@@ -196,25 +198,7 @@ def _lammps(method):
     return recipe
 
 
-SCENE_FILE = """
-dimension = 2
-until = "2us"
-[materials.rock]
-K = "12.2GPa"
-mu = "2.67GPa"
-rho0 = 2300
-[[bodies]]
-name = "block"
-shape = "rectangle"
-x = ["-10mm", "10mm"]
-y = ["0mm", "20mm"]
-dx = "2mm"
-material = "rock"
-[probes]
-centre = [0, "10mm"]
-[output]
-figures = false
-"""
+SCENE_FILE = block_toml(10, "2mm")
 
 
 def _run_file(tmp_path):
