@@ -181,11 +181,55 @@ def verify_scene(scene: accuracy.Scene, threads: int, log) -> dict:
                          else max(0.5, min(cand.model.order, 2.0)))
             ratios = [p["true"] / p["upper"] for p in pairs
                       if p["upper"] > 0]
+            entry["cpu"] = [r.cpu for r in cand.runs]
             entry[norm] = {
                 "spacings": spacings, "errors": errors, "pairs": pairs,
                 "ratio": max(ratios) if ratios else None,
                 "bias": _bias(spacings, errors, order),
                 "failed": cand.note or None}
+    return out
+
+
+#: Tolerances of dominance: B dominates A when its errors are at most
+#: 1.05 times A's at every level of every fitted scene both ran, in both
+#: norms, and its CPU time over those levels is at most 0.8 times A's.
+DOMINANCE_ERROR, DOMINANCE_CPU = 1.05, 0.8
+
+
+def dominance(per_scene: dict, fitted) -> dict:
+    """{family: [families that dominate it]}: a setting is dominated when
+    another does at least as well at every level of every fitted scene
+    that verified it, for clearly less CPU time (:data:`DOMINANCE_ERROR`,
+    :data:`DOMINANCE_CPU`), and ran on every one of those scenes."""
+    families = sorted({k for s in fitted for k in per_scene.get(s, {})})
+    out = {}
+    for a in families:
+        scenes = [s for s in fitted if a in per_scene.get(s, {})
+                  and per_scene[s][a]["max"]["errors"]]
+        if not scenes:
+            continue
+        for b in families:
+            if b == a:
+                continue
+            better = True
+            for s in scenes:
+                ea, eb = per_scene[s][a], per_scene[s].get(b)
+                if eb is None or len(eb["max"]["errors"]) < len(
+                        ea["max"]["errors"]):
+                    better = False
+                    break
+                n = len(ea["max"]["errors"])
+                for norm in NORMS:
+                    if any(y > DOMINANCE_ERROR * x for x, y in zip(
+                            ea[norm]["errors"][:n], eb[norm]["errors"][:n])):
+                        better = False
+                cpu_a, cpu_b = sum(ea["cpu"][:n]), sum(eb["cpu"][:n])
+                if not cpu_b <= DOMINANCE_CPU * cpu_a:
+                    better = False
+                if not better:
+                    break
+            if better:
+                out.setdefault(a, []).append(b)
     return out
 
 
@@ -221,7 +265,8 @@ def combine(per_scene: dict, fitted, held_out) -> dict:
             "margin": record_module.MARGIN,
             "fitted": list(fitted), "held_out": list(held_out),
             "library": planner.calibration._lib.version(),
-            "settings": settings}
+            "settings": settings,
+            "dominated_by": dominance(per_scene, fitted)}
 
 
 def record_text(record: dict, raw: dict) -> str:

@@ -375,3 +375,53 @@ def test_plan_refuses_an_unwritable_output_before_any_work(tmp_path,
                  str(tmp_path / "missing" / "plan.json")]) != 0
     assert "missing does not exist" in capsys.readouterr().err
     assert calls == []
+
+
+def test_dominance_needs_better_errors_everywhere_for_less_time():
+    from validation.record import dominance
+
+    def entry(errors, cpu):
+        return {"cpu": cpu, "max": {"errors": errors},
+                "rms": {"errors": [e / 2 for e in errors]}}
+    raw = {"a": {"slow": entry([0.10, 0.05], [1.0, 8.0]),
+                 "fast": entry([0.10, 0.05], [0.5, 4.0]),
+                 "sharp": entry([0.08, 0.06], [0.2, 1.0])},
+           "b": {"slow": entry([0.10, 0.05], [1.0, 8.0]),
+                 "fast": entry([0.104, 0.05], [0.5, 4.0])}}
+    out = dominance(raw, ("a", "b"))
+    # "fast" is as good (within 5 %) on both scenes for half the time;
+    # "sharp" is worse at one level and absent from scene b
+    assert out == {"slow": ["fast"]}
+    raw["b"]["fast"] = entry([0.11, 0.05], [0.5, 4.0])
+    assert dominance(raw, ("a", "b")) == {}
+
+
+def test_a_dominated_candidate_is_not_calibrated(monkeypatch):
+    spec = planner.project_scenes()["strip"]
+    fast = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
+    slow = planner.Setting.make(1.2, "cubic_spline", "improved_euler")
+    verdict = {"max": {"ratio": 0.5, "bias": 0.0}}
+    record = record_module.Record({
+        "format": 1, "settings": {record_module.family(fast): verdict,
+                                  record_module.family(slow): verdict},
+        "dominated_by": {record_module.family(slow):
+                         [record_module.family(fast)]}})
+    monkeypatch.setattr(planner.search, "candidate_settings",
+                        lambda *a, **k: ([slow, fast], []))
+    ran = []
+
+    def fake_run(factory, dx, setting, *args):
+        ran.append(setting)
+        times = np.linspace(0.0, 20e-6, 201)
+        series = {n: 1e6 * (1 + 30 * dx * np.sin(2e5 * times))
+                  for n in spec.probes}
+        return planner.LadderRun(setting, dx, 100, 100, 2e-7, 1.0, 20e-6,
+                                 times, series, cpu=0.1, threads=1)
+    monkeypatch.setattr(planner.search, "ladder_run", fake_run)
+    plan = planner.plan(spec.factory, error=0.05, until=20e-6,
+                        probes=spec.probes, quantity=spec.quantity,
+                        threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
+                        timing_checks=0, refinements=0, record=record)
+    assert set(ran) == {fast}
+    by = {c.setting: c for c in plan.candidates}
+    assert "dominated by" in by[slow].note

@@ -21,7 +21,12 @@ each setting and norm
 The planner then multiplies a setting's upper prediction by
 ``factor = max(1, MARGIN x ratio)`` and never plans it for a request at or
 below its bias; a setting the record does not list (never verified) is not
-planned. Scenes declared held out are run and reported beside the fitted
+planned. The record also lists, per setting, the settings that dominated
+it on every fitted scene that verified it (errors at most 1.05 times its
+own at every level in both norms, for at most 0.8 times its CPU time):
+when one of those is among a plan's candidates, the dominated one is not
+calibrated (the leapfrog dominates Improved Euler with the same kernel and
+effects: the same errors for half the evaluations per step). Scenes declared held out are run and reported beside the fitted
 ones, never used for the factors. The file ships with the package
 (``record.json``, next to this module); docs/accuracy.md's verification
 table is generated from it.
@@ -110,6 +115,17 @@ class Record:
         return {"ratio": float(verdict["ratio"]),
                 "bias": float(verdict["bias"]),
                 "factor": max(1.0, self.margin * float(verdict["ratio"]))}
+
+    def dominated(self, setting, others) -> str | None:
+        """The label of a setting among ``others`` that dominated
+        ``setting`` on every fitted scene (as good at every level, for
+        clearly less CPU time: the record's ``dominated_by``), or None."""
+        better = set(self.data.get("dominated_by", {}).get(
+            family(setting), []))
+        for other in others:
+            if other != setting and family(other) in better:
+                return other.label()
+        return None
 
     def families(self) -> list[str]:
         return sorted(self.settings)

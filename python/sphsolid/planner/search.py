@@ -678,6 +678,17 @@ def plan(scene_factory: Callable, error: float = 0.03,
                 f"above the request")))
         else:
             cands.append(Candidate(setting, []))
+    if record and candidates is None:
+        # a setting another candidate dominated on every fitted scene
+        kept = [c.setting for c in cands]
+        for cand in list(cands):
+            better = record.dominated(cand.setting, kept)
+            if better is not None:
+                cands.remove(cand)
+                kept.remove(cand.setting)
+                skipped.append(Candidate(cand.setting, [], note=(
+                    f"dominated by {better} on every fitted scene of the "
+                    "verification record: not planned")))
     if skipped:
         say(f"verification record: {len(cands)} of {len(settings)} "
             f"settings calibrated ({len(skipped)} unverified or biased "
