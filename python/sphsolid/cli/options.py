@@ -43,13 +43,18 @@ positive_length = _positive("length")
 positive_time = _positive("time")
 
 
-def finite(low: float, what: str):
-    """A plain number, finite and >= low (``what`` says the rule)."""
+def finite(low: float, what: str, kind: str | None = None):
+    """A number, finite and >= low (``what`` says the rule); with
+    ``kind`` ("velocity", "time", ...) a unit of that kind too."""
     def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r}: not a number") from None
+        if kind is not None:
+            value = quantity(text, kind)
+        else:
+            try:
+                value = float(text)
+            except ValueError:
+                raise argparse.ArgumentTypeError(
+                    f"{text!r}: not a number") from None
         if not (math.isfinite(value) and value >= low):
             raise argparse.ArgumentTypeError(f"{text!r}: {what}")
         return value

@@ -27,7 +27,7 @@ def add_arguments(parser) -> None:
                         help="threads of the planned run (and the "
                         "calibration)")
     parser.add_argument("--max-seconds", type=finite(0.0, "must be finite "
-                        "and >= 0 s"), default=None,
+                        "and >= 0 s", "time"), default=None,
                         help="wall-time budget of the planned run [s]")
     parser.add_argument("--ladder", type=length_list, default=None,
                         help="calibration spacings, e.g. 4mm,3mm,2mm")
