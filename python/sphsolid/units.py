@@ -40,7 +40,10 @@ UNITS.update({u: ("acceleration", 1.0) for u in ("m/s2", "m/s^2")})
 UNITS.update({u: ("rate", 1.0) for u in ("1/s", "Hz")})
 UNITS.update({u: ("angular velocity", 1.0) for u in ("rad/s",)})
 
-_PATTERN = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
+# a number as float() reads it (inf and nan included: the value's own
+# check names them), then an optional unit
+_PATTERN = re.compile(r"\s*([-+]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+                      r"|(?i:inf(?:inity)?|nan)))\s*(\S*)\s*")
 
 
 def quantity(value, kind: str | None = None, name: str = "value") -> float:

@@ -286,7 +286,7 @@ CLI_CASES = [
     (["piston", "--until", "-1ms"], "--until: '-1ms': must be finite and > 0"),
     (["piston", "--until", "0"], "--until: '0': must be finite and > 0"),
     (["piston", "--dx", "nanmm"], "'nanmm'"),
-    (["piston", "--dx", "nan"], "--dx: value: 'nan'"),
+    (["piston", "--dx", "nan"], "--dx: 'nan': must be finite and > 0"),
     (["piston", "--dx", "0.1"], "--dx 100mm leaves the specimen 1 x 1 particles; the kernel needs at least 4 across: use --dx 21.5mm or less"),
     (["piston", "--dx", "3um"], "block 'specimen' (dx=3e-06 m): 1.338e+09 particles"),
     (["piston", "--times", "1ms", "--until", "0.3ms"], "--times 1ms beyond --until 0.3ms"),
