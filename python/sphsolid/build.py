@@ -263,8 +263,10 @@ class Body:
     length: float | None = None
     against: "Body | None" = None
     inset: float | str = 0.0
-    #: particles per axis of a block or prism (the library's lattice)
-    counts: tuple | None = None
+    #: particles per axis of a block or prism (the library's lattice, asked
+    #: for once; not an init field, so a copy with another dx or extent,
+    #: dataclasses.replace, asks again)
+    counts: tuple | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self):
         # what each shape needs; a shape not given follows from the fields
@@ -519,9 +521,10 @@ def block(lo: Sequence[float], hi: Sequence[float], dx: float,
     counts = _block_lattice(name, lo, hi, dx)    # the library judges them
     if velocity is not None:
         velocity = _vector("velocity", velocity, len(lo), "velocity")
-    return Body(name=name, material=material, dx=dx, motion=_motion(motion),
-                lo=lo, hi=hi, velocity=velocity, role=role, shape="block",
-                counts=counts)
+    body = Body(name=name, material=material, dx=dx, motion=_motion(motion),
+                lo=lo, hi=hi, velocity=velocity, role=role, shape="block")
+    body.counts = counts
+    return body
 
 
 def rectangle(x: Sequence[float], y: Sequence[float], dx: float,

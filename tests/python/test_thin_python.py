@@ -169,3 +169,11 @@ def test_a_body_of_points_follows_from_the_points():
 def test_a_body_without_its_shape_says_what_is_missing(fields, message):
     with pytest.raises(ValueError, match=re.escape(message)):
         build.Body(name="x", material=rock(), dx=1e-3, **fields)
+
+
+def test_a_copy_at_another_spacing_has_its_own_lattice():
+    import dataclasses
+    body = build.rectangle((0, 0.012), (0, 0.024), 1e-3, rock())
+    assert body.lattice_shape == (12, 24)
+    coarse = dataclasses.replace(body, dx=3e-3)
+    assert coarse.lattice_shape == (4, 8) and coarse.count == 32
