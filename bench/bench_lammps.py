@@ -273,8 +273,9 @@ def run_case(case: str, args, work: Path) -> dict:
         return figures
     if case.startswith("plugin"):
         ranks = 1 if case.startswith("plugin-1") else args.ranks
-        fix = "leapfrog" if integrator == "leapfrog" else "heun"
         before = case.endswith("-before")
+        # plugins before 0.3 name Improved Euler's fix sphsolid/heun only
+        fix = "heun" if before and integrator == "improved_euler" else integrator
         plugin = args.plugin_before if before else args.plugin
         deck = (args.deck_before or PISTON_DECK) if before else PISTON_DECK
         cmd = lmp + ["-in", str(deck), "-var", "plugin", str(plugin),

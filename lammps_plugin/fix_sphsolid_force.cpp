@@ -24,7 +24,7 @@ FixSPHSolidForce::FixSPHSolidForce(LAMMPS *lmp, int narg, char **arg) : Fix(lmp,
 
 int FixSPHSolidForce::setmask()
 {
-  return 0;    // fix sphsolid/heun applies it
+  return 0;    // the integrating fix applies it (pack())
 }
 
 double FixSPHSolidForce::compute_vector(int i)

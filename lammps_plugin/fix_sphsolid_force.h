@@ -8,9 +8,10 @@
  * acceleration (F + sum of the forces on the group's atoms) / (group mass),
  * with F the total applied force (force units; per unit depth in 2D, as
  * the masses are).  A uniform pressure p on a face of width w is F = p w.
- * fix sphsolid/heun applies it to its dv/dt at both rate evaluations of a
- * step (the library's sph_rigid_force_sum/_apply, sums added over the
- * ranks), so the group must be part of the heun fix's group.  This fix
+ * The integrating fix (sphsolid/improved_euler, sphsolid/leapfrog) applies
+ * it to its dv/dt at each rate evaluation of a step (the library's
+ * sph_rigid_force_sum/_apply, sums added over the ranks), so the group must
+ * be part of the integrating fix's group.  This fix
  * does nothing on its own.
  */
 #ifdef FIX_CLASS

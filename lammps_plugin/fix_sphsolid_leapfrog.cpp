@@ -2,7 +2,7 @@
  * fix_sphsolid_leapfrog.cpp - the library's leapfrog for pair sphsolid (see
  * the header).  The stages are sph_leapfrog_{begin,drift,end}_strided() on
  * LAMMPS's own x and v; this file hands them dv/dt (with the rigid bodies'
- * accelerations, from fix sphsolid/heun's pack()), runs the continuity pass
+ * accelerations, from the base's pack(), fix_sphsolid_integrate.cpp), runs the continuity pass
  * of the half step in step with LAMMPS's communication, has pair sphsolid
  * compute only the momentum pass, and keeps the half step's density and
  * stress rates with the atoms (fix SPHSOLID/STATE) for the next predictor.
@@ -24,7 +24,7 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixSPHSolidLeapfrog::FixSPHSolidLeapfrog(LAMMPS *lmp, int narg, char **arg) :
-    FixSPHSolidHeun(lmp, narg, arg, "leapfrog")
+    FixSPHSolidIntegrate(lmp, narg, arg, "leapfrog")
 {
 }
 
@@ -35,7 +35,7 @@ int FixSPHSolidLeapfrog::setmask()
 
 void FixSPHSolidLeapfrog::init()
 {
-  FixSPHSolidHeun::init();
+  FixSPHSolidIntegrate::init();
   // the density and stress rates come from the half step (initial_integrate)
   pair->set_compute_pass(SPH_RATES_MOMENTUM);
 }

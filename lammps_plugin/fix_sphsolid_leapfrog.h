@@ -3,7 +3,7 @@
  * (kick-drift-kick, velocity Verlet) for the SPH elastic solid, with density
  * and deviatoric stress advanced by the half-step velocity.
  *
- * Used like fix nve, in place of fix sphsolid/heun.  Per step n -> n+1 in
+ * Used like fix nve, in place of fix sphsolid/improved_euler.  Per step n -> n+1 in
  * Verlet's order:
  *   initial_integrate  v += dt/2 a_n (the atoms of the group), every
  *                      position by dt/2 v, rho and S predicted at the half
@@ -38,11 +38,11 @@ FixStyle(sphsolid/leapfrog,FixSPHSolidLeapfrog);
 #ifndef SPHSOLID_FIX_SPHSOLID_LEAPFROG_H
 #define SPHSOLID_FIX_SPHSOLID_LEAPFROG_H
 
-#include "fix_sphsolid_heun.h"
+#include "fix_sphsolid_integrate.h"
 
 namespace LAMMPS_NS {
 
-class FixSPHSolidLeapfrog : public FixSPHSolidHeun {
+class FixSPHSolidLeapfrog : public FixSPHSolidIntegrate {
  public:
   FixSPHSolidLeapfrog(class LAMMPS *, int, char **);
   int setmask() override;

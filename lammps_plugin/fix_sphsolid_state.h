@@ -7,7 +7,8 @@
  *   rho    density [kg/m^3]
  *   S      deviatoric stress, (xx,yy,zz,xy) in 2D, (xx,yy,zz,xy,xz,yz) in 3D [Pa]
  *   saved  the Improved Euler stage-1 copy of (v, rho, S[, XSPH velocity])
- *          made by sph_heun_predict() and read by sph_heun_correct(), one
+ *          made by sph_improved_euler_predict_strided() and read by
+ *          sph_improved_euler_correct_strided(), one
  *          row per atom so that it migrates with the atom inside a step
  * Each array is contiguous (rows of one atom), so the library reads and
  * writes it in place.  The values move with their atoms between MPI ranks,

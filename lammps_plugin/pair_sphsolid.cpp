@@ -342,6 +342,7 @@ void PairSPHSolid::init_style()
     error->all(FLERR,
                "pair sphsolid needs the velocities of ghost atoms: add 'comm_modify vel yes'");
   if (!atom->tag_enable) error->all(FLERR, "pair sphsolid needs atom IDs (atom_modify id yes)");
+  check_ranks_agree();
 
   // a half list in which a pair with a ghost is listed on both ranks
   // (newton off): with newton_pair off each rank adds its own atom's
@@ -383,6 +384,68 @@ void PairSPHSolid::init_style()
 }
 
 /* ----------------------------------------------------------------------
+   every rank read the same settings: a rank-dependent variable in the deck
+   would give each rank another model (other message sizes, other sums)
+------------------------------------------------------------------------- */
+
+static unsigned long long text_hash(const std::string &text)
+{
+  unsigned long long h = 14695981039346656037ULL;    // FNV-1a
+  for (unsigned char c : text) h = (h ^ c) * 1099511628211ULL;
+  return h;
+}
+
+void PairSPHSolid::check_ranks_agree()
+{
+  // one (keyword, value) per setting, the same list on every rank: the
+  // effects of the registry, every atom type
+  std::vector<std::pair<std::string, std::string>> settings;
+  auto number = [](double v) {
+    return fmt::format("{}", v);
+  };    // shortest exact
+  settings.emplace_back("dx", number(spacing));
+  settings.emplace_back("h_over_dx", number(h_over_dx));
+  settings.emplace_back("kernel", kernel);
+  {
+    std::istringstream words(sph_effect_names());
+    std::string name;
+    while (words >> name) {
+      std::string value = "off";
+      for (const auto &e : effects)
+        if (e.first == name) value = "on " + e.second;
+      settings.emplace_back(name, value);
+    }
+  }
+  for (int t = 1; t <= atom->ntypes; t++) {
+    const SPHSolidMaterial &m = type_params[t];
+    settings.emplace_back(
+        fmt::format("pair_coeff {} {}", t, t),
+        fmt::format("{} {} {} {}", m.kind, number(m.first), number(m.second), number(m.rho0)));
+  }
+  settings.emplace_back("timestep", number(update->dt));
+
+  const int count = (int) settings.size();
+  int counts[2] = {-count, count}, extreme[2];
+  MPI_Allreduce(counts, extreme, 2, MPI_INT, MPI_MAX, world);
+  if (-extreme[0] != extreme[1])
+    error->all(FLERR,
+               "pair sphsolid: the number of settings differs between MPI ranks ({} to {}: "
+               "atom types or the effect registry differ)",
+               -extreme[0], extreme[1]);
+  std::vector<unsigned long long> mine(count), low(count), high(count);
+  for (int k = 0; k < count; k++) mine[k] = text_hash(settings[k].second);
+  MPI_Allreduce(mine.data(), low.data(), count, MPI_UNSIGNED_LONG_LONG, MPI_MIN, world);
+  MPI_Allreduce(mine.data(), high.data(), count, MPI_UNSIGNED_LONG_LONG, MPI_MAX, world);
+  for (int k = 0; k < count; k++)
+    if (low[k] != high[k])
+      error->all(FLERR,
+                 "pair sphsolid: {} differs between MPI ranks ('{}' on rank {}, another value on "
+                 "some other rank): every rank must read the same pair_style, pair_coeff and "
+                 "timestep values (is a variable of the deck rank-dependent?)",
+                 settings[k].first, settings[k].second, comm->me);
+}
+
+/* ----------------------------------------------------------------------
    deck checks at each run's init: an integrator for the SPH state, no
    other integrator on its atoms, masses and lattice that agree with dx,
    a timestep within the stable step
@@ -391,7 +454,7 @@ void PairSPHSolid::init_style()
 void PairSPHSolid::check_deck()
 {
   // integrators of the SPH state: fixes of style sphsolid/... that
-  // integrate (sphsolid/heun, sphsolid/leapfrog, ...)
+  // integrate (sphsolid/improved_euler, sphsolid/leapfrog, ...)
   std::vector<Fix *> sph_integrators, others;
   for (int k = 0; k < modify->nfix; k++) {
     Fix *f = modify->fix[k];
@@ -402,10 +465,9 @@ void PairSPHSolid::check_deck()
       others.push_back(f);
   }
   if (update->whichflag == 1 && update->nsteps > 0 && sph_integrators.empty())
-    error->all(
-        FLERR,
-        "pair sphsolid: no sphsolid integrator fix (e.g. 'fix 1 all sphsolid/heun'): without one "
-        "the density and stress never evolve and the run has no elastic forces");
+    error->all(FLERR, "pair sphsolid: no sphsolid integrator fix (e.g. 'fix 1 all "
+                      "sphsolid/improved_euler'): without one "
+                      "the density and stress never evolve and the run has no elastic forces");
   // another integrator (fix nve, fix move, ...) on the same atoms would
   // move them twice and leave the SPH state behind
   for (Fix *mine : sph_integrators)
@@ -464,7 +526,7 @@ double PairSPHSolid::stable_timestep(const char *integrator)
 const char *PairSPHSolid::integrator_name()
 {
   // fix sphsolid/<name> integrates with the library's <name>; sphsolid/heun
-  // is improved_euler
+  // is the deprecated name of sphsolid/improved_euler
   for (int k = 0; k < modify->nfix; k++) {
     Fix *f = modify->fix[k];
     if (!f->time_integrate || !utils::strmatch(f->style, "^sphsolid/")) continue;

@@ -4,7 +4,7 @@
  * A translation layer: LAMMPS's atoms, ghost atoms and half neighbour list
  * go in, the library's pair pass and finish compute every rate, and the
  * accelerations come back as forces (f = m dv/dt).  The density and deviatoric stress
- * rates are kept for the integrator (fix sphsolid/heun).  Materials come
+ * rates are kept for the integrator (fix sphsolid/improved_euler or sphsolid/leapfrog).  Materials come
  * from pair_coeff per atom type; effects (artificial viscosity, artificial
  * stress, XSPH, damping) are pair_style keywords, off by default.
  */
@@ -108,6 +108,10 @@ class PairSPHSolid : public Pair {
 
  private:
   void check_deck();
+  /* Stops every rank, naming the first keyword whose value differs between
+   * ranks (pair_style, pair_coeff, timestep): a hash of each is reduced
+   * over the communicator (min and max). */
+  void check_ranks_agree();
   /* step_of (sph_default_dt, sph_stable_dt) of a handle without bodies with
    * `integrator`; 0 before every type has its pair_coeff */
   double handle_timestep(const char *integrator, double (*step_of)(const sph_sim *));

@@ -3,7 +3,8 @@
  *
  *   plugin load /path/to/sphsolidplugin.so
  *
- * pair sphsolid, fix sphsolid/heun, fix sphsolid/leapfrog, fix sphsolid/force, fix SPHSOLID/STATE
+ * pair sphsolid, fix sphsolid/improved_euler (and its deprecated name
+ * sphsolid/heun), fix sphsolid/leapfrog, fix sphsolid/force, fix SPHSOLID/STATE
  * (internal, created by the pair style), computes
  * sphsolid/{density,pressure,vonmises,stress,energy}/atom
  * and sphsolid/probe.
@@ -13,7 +14,7 @@
 #include "compute_sphsolid_atom.h"
 #include "compute_sphsolid_probe.h"
 #include "fix_sphsolid_force.h"
-#include "fix_sphsolid_heun.h"
+#include "fix_sphsolid_improved_euler.h"
 #include "fix_sphsolid_leapfrog.h"
 #include "fix_sphsolid_state.h"
 #include "pair_sphsolid.h"
@@ -60,7 +61,10 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   auto reg = (lammpsplugin_regfunc) regfunc;
   add(reg, lmp, handle, "pair", "sphsolid", "SPH elastic solid (libsphsolid) pair style",
       (lammpsplugin_factory1 *) &create_pair, nullptr);
-  add(reg, lmp, handle, "fix", "sphsolid/heun", "Improved Euler for pair sphsolid", nullptr,
+  add(reg, lmp, handle, "fix", "sphsolid/improved_euler", "Improved Euler for pair sphsolid",
+      nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidImprovedEuler>);
+  add(reg, lmp, handle, "fix", "sphsolid/heun",
+      "deprecated name of fix sphsolid/improved_euler (removed after 0.3)", nullptr,
       (lammpsplugin_factory2 *) &create_fix<FixSPHSolidHeun>);
   add(reg, lmp, handle, "fix", "sphsolid/leapfrog", "leapfrog (velocity Verlet) for pair sphsolid",
       nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidLeapfrog>);

@@ -49,6 +49,12 @@ extern "C" {
 #else
 #define SPH_API
 #endif
+/* Marks a deprecated alias: compilers warn where it is used. */
+#if defined(__GNUC__) || defined(__clang__)
+#define SPH_DEPRECATED(replacement) __attribute__((deprecated("use " replacement)))
+#else
+#define SPH_DEPRECATED(replacement)
+#endif
 
 /* SPHSOLID_VERSION_MAJOR/_MINOR/_PATCH and SPHSOLID_VERSION_STRING, as
  * sph_version() reports them. */
@@ -177,7 +183,7 @@ SPH_API sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material
 
 /* Platens against any body (2D and 3D): sph_add_plate lays a fixed plate
  * under the body (against its face of least y), sph_add_piston a piston on
- * top of it moving down (-y) at `speed` [m/s].
+ * top of it moving down (-y) at `speed` [m/s], finite and >= 0.
  * Layer rule: a platen is `layers` lattice layers thick, spaced by the
  * body's lattice step dy along y, and covers the body's extent across y
  * (x in 2D, x and z in 3D) with round(extent / step) columns per axis, the
@@ -441,7 +447,7 @@ SPH_API sph_status sph_set_watchdog(sph_sim *sim, double max_speed_over_cp,
                                     double min_density_ratio, double max_density_ratio);
 
 /* The watchdog's test on external arrays (n particles, material indices of
- * sim; integrate_motion as for sph_heun_correct, NULL for all): returns
+ * sim; integrate_motion as for sph_improved_euler_correct, NULL for all): returns
  * SPH_ERR_UNSTABLE, with *particle the lowest offending index and a message
  * naming speed or density ratio, or SPH_OK (*particle = -1). */
 SPH_API sph_status sph_watchdog_check(sph_sim *sim, size_t n, const double *v, const double *rho,
@@ -501,10 +507,17 @@ SPH_API sph_status sph_energy(sph_sim *sim, int all_bodies, sph_energy_info *inf
 /* Bytes of memory the handle holds (particle state, integrator and rate
  * scratch, neighbour list), for budgeting large runs. */
 SPH_API size_t sph_memory_bytes(const sph_sim *sim);
-/* SPH_ERR_MEMORY, with the bytes needed and available, when a run with
- * `particles` more particles (at the handle's smoothing ratio) would not
- * fit in the memory available; builders call it before allocating. */
+/* SPH_ERR_MEMORY, naming the particle count and the bytes needed and
+ * available, when a run with `particles` more particles (at the handle's
+ * smoothing ratio) would take more than half of the memory available, or
+ * with sph_set_allow_large(sim, 1) more than all of it.  Every builder
+ * (blocks, prisms, cylinders, platens, sph_add_particles) calls it with the
+ * count it is about to add, before allocating anything. */
 SPH_API sph_status sph_memory_check(sph_sim *sim, double particles);
+/* allow != 0: runs may take up to all of the memory available instead of
+ * half of it (the limit of sph_memory_check and of the builders). */
+SPH_API sph_status sph_set_allow_large(sph_sim *sim, int allow);
+SPH_API int sph_allow_large(const sph_sim *sim);
 /* The same bytes by part: fills up to `max` entries of names (static
  * strings, valid for the life of the program) and bytes, and returns the
  * number of parts (SPH_MEMORY_PARTS); their sum is sph_memory_bytes().
@@ -562,7 +575,14 @@ SPH_API sph_status sph_output_close(sph_sim *sim);
  * message and may be NULL. */
 SPH_API sph_status sph_write_xdmf(sph_sim *sim, const char *h5_path);
 
-/* Number of snapshot frames in a file written by sph_output_open(). */
+/* The version of the file format this library writes (the root attribute
+ * `sphsolid_format`).  Outputs of every version from 1 (libsphsolid 0.1.0
+ * and 0.2.0, written before the version was recorded) up to this one are
+ * read; checkpoints of this version only. */
+SPH_API int sph_output_format_version(void);
+
+/* Number of snapshot frames in a file written by sph_output_open() (of any
+ * format up to sph_output_format_version()). */
 SPH_API sph_status sph_read_frame_count(sph_sim *sim, const char *path, long *frames);
 /* Load frame `frame` (negative counts from the end) of a file into the
  * state of a simulation whose particles match it (same count and bodies):
@@ -717,12 +737,15 @@ SPH_API sph_status sph_rates_pass_half(sph_sim *sim, int pass, const sph_particl
  * particles whose velocity is prescribed: their velocity is left alone
  * while their position still advances by dt v and their density and stress
  * evolve (pass NULL to integrate all). */
-SPH_API sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt, double *x, double *v,
-                                    double *rho, double *S, const sph_rates *rates,
-                                    const unsigned char *integrate_motion, double *saved);
-SPH_API sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt, double *x, double *v,
-                                    double *rho, double *S, const sph_rates *rates,
-                                    const unsigned char *integrate_motion, const double *saved);
+SPH_API sph_status sph_improved_euler_predict(sph_sim *sim, size_t n, double dt, double *x,
+                                              double *v, double *rho, double *S,
+                                              const sph_rates *rates,
+                                              const unsigned char *integrate_motion, double *saved);
+SPH_API sph_status sph_improved_euler_correct(sph_sim *sim, size_t n, double dt, double *x,
+                                              double *v, double *rho, double *S,
+                                              const sph_rates *rates,
+                                              const unsigned char *integrate_motion,
+                                              const double *saved);
 
 /* Rigid translation under an applied force (SPH_MOTION_FORCE), split for
  * distributed particles.  sph_rigid_force_sum() adds the contributions of
@@ -747,16 +770,39 @@ SPH_API sph_status sph_rigid_force_apply(sph_sim *sim, size_t n, const double *a
  * (sph_set_watchdog) to the integrated particles, `material` giving each
  * particle's material: on SPH_ERR_UNSTABLE or SPH_ERR_NONFINITE,
  * *particle is the first particle concerned (else -1). */
+SPH_API sph_status sph_improved_euler_predict_strided(sph_sim *sim, size_t n, double dt, double *x,
+                                                      double *v, size_t stride, double *rho,
+                                                      double *S, const sph_rates *rates,
+                                                      const unsigned char *integrate_motion,
+                                                      double *saved);
+SPH_API sph_status sph_improved_euler_correct_strided(sph_sim *sim, size_t n, double dt, double *x,
+                                                      double *v, size_t stride, double *rho,
+                                                      double *S, const sph_rates *rates,
+                                                      const unsigned char *integrate_motion,
+                                                      const int *material, const double *saved,
+                                                      long *particle);
+
+/* Deprecated aliases, kept for one release (0.3.x) and removed after it:
+ * the Improved Euler stages were named after Heun's method before the
+ * registry's name "improved_euler" was used throughout.  Each calls the
+ * function named in its warning with the same arguments. */
+SPH_API sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                    double *rho, double *S, const sph_rates *rates,
+                                    const unsigned char *integrate_motion, double *saved)
+    SPH_DEPRECATED("sph_improved_euler_predict");
+SPH_API sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                    double *rho, double *S, const sph_rates *rates,
+                                    const unsigned char *integrate_motion, const double *saved)
+    SPH_DEPRECATED("sph_improved_euler_correct");
 SPH_API sph_status sph_heun_predict_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
                                             size_t stride, double *rho, double *S,
                                             const sph_rates *rates,
-                                            const unsigned char *integrate_motion, double *saved);
-SPH_API sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
-                                            size_t stride, double *rho, double *S,
-                                            const sph_rates *rates,
-                                            const unsigned char *integrate_motion,
-                                            const int *material, const double *saved,
-                                            long *particle);
+                                            const unsigned char *integrate_motion, double *saved)
+    SPH_DEPRECATED("sph_improved_euler_predict_strided");
+SPH_API sph_status sph_heun_correct_strided(
+    sph_sim *sim, size_t n, double dt, double *x, double *v, size_t stride, double *rho, double *S,
+    const sph_rates *rates, const unsigned char *integrate_motion, const int *material,
+    const double *saved, long *particle) SPH_DEPRECATED("sph_improved_euler_correct_strided");
 
 /* The leapfrog (sph_set_integrator "leapfrog") in three stages on external
  * arrays, `stride` doubles apart (>= dim), for a code that owns its

@@ -152,6 +152,8 @@ sph_status sph_add_particles(sph_sim *sim, const char *name, int material_id, si
                 return sph_fail(sim, SPH_ERR_ARGUMENT,
                                 "body '%s': particle %zu has a non-finite coordinate %d", name, k,
                                 i);
+            if ((st = coordinate_check(sim, name, k, i, xi, spacing)))
+                return st;
             if (sim->has_domain && (xi < sim->lo[i] || xi > sim->hi[i]))
                 return sph_fail(
                     sim, SPH_ERR_ARGUMENT,

@@ -7,11 +7,16 @@
  * axis) so that a platen can be laid against it with matching columns.
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "kernel.h"
 #include "sim.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
 
 static const char *label(const char *name) { return name ? name : ""; }
 
@@ -33,6 +38,14 @@ sph_status lattice_add(sph_sim *sim, const char *name, int material, const doubl
 {
     const int dim = sim->dim;
     const size_t n = (size_t)count[0] * (size_t)count[1] * (size_t)count[2];
+    {
+        /* before building the lattice: would a run of this many fit? */
+        char label_[SPH_NAME_SIZE + 40];
+        snprintf(label_, sizeof label_, "%s '%s' (dx=%g m)", what, name ? name : "", spacing);
+        sph_status st = memory_check(sim, (double)n, label_);
+        if (st)
+            return st;
+    }
     double *pos = malloc(n * (size_t)dim * sizeof *pos), *vol = malloc(n * sizeof *vol);
     if (!pos || !vol) {
         free(pos);
@@ -153,6 +166,11 @@ sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material,
     if (!(dx > 0.0) || !isfinite(dx))
         return sph_fail(sim, SPH_ERR_ARGUMENT, "cylinder '%s': dx=%g must be finite and > 0",
                         label(name), dx);
+    if (2.0 * radius / dx > 1e12 || length / dx > 1e12)
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "cylinder '%s': diameter %g m and length %g m are %g and %g spacings "
+                        "dx=%g m: too many",
+                        label(name), 2.0 * radius, length, 2.0 * radius / dx, length / dx, dx);
     const long n_side = lround(2.0 * radius / dx), n_y = lround(length / dx);
     if (n_side < 1 || n_y < 1)
         return sph_fail(
@@ -160,6 +178,16 @@ sph_status sph_add_cylinder(sph_sim *sim, const char *name, int material,
             "cylinder '%s': dx=%g m is more than twice the diameter %g m or the length %g m",
             label(name), dx, 2.0 * radius, length);
     const double s = 2.0 * radius / (double)n_side, sy = length / (double)n_y;
+    {
+        /* before building anything: would a run of about pi/4 n_side^2 n_y
+         * particles (the circle's share of the square lattice) fit? */
+        char what[SPH_NAME_SIZE + 40];
+        snprintf(what, sizeof what, "cylinder '%s' (dx=%g m)", label(name), dx);
+        const sph_status st =
+            memory_check(sim, 0.25 * M_PI * (double)n_side * (double)n_side * (double)n_y, what);
+        if (st)
+            return st;
+    }
     /* one cross-section: the lattice points strictly inside the circle */
     double *ring = malloc((size_t)n_side * (size_t)n_side * 2 * sizeof *ring);
     if (!ring)
@@ -300,8 +328,10 @@ sph_status sph_add_plate(sph_sim *sim, const char *name, int material, int body,
 sph_status sph_add_piston(sph_sim *sim, const char *name, int material, int body, int layers,
                           double speed, int *piston)
 {
-    if (sim && !isfinite(speed))
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "piston '%s': speed=%g m/s is not finite",
+    if (sim && !(isfinite(speed) && speed >= 0.0))
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "piston '%s': speed=%g m/s must be finite and >= 0 (the piston moves "
+                        "down, -y, at this speed; a body pulled upwards takes sph_set_motion)",
                         label(name), speed);
     int id = -1;
     sph_status st = add_platen(sim, name, material, body, layers, +1, "piston", &id);

@@ -1,13 +1,15 @@
 /*
- * Time integrators as units.  Each integrator is one file (improved_euler.c,
- * leapfrog.c) defining one `integrator` record, listed once in the registry
- * of integrators.c.  The run driver (run.c), the stable and default steps,
- * checkpoints and the low-level stage calls all go through the record.
+ * Time integrators as units.  Each integrator is one file
+ * (integrator_improved_euler.c, integrator_leapfrog.c) defining one
+ * `integrator` record, listed once in the registry of
+ * integrator_registry.c.  The run driver (run.c), the stable and default
+ * steps, checkpoints and the low-level stage calls all go through the
+ * record.
  *
- * Shared pieces of a step on the handle's arrays (stages.c): per-body
- * constants (motion, watchdog bounds, rotation), exact rotation arcs, and
- * the failure report of a step that went non-finite or tripped the
- * watchdog.
+ * Shared pieces of a step on the handle's arrays (integrator_stages.c):
+ * per-body constants (motion, watchdog bounds, rotation), exact rotation
+ * arcs, and the failure report of a step that went non-finite or tripped
+ * the watchdog.
  */
 #ifndef SPHSOLID_INTEGRATOR_H
 #define SPHSOLID_INTEGRATOR_H
@@ -51,7 +53,7 @@ typedef struct integrator {
 extern const integrator integrator_improved_euler;
 extern const integrator integrator_leapfrog;
 
-/* integrators.c */
+/* integrator_registry.c */
 const integrator *integrator_find(const char *name);
 const integrator *sim_integrator(const sph_sim *sim);
 /* The carried rates belong to the current state: fingerprint of x, v, rho,
@@ -65,7 +67,7 @@ sph_status sim_evaluate(sph_sim *sim); /* rates at the handle's state, motions a
 sph_status sim_evaluate_pass(sph_sim *sim, int pass); /* PASS_*: only those rates */
 sph_status sim_ensure_neighbours(sph_sim *sim, double extra_displacement);
 
-/* stages.c: per-body constants of a step */
+/* integrator_stages.c: per-body constants of a step */
 typedef struct body_stage {
     int integrate;                /* velocity integrated (free, force) */
     int rotate;                   /* prescribed rotation by R about c */

@@ -26,9 +26,9 @@ sph_status sim_prepare(sph_sim *sim)
     const size_t n = sim->n;
     const int dim = sim->dim, nc = sim->ncomp;
     const size_t saved_per = sim_integrator(sim)->saved_values(dim, nc, sim->fx.xsph);
-    double *saved = saved_per == sim->saved_per && sim->saved
-                        ? sim->saved
-                        : realloc(sim->saved, n * saved_per * sizeof(double));
+    /* every buffer of the run follows the particle count: bodies may have
+     * been added since the last run */
+    double *saved = realloc(sim->saved, n * saved_per * sizeof(double));
     double *dv = realloc(sim->dv_dt, n * dim * sizeof(double));
     double *dr = realloc(sim->drho_dt, n * sizeof(double));
     double *dS = realloc(sim->dS_dt, n * nc * sizeof(double));

@@ -127,6 +127,8 @@ struct sph_sim {
     far_list *far;        /* one per chunk of the pair pass */
     size_t n_far;
 
+    int allow_large; /* sph_set_allow_large: runs may take all available memory */
+
     /* watchdog: 0 switches a bound off */
     double watch_speed, watch_rho_min, watch_rho_max;
 
@@ -248,12 +250,24 @@ sph_status probe_sample_point(sph_sim *sim, probe *p, double *values, int in_run
 void probes_free(sph_sim *sim);
 
 /* validate.c */
+/* Coordinates are limited to SPH_COORDINATE_LIMIT spacings from the origin
+ * (|x| <= limit * spacing): a double then rounds a position to at most
+ * 2.2e-10 of a spacing.  coordinate_check fails naming the body, the
+ * particle (index in its body) and the value. */
+#define SPH_COORDINATE_LIMIT 1e6
+sph_status coordinate_check(sph_sim *sim, const char *body_name, size_t particle, int axis,
+                            double x, double spacing);
+/* Positions within the coordinate limit, density and mass finite and
+ * positive: the state a run may start from. */
 sph_status state_check(sph_sim *sim);
+/* The share of the available memory a run may take unless
+ * sph_set_allow_large() lifts the limit to all of it. */
+#define SPH_LARGE_FRACTION 0.5
 /* SPH_ERR_MEMORY naming `what`, the bytes needed and available when
  * `particles` more particles would not fit in memory during a run. */
 sph_status memory_check(sph_sim *sim, double particles, const char *what);
 
-/* io_hdf5.c */
+/* io_output.c */
 sph_status output_write_due(sph_sim *sim);
 void output_free(sph_sim *sim);
 

@@ -4,6 +4,7 @@
  * the particle, quantity and value, or the bytes needed and available.
  */
 #define _POSIX_C_SOURCE 200809L /* sysconf */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -21,8 +22,34 @@
  * would otherwise surface as a neighbour's runaway velocity.  (Non-finite
  * positions, velocities and stresses are caught where they first act, with
  * the step: the neighbour search and the watchdog.) */
+sph_status coordinate_check(sph_sim *sim, const char *body_name, size_t particle, int axis,
+                            double x, double spacing)
+{
+    if (fabs(x) <= SPH_COORDINATE_LIMIT * spacing)
+        return SPH_OK;
+    return sph_fail(sim, SPH_ERR_ARGUMENT,
+                    "body '%s': particle %zu at %c=%g m lies %.3g spacings (dx=%g m) from the "
+                    "origin; coordinates are limited to %g spacings (|%c| <= %g m), beyond which "
+                    "a double rounds positions to more than %.2g dx: place the scene near the "
+                    "origin",
+                    body_name, particle, "xyz"[axis], x, fabs(x) / spacing, spacing,
+                    SPH_COORDINATE_LIMIT, "xyz"[axis], SPH_COORDINATE_LIMIT * spacing,
+                    SPH_COORDINATE_LIMIT * DBL_EPSILON);
+}
+
 sph_status state_check(sph_sim *sim)
 {
+    const int dim = sim->dim;
+    for (size_t a = 0; a < sim->n; ++a) {
+        const body *b = &sim->bodies[sim->body_of[a]];
+        for (int i = 0; i < dim; ++i) {
+            const double x = sim->x[a * dim + i];
+            sph_status st;
+            if (isfinite(x) &&
+                (st = coordinate_check(sim, b->name, a - b->first, i, x, b->spacing)))
+                return st;
+        }
+    }
     for (size_t a = 0; a < sim->n; ++a) {
         const char *what = NULL;
         double value = 0.0;
@@ -115,17 +142,35 @@ sph_status memory_check(sph_sim *sim, double particles, const char *what)
     const double needed = (particles + (double)sim->n) * per;
     const char *source = "";
     const double available = available_bytes(&source);
-    if (available < 0.0 || needed <= available)
+    const double limit = sim->allow_large ? available : SPH_LARGE_FRACTION * available;
+    if (available < 0.0 || needed <= limit)
         return SPH_OK;
     char need[32], have[32];
     human(needed, need, sizeof need);
     human(available, have, sizeof have);
+    if (needed <= available)
+        return sph_fail(sim, SPH_ERR_MEMORY,
+                        "%s: %.4g particles (%zu already in the scene) need about %s for a run "
+                        "(%.0f bytes each), more than %g of the %s available (%s): a run this "
+                        "large is refused unless allowed (sph_set_allow_large), or use a coarser "
+                        "spacing",
+                        what, particles, sim->n, need, per, SPH_LARGE_FRACTION, have, source);
     return sph_fail(
         sim, SPH_ERR_MEMORY,
         "%s: %.4g particles (%zu already in the scene) need about %s for a run (%.0f bytes each), "
         "but %s are available (%s): use a coarser spacing or a machine with more memory",
         what, particles, sim->n, need, per, have, source);
 }
+
+sph_status sph_set_allow_large(sph_sim *sim, int allow)
+{
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    sim->allow_large = allow != 0;
+    return sph_ok(sim);
+}
+
+int sph_allow_large(const sph_sim *sim) { return sim ? sim->allow_large : 0; }
 
 sph_status sph_memory_check(sph_sim *sim, double particles)
 {

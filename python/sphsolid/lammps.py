@@ -4,7 +4,7 @@
 builds a LAMMPS instance from a scene — one atom per particle (atom ID =
 scene index + 1), one atom type per body, ``pair_style sphsolid`` with the
 scene's smoothing ratio, kernel and effects, ``pair_coeff`` with each
-body's material, ``fix sphsolid/heun`` on the free and force-driven
+body's material, ``fix sphsolid/improved_euler`` on the free and force-driven
 bodies, ``fix sphsolid/force`` on force- or pressure-driven ones,
 ``velocity`` + ``fix nve/noforce`` on velocity-driven bodies (pistons),
 ``fix move rotate`` on rotating ones, nothing on fixed ones, and ``fix
@@ -311,7 +311,7 @@ class Lammps(Calculator):
         self._prepared = False
         self._moves = {}
         self._later = {}
-        self._fix = "sphsolid/heun"
+        self._fix = "sphsolid/improved_euler"
 
     # ---------------------------------------------------------- building
     def bind(self, scene) -> None:
@@ -414,7 +414,7 @@ class Lammps(Calculator):
                 if len(free) > 1 else f"group free union body{free[0]}")
         else:
             cmd("group free empty")         # density and stress still evolve
-        cmd(f"fix heun free {self._fix}")
+        cmd(f"fix integrate free {self._fix}")
 
         def later(name, command):
             # fixes after the integrating one, re-created after it when the
@@ -482,24 +482,19 @@ class Lammps(Calculator):
         return RuntimeError(f"LAMMPS backend, {what}: {text}")
 
     # -------------------------------------------------------- interface
-    #: the library integrator -> the plugin's fix that runs it
-    FIXES = {"improved_euler": "sphsolid/heun", "leapfrog": "sphsolid/leapfrog"}
-
     def set_integrator(self, name: str) -> None:
-        fix = self.FIXES.get(name)
-        if fix is None:
-            _check(lib.sph_set_integrator(self.scene.handle,
-                                          _lib_encode(name)),
-                   self.scene.handle, "integrator")
-            raise UnsupportedError(f"LAMMPS backend: integrator {name!r} has "
-                                   f"no fix in the plugin (available: "
-                                   f"{', '.join(self.FIXES)})")
+        # the plugin runs the library's integrator <name> as fix
+        # sphsolid/<name>
         _check(lib.sph_set_integrator(self.scene.handle, _lib_encode(name)),
                self.scene.handle, "integrator")
+        fix = f"sphsolid/{name}"
+        if not self.lmp.has_style("fix", fix):
+            raise UnsupportedError(f"LAMMPS backend: integrator {name!r} has "
+                                   f"no fix {fix} in the plugin")
         if fix != self._fix:
-            for name in list(self._later) + list(self._moves) + ["heun"]:
+            for name in list(self._later) + list(self._moves) + ["integrate"]:
                 self.lmp.command(f"unfix {name}")
-            self.lmp.command(f"fix heun free {fix}")
+            self.lmp.command(f"fix integrate free {fix}")
             for command in list(self._later.values()) + list(self._moves.values()):
                 self.lmp.command(command)
             self._fix = fix

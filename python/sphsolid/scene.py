@@ -57,6 +57,10 @@ class Scene:
         h / dx, with dx the first body's spacing (default 1.2).
     kernel : {"cubic_spline", "wendland_c2", "cubic_o4"}
         Default "cubic_spline" (Monaghan 1992).
+    allow_large : bool
+        Let a run take up to all of the memory available, not half of it
+        (``sph_set_allow_large``); bodies beyond the limit are refused
+        before they are built, naming the particle count and bytes.
 
     Notes
     -----
@@ -72,11 +76,13 @@ class Scene:
                  domain: tuple | None = None,
                  periodic: Sequence[bool] | None = None,
                  smoothing_ratio: float | None = None,
-                 kernel: str = "cubic_spline"):
+                 kernel: str = "cubic_spline", allow_large: bool = False):
         if dimension not in (2, 3) or isinstance(dimension, bool):
             raise ValueError(f"dimension must be 2 or 3, got {dimension!r}")
         self._handle = None
         self._handle = _lib.new_handle(dimension)
+        self._check(lib.sph_set_allow_large(self._handle, bool(allow_large)),
+                    "allow_large")
         self.dimension = dimension
         self.ncomp = _lib.stress_components(dimension)
         self.bodies: list[Body] = []

@@ -325,7 +325,7 @@ class SceneFile:
         if not isinstance(spec, dict):
             raise SceneFileError(f"{where}: a body is a table")
         shape = spec.get("shape")
-        if shape not in _SHAPES:
+        if not isinstance(shape, str) or shape not in _SHAPES:
             raise SceneFileError(f"{where}: shape must be one of "
                                  f"{', '.join(sorted(_SHAPES))}, got {shape!r}")
         _unknown(f"{where} ({shape})", spec,

@@ -315,11 +315,12 @@ static void failing_low_level_calls_leave_a_message(void **state)
     double x[2] = {0}, v[2] = {0}, rho = PAPER_RHO0, S[4] = {0}, saved[7];
     double dv[2] = {0}, drho = 0, dS[4] = {0};
     sph_rates r = {.dv_dt = dv, .drho_dt = &drho, .dS_dt = dS, .dx_dt = NULL};
-    assert_refused(sim, sph_heun_predict(sim, 1, -1.0, x, v, &rho, S, &r, NULL, saved),
+    assert_refused(sim, sph_improved_euler_predict(sim, 1, -1.0, x, v, &rho, S, &r, NULL, saved),
                    SPH_ERR_ARGUMENT, "dt=-1");
-    assert_refused(
-        sim, sph_heun_correct_strided(sim, 1, 1e-7, x, v, 1, &rho, S, &r, NULL, &m, saved, NULL),
-        SPH_ERR_ARGUMENT, "stride=1");
+    assert_refused(sim,
+                   sph_improved_euler_correct_strided(sim, 1, 1e-7, x, v, 1, &rho, S, &r, NULL, &m,
+                                                      saved, NULL),
+                   SPH_ERR_ARGUMENT, "stride=1");
     const int bad_material = 5;
     assert_refused(sim, sph_derived_fields(sim, 1, &rho, S, &bad_material, NULL, NULL, NULL),
                    SPH_ERR_ARGUMENT, "material 5");

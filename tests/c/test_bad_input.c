@@ -263,9 +263,11 @@ static void nan_position_before_a_run(void **state)
 
 /* ------------------------------------------------------ neighbour search */
 
-/* Two 3D blocks 11,000 km apart: the cell count per axis times three used
- * to overflow; now the cells are widened in checked arithmetic and the
- * step runs (each block on its own). */
+/* Coordinates are limited to 1e6 spacings from the origin (a double
+ * rounds a position there to 2.2e-10 dx; at 11,000 km with dx = 1 mm to
+ * 2e-6 dx, as much as a slow body moves in a step).  Two 3D blocks
+ * 11,000 km apart: the far one is refused, naming it, its coordinate and
+ * the limit; a block just inside the limit is accepted. */
 static void far_apart_blocks_in_3d(void **state)
 {
     (void)state;
@@ -276,40 +278,105 @@ static void far_apart_blocks_in_3d(void **state)
     const double lo2[3] = {1.1e7, 1.1e7, 1.1e7},
                  hi2[3] = {1.1e7 + 4e-3, 1.1e7 + 4e-3, 1.1e7 + 4e-3};
     check(sim, sph_add_block(sim, "near", mat, lo, hi, 1e-3, NULL));
-    check(sim, sph_add_block(sim, "far", mat, lo2, hi2, 1e-3, NULL));
+    refused(sim, sph_add_block(sim, "far", mat, lo2, hi2, 1e-3, NULL), SPH_ERR_ARGUMENT,
+            "body 'far': particle 0 at x=1.1e+07 m lies 1.1e+10 spacings (dx=0.001 m) from the "
+            "origin; coordinates are limited to 1e+06 spacings (|x| <= 1000 m)");
+    assert_int_equal(sph_body_count(sim), 1);
+    assert_int_equal(sph_particle_count(sim), 64);
+    /* 996 m from the origin: inside the limit of 1000 m */
+    const double lo3[3] = {996.0, 0, 0}, hi3[3] = {996.0 + 4e-3, 4e-3, 4e-3};
+    check(sim, sph_add_block(sim, "inside", mat, lo3, hi3, 1e-3, NULL));
     check(sim, sph_run(sim, 1));
-    /* at rest, free and unstressed: nothing moves */
-    const double *v = field_ptr(sim, SPH_FIELD_VELOCITY);
-    for (size_t k = 0; k < 3 * sph_particle_count(sim); ++k)
-        assert_true(fabs(v[k]) < 1e-9);
     sph_destroy(sim);
 }
 
-/* A particle at x = 1e300 in 2D (signed overflow of the cell index
- * before): the step runs, the lone particle feels nothing. */
+/* A particle at x = 1e300 in 2D is refused when added. */
 static void particle_at_1e300_in_2d(void **state)
 {
     (void)state;
     sph_sim *sim = block();
-    int mat = 0;
     const double pos[2] = {1e300, 0.0};
-    check(sim, sph_add_particles(sim, "far", mat, 1, pos, NULL, 1e-3, NULL));
-    check(sim, sph_run(sim, 1));
-    assert_true(field_ptr(sim, SPH_FIELD_POSITION)[2 * (sph_particle_count(sim) - 1)] == 1e300);
+    refused(sim, sph_add_particles(sim, "far", 0, 1, pos, NULL, 1e-3, NULL), SPH_ERR_ARGUMENT,
+            "body 'far': particle 0 at x=1e+300 m");
+    assert_int_equal(sph_body_count(sim), 1);
     sph_destroy(sim);
 }
 
-/* Extents that overflow a double (from -1e308 to 1e308) are refused,
- * naming the particles and values. */
+/* Positions written through sph_field beyond the limit (here -1e308, whose
+ * extent with another at 1e308 overflows a double) are refused before the
+ * run, naming the particle and value. */
 static void extent_that_overflows(void **state)
 {
     (void)state;
     sph_sim *sim = block();
-    const double a[2] = {-1e308, 0.0}, b[2] = {1e308, 0.0};
-    check(sim, sph_add_particles(sim, "west", 0, 1, a, NULL, 1e-3, NULL));
-    check(sim, sph_add_particles(sim, "east", 0, 1, b, NULL, 1e-3, NULL));
-    refused(sim, sph_run(sim, 1), SPH_ERR_NONFINITE, "too far apart");
-    assert_non_null(strstr(sph_errmsg(sim), "x=1e+308"));
+    double *x = field_ptr(sim, SPH_FIELD_POSITION);
+    x[2 * 5] = -1e308;
+    x[2 * 7 + 1] = 1e308;
+    refused(sim, sph_run(sim, 1), SPH_ERR_ARGUMENT, "body 'block': particle 5 at x=-1e+308 m");
+    assert_int_equal(sph_step_count(sim), 0);
+    sph_destroy(sim);
+}
+
+/* A piston moves down at its speed: a negative speed is refused. */
+static void piston_with_negative_speed(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+    refused(sim, sph_add_piston(sim, "piston", -1, 0, 0, -1.5e-3, NULL), SPH_ERR_ARGUMENT,
+            "piston 'piston': speed=-0.0015 m/s must be finite and >= 0");
+    refused(sim, sph_add_piston(sim, "piston", -1, 0, 0, NAN, NULL), SPH_ERR_ARGUMENT, "speed=nan");
+    assert_int_equal(sph_body_count(sim), 1);
+    check(sim, sph_add_piston(sim, "piston", -1, 0, 0, 0.0, NULL));
+    sph_destroy(sim);
+}
+
+/* A 1 km cylinder at dx = 1 mm (2.4e15 particles) is refused before its
+ * cross-section is built, naming the particle count. */
+static void kilometre_cylinder_names_its_particle_count(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(3);
+    int mat;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double base[3] = {0, 0, 0};
+    refused(sim, sph_add_cylinder(sim, "rock", mat, base, 500.0, 1000.0, 1e-3, NULL),
+            SPH_ERR_MEMORY, "cylinder 'rock' (dx=0.001 m): 7.854e+17 particles");
+    assert_int_equal(sph_particle_count(sim), 0);
+    sph_destroy(sim);
+}
+
+/* Runs may take half of the available memory, all of it when allowed:
+ * counts at 0.4, 0.75 and 1.5 times what the memory available holds (the
+ * bytes per particle and the memory available read from the message of a
+ * refused huge count). */
+static void large_runs_need_to_be_allowed(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(3);
+    assert_int_equal(sph_allow_large(sim), 0);
+    refused(sim, sph_memory_check(sim, 1e15), SPH_ERR_MEMORY, "bytes each");
+    const char *msg = sph_errmsg(sim);
+    double per = 0, avail = 0;
+    char unit[8] = "";
+    const char *at = strstr(msg, "bytes each");
+    while (at > msg && at[-1] != '(')
+        --at;
+    assert_int_equal(sscanf(at, "%lf", &per), 1);
+    at = strstr(msg, "but ");
+    assert_non_null(at);
+    assert_int_equal(sscanf(at, "but %lf %7s are available", &avail, unit), 2);
+    const char *units[] = {"B", "kB", "MB", "GB", "TB", "PB"};
+    for (int k = 0; k < 6; ++k)
+        if (strcmp(unit, units[k]) == 0)
+            avail *= pow(1000.0, k);
+    const double holds = avail / per;
+    check(sim, sph_memory_check(sim, 0.4 * holds));
+    refused(sim, sph_memory_check(sim, 0.75 * holds), SPH_ERR_MEMORY, "more than 0.5 of the");
+    assert_non_null(strstr(sph_errmsg(sim), "sph_set_allow_large"));
+    check(sim, sph_set_allow_large(sim, 1));
+    assert_int_equal(sph_allow_large(sim), 1);
+    check(sim, sph_memory_check(sim, 0.75 * holds));
+    refused(sim, sph_memory_check(sim, 1.5 * holds), SPH_ERR_MEMORY, "are available");
     sph_destroy(sim);
 }
 
@@ -480,6 +547,9 @@ int main(void)
         cmocka_unit_test(negative_mass_on_one_particle),
         cmocka_unit_test(nan_position_before_a_run),
         cmocka_unit_test(far_apart_blocks_in_3d),
+        cmocka_unit_test(piston_with_negative_speed),
+        cmocka_unit_test(kilometre_cylinder_names_its_particle_count),
+        cmocka_unit_test(large_runs_need_to_be_allowed),
         cmocka_unit_test(particle_at_1e300_in_2d),
         cmocka_unit_test(extent_that_overflows),
         cmocka_unit_test(probe_outside_every_body),

@@ -544,6 +544,81 @@ static void old_and_newer_formats_are_refused(void **state)
     remove(path);
 }
 
+/* An output of libsphsolid 0.1.0 (file format 1, no version attribute, no
+ * complete_frames count, no checksums; tests/data/make_format1_output.c)
+ * reads back into the same scene built with this API: a free block pushed
+ * at a uniform 1 m/s has no internal rates, so frame k holds the lattice
+ * moved by -1 m/s x k dt, the velocity, rho0 and zero stress. */
+static void format_1_output_is_read(void **state)
+{
+    (void)state;
+    const char *path = SPHSOLID_TEST_DATA "/format1_output.h5";
+    sph_sim *sim = new_sim(2);
+    int mat, body;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double lo[3] = {0, 0, 0}, hi[3] = {6e-3, 4e-3, 0}, v[3] = {0, -1.0, 0};
+    check(sim, sph_add_block(sim, "block", mat, lo, hi, 1e-3, &body));
+    check(sim, sph_set_body_velocity(sim, body, v));
+    const size_t n = sph_particle_count(sim);
+    assert_int_equal(n, 24);
+    double x0[48];
+    memcpy(x0, sim->x, sizeof x0);
+    long frames = 0;
+    check(sim, sph_read_frame_count(sim, path, &frames));
+    assert_int_equal(frames, 4);
+    for (long k = 0; k < frames; ++k) {
+        check(sim, sph_read_frame(sim, path, k));
+        assert_int_equal(sph_step_count(sim), k);
+        assert_close(sph_time(sim), 1e-7 * (double)k, 1e-22, "frame time");
+        for (size_t a = 0; a < n; ++a) {
+            assert_close(sim->x[2 * a], x0[2 * a], 1e-15, "x");
+            assert_close(sim->x[2 * a + 1], x0[2 * a + 1] - 1e-7 * (double)k, 1e-15, "y");
+            assert_close(sim->v[2 * a + 1], -1.0, 1e-12, "vy");
+            assert_close(sim->rho[a], PAPER_RHO0, 1e-9, "density");
+            for (int c = 0; c < 4; ++c)
+                assert_close(sim->S[4 * a + (size_t)c], 0.0, 1e-6, "deviatoric stress");
+        }
+    }
+    /* the run goes on from the frame read */
+    check(sim, sph_run(sim, 1));
+    assert_int_equal(sph_step_count(sim), 4);
+    /* another scene is refused (format 1 records no body extents: a body
+     * of the same name and count but another shape is not told apart) */
+    sph_sim *other = free_block_2d(5, 4, 1e-3);
+    assert_int_equal(sph_read_frame(other, path, 0), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(other), "does not match this simulation"));
+    /* it is an output, not a checkpoint */
+    assert_int_equal(sph_checkpoint_read(sim, path), SPH_ERR_IO);
+    assert_non_null(strstr(sph_errmsg(sim), "output file (format 1), not a checkpoint"));
+    sph_destroy(other);
+    sph_destroy(sim);
+}
+
+/* The format version exported is the one written into each file. */
+static void written_format_is_the_exported_version(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/sphsolid-format-XXXXXX", path[64], xmf[64];
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof path, "%s/out.h5", dir);
+    snprintf(xmf, sizeof xmf, "%s/out.xmf", dir);
+    sph_sim *sim = block(4, 4, PAPER_K);
+    check(sim, sph_output_open(sim, path, 1, 0));
+    check(sim, sph_output_close(sim));
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    long version = 0;
+    hid_t a = H5Aopen(f, "sphsolid_format", H5P_DEFAULT);
+    assert_true(H5Aread(a, H5T_NATIVE_LONG, &version) >= 0);
+    H5Aclose(a);
+    H5Fclose(f);
+    assert_int_equal(version, sph_output_format_version());
+    assert_true(sph_output_format_version() >= 2);
+    sph_destroy(sim);
+    remove(path);
+    remove(xmf);
+    rmdir(dir);
+}
+
 /* ---------------------------------------------------- another scene */
 
 static void checkpoint_of_another_scene_names_the_difference(void **state)
@@ -669,6 +744,62 @@ static void adding_a_body_while_output_is_open_is_refused(void **state)
     remove(path);
 }
 
+/* ------------------------------------------ output file moved away */
+
+/* The output file removed or replaced (another file renamed over its path)
+ * during a run: the next write stops the run with an error naming the path,
+ * closing reports it, and no XDMF is written (it would describe a file the
+ * run did not write); the replacing file is left as it was.  Untouched, the
+ * same run writes its XDMF.  Modes: 0 untouched, 1 removed, 2 replaced,
+ * 3 replaced after the last write (found at close). */
+static void output_file_removed_or_replaced_is_an_error(void **state)
+{
+    (void)state;
+    static const char other[] = "another program's file\n";
+    for (int mode = 0; mode < 4; ++mode) {
+        char dir[] = "/tmp/sphsolid-moved-XXXXXX";
+        assert_non_null(mkdtemp(dir));
+        char path[64], xmf[64], elsewhere[64];
+        snprintf(path, sizeof path, "%s/out.h5", dir);
+        snprintf(xmf, sizeof xmf, "%s/out.xmf", dir);
+        snprintf(elsewhere, sizeof elsewhere, "%s/other", dir);
+        sph_sim *sim = block(10, 10, PAPER_K);
+        check(sim, sph_output_open(sim, path, 1, 0));
+        check(sim, sph_run(sim, 3));
+        if (mode >= 2) {
+            FILE *f = fopen(elsewhere, "wb");
+            assert_non_null(f);
+            fputs(other, f);
+            fclose(f);
+            assert_int_equal(rename(elsewhere, path), 0);
+        } else if (mode == 1) {
+            assert_int_equal(unlink(path), 0);
+        }
+        const char *what = mode == 1 ? "was removed during the run" : "was replaced during the run";
+        if (mode == 1 || mode == 2) {
+            assert_int_equal(sph_run(sim, 3), SPH_ERR_IO);
+            assert_non_null(strstr(sph_errmsg(sim), path));
+            assert_non_null(strstr(sph_errmsg(sim), what));
+            assert_int_equal(sph_step_count(sim), 4); /* stopped at the first write */
+        }
+        const sph_status closed = sph_output_close(sim);
+        if (mode == 0) {
+            assert_int_equal(closed, SPH_OK);
+            assert_int_equal(access(xmf, F_OK), 0);
+        } else {
+            assert_int_equal(closed, SPH_ERR_IO);
+            assert_non_null(strstr(sph_errmsg(sim), what));
+            assert_int_equal(access(xmf, F_OK), -1); /* no XDMF of a file not written */
+        }
+        if (mode >= 2)
+            assert_true(same_file(path, other, (long)strlen(other)));
+        sph_destroy(sim);
+        remove(path);
+        remove(xmf);
+        assert_int_equal(rmdir(dir), 0);
+    }
+}
+
 /* ----------------------------------------------------- long paths */
 
 static void long_checkpoint_path_touches_no_other_file(void **state)
@@ -766,9 +897,12 @@ int main(int argc, char **argv)
         cmocka_unit_test_teardown(damaged_frame_is_refused_and_state_kept, cleanup),
         cmocka_unit_test_teardown(truncated_and_foreign_files_are_refused, cleanup),
         cmocka_unit_test_teardown(old_and_newer_formats_are_refused, cleanup),
+        cmocka_unit_test_teardown(format_1_output_is_read, cleanup),
+        cmocka_unit_test_teardown(written_format_is_the_exported_version, cleanup),
         cmocka_unit_test_teardown(checkpoint_of_another_scene_names_the_difference, cleanup),
         cmocka_unit_test_teardown(checkpoint_with_other_effects_names_the_difference, cleanup),
         cmocka_unit_test_teardown(adding_a_body_while_output_is_open_is_refused, cleanup),
+        cmocka_unit_test_teardown(output_file_removed_or_replaced_is_an_error, cleanup),
         cmocka_unit_test_teardown(long_checkpoint_path_touches_no_other_file, cleanup),
         cmocka_unit_test_teardown(host_hdf5_error_handler_is_kept, cleanup),
     };

@@ -382,6 +382,142 @@ static void leapfrog_kick_on_caller_arrays_applies_the_watchdog(void **state)
     sph_destroy(sim);
 }
 
+/* Two bodies far apart evolve as each would alone: a body added after a
+ * run (every buffer of the run grows with the particle count) takes its
+ * steps as in a handle of its own, the first body's steps go on as if
+ * nothing had been added; for both integrators, with and without XSPH. */
+static sph_sim *pushed_block(double x0, double vy, const char *name, int *body)
+{
+    sph_sim *sim = new_sim(2);
+    int mat;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double lo[3] = {x0, 0, 0}, hi[3] = {x0 + 6e-3, 5e-3, 0}, v[3] = {0, vy, 0};
+    check(sim, sph_add_block(sim, name, mat, lo, hi, 1e-3, body));
+    check(sim, sph_set_body_velocity(sim, *body, v));
+    return sim;
+}
+
+static void body_added_after_a_run_runs_as_alone(void **state)
+{
+    (void)state;
+    static const char *const names[2] = {"improved_euler", "leapfrog"};
+    for (int k = 0; k < 4; ++k) {
+        const char *integ = names[k % 2];
+        const int xsph = k / 2;
+        int a, b, a1, b1, mat = 0;
+        sph_sim *sim = pushed_block(0.0, -1.0, "first", &a);
+        sph_sim *alone_a = pushed_block(0.0, -1.0, "first", &a1);
+        sph_sim *alone_b = pushed_block(50e-3, 2.0, "second", &b1);
+        sph_sim *all[3] = {sim, alone_a, alone_b};
+        for (int s = 0; s < 3; ++s) {
+            check(all[s], sph_set_integrator(all[s], integ));
+            check(all[s], sph_set_dt(all[s], 2e-8, 0));
+            if (xsph)
+                check(all[s], sph_effect(all[s], "xsph", "epsilon=0.5"));
+        }
+        check(sim, sph_run(sim, 5));
+        const size_t na = sph_particle_count(sim);
+        /* a body 50 mm away: twice the particles the run was sized for */
+        const double lo[3] = {50e-3, 0, 0}, hi[3] = {56e-3, 5e-3, 0}, v[3] = {0, 2.0, 0};
+        check(sim, sph_add_block(sim, "second", mat, lo, hi, 1e-3, &b));
+        check(sim, sph_set_body_velocity(sim, b, v));
+        assert_true(sph_particle_count(sim) == 2 * na);
+        check(sim, sph_run(sim, 5));
+        check(alone_a, sph_run(alone_a, 10));
+        check(alone_b, sph_run(alone_b, 5));
+        const double *x = field_ptr(sim, SPH_FIELD_POSITION);
+        const double *v_all = field_ptr(sim, SPH_FIELD_VELOCITY);
+        const double *xa = field_ptr(alone_a, SPH_FIELD_POSITION);
+        const double *xb = field_ptr(alone_b, SPH_FIELD_POSITION);
+        const double *vb = field_ptr(alone_b, SPH_FIELD_VELOCITY);
+        for (size_t p = 0; p < 2 * na; ++p) {
+            assert_close(x[p], xa[p], 1e-15, integ);
+            assert_close(x[2 * na + p], xb[p], 1e-15, integ);
+            assert_close(v_all[2 * na + p], vb[p], 1e-9, integ);
+        }
+        for (int s = 0; s < 3; ++s)
+            sph_destroy(all[s]);
+    }
+}
+
+/* The deprecated sph_heun_* aliases (one release) give bit for bit what
+ * the sph_improved_euler_* stages they name give, on the same inputs:
+ * a pushed 6 x 5 block with given rates, both stages, plain and strided. */
+#if defined(__GNUC__) || defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+#endif
+static void heun_aliases_equal_improved_euler_stages(void **state)
+{
+    (void)state;
+    int body;
+    sph_sim *sim = pushed_block(0.0, -1.0, "block", &body);
+    const size_t n = sph_particle_count(sim);
+    assert_int_equal(n, 30);
+    /* rates of any finite values: the stages integrate what they are given */
+    double *dv = malloc(2 * n * sizeof *dv), *drho = malloc(n * sizeof *drho),
+           *dS = malloc(4 * n * sizeof *dS);
+    for (size_t k = 0; k < 4 * n; ++k) {
+        if (k < 2 * n)
+            dv[k] = 1e3 * sin((double)k);
+        if (k < n)
+            drho[k] = 1e2 * cos((double)k);
+        dS[k] = 1e6 * sin(2.0 * (double)k + 1.0);
+    }
+    sph_rates r = {.dv_dt = dv, .drho_dt = drho, .dS_dt = dS, .dx_dt = NULL};
+    int *mat = calloc(n, sizeof *mat);
+    const int *material = mat;
+    for (int stride = 2; stride <= 3; ++stride) {
+        /* a: new names, b: deprecated aliases */
+        double *xa = calloc(3 * n, sizeof *xa), *va = calloc(3 * n, sizeof *va);
+        double *xb = calloc(3 * n, sizeof *xb), *vb = calloc(3 * n, sizeof *vb);
+        double *rhoa = malloc(n * sizeof *rhoa), *rhob = malloc(n * sizeof *rhob);
+        double *Sa = malloc(4 * n * sizeof *Sa), *Sb = malloc(4 * n * sizeof *Sb);
+        double *sa = malloc(7 * n * sizeof *sa), *sb = malloc(7 * n * sizeof *sb);
+        const double *x0 = field_ptr(sim, SPH_FIELD_POSITION),
+                     *v0 = field_ptr(sim, SPH_FIELD_VELOCITY);
+        for (size_t a = 0; a < n; ++a)
+            for (int i = 0; i < 2; ++i) {
+                xa[a * stride + i] = xb[a * stride + i] = x0[2 * a + i];
+                va[a * stride + i] = vb[a * stride + i] = v0[2 * a + i];
+            }
+        memcpy(rhoa, field_ptr(sim, SPH_FIELD_DENSITY), n * sizeof *rhoa);
+        memcpy(rhob, rhoa, n * sizeof *rhob);
+        memcpy(Sa, field_ptr(sim, SPH_FIELD_DEVIATORIC_STRESS), 4 * n * sizeof *Sa);
+        memcpy(Sb, Sa, 4 * n * sizeof *Sb);
+        long pa = 0, pb = 0;
+        if (stride == 2) {
+            check(sim, sph_improved_euler_predict(sim, n, 1e-8, xa, va, rhoa, Sa, &r, NULL, sa));
+            check(sim, sph_heun_predict(sim, n, 1e-8, xb, vb, rhob, Sb, &r, NULL, sb));
+            check(sim, sph_improved_euler_correct(sim, n, 1e-8, xa, va, rhoa, Sa, &r, NULL, sa));
+            check(sim, sph_heun_correct(sim, n, 1e-8, xb, vb, rhob, Sb, &r, NULL, sb));
+        } else {
+            check(sim, sph_improved_euler_predict_strided(sim, n, 1e-8, xa, va, 3, rhoa, Sa, &r,
+                                                          NULL, sa));
+            check(sim, sph_heun_predict_strided(sim, n, 1e-8, xb, vb, 3, rhob, Sb, &r, NULL, sb));
+            check(sim, sph_improved_euler_correct_strided(sim, n, 1e-8, xa, va, 3, rhoa, Sa, &r,
+                                                          NULL, material, sa, &pa));
+            check(sim, sph_heun_correct_strided(sim, n, 1e-8, xb, vb, 3, rhob, Sb, &r, NULL,
+                                                material, sb, &pb));
+            assert_int_equal(pa, pb);
+        }
+        assert_memory_equal(xa, xb, 3 * n * sizeof *xa);
+        assert_memory_equal(va, vb, 3 * n * sizeof *va);
+        assert_memory_equal(rhoa, rhob, n * sizeof *rhoa);
+        assert_memory_equal(Sa, Sb, 4 * n * sizeof *Sa);
+        /* the stages moved the block: the comparison is not of untouched arrays */
+        assert_true(xa[1] != x0[1]);
+        free(xa), free(va), free(xb), free(vb), free(rhoa), free(rhob);
+        free(Sa), free(Sb), free(sa), free(sb);
+    }
+    free(mat);
+    free(dv), free(drho), free(dS);
+    sph_destroy(sim);
+}
+#if defined(__GNUC__) || defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -394,6 +530,8 @@ int main(void)
         cmocka_unit_test(leapfrog_moves_prescribed_bodies_exactly),
         cmocka_unit_test(leapfrog_turns_stress_with_a_rotation_to_second_order),
         cmocka_unit_test(leapfrog_kick_on_caller_arrays_applies_the_watchdog),
+        cmocka_unit_test(body_added_after_a_run_runs_as_alone),
+        cmocka_unit_test(heun_aliases_equal_improved_euler_stages),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

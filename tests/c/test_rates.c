@@ -521,12 +521,13 @@ static void strided_entry_points_match_the_dense_ones(void **state)
     double *saved2 = malloc(7 * n * sizeof *saved2), *saved3 = malloc(7 * n * sizeof *saved3);
     const double dt = 1e-8;
     sph_rates rd = {.dv_dt = dense.dv, .drho_dt = dense.drho, .dS_dt = dense.dS};
-    check(sim, sph_heun_predict(sim, n, dt, x2, v2, rho2, S2, &rd, integrate, saved2));
-    check(sim, sph_heun_predict_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate, saved3));
+    check(sim, sph_improved_euler_predict(sim, n, dt, x2, v2, rho2, S2, &rd, integrate, saved2));
+    check(sim, sph_improved_euler_predict_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate,
+                                                  saved3));
     long bad = 0;
-    check(sim, sph_heun_correct(sim, n, dt, x2, v2, rho2, S2, &rd, integrate, saved2));
-    check(sim, sph_heun_correct_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate,
-                                        sim->material_of, saved3, &bad));
+    check(sim, sph_improved_euler_correct(sim, n, dt, x2, v2, rho2, S2, &rd, integrate, saved2));
+    check(sim, sph_improved_euler_correct_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate,
+                                                  sim->material_of, saved3, &bad));
     assert_int_equal(bad, -1);
     for (size_t a = 0; a < n; ++a) {
         for (int i = 0; i < 2; ++i) {
@@ -542,10 +543,11 @@ static void strided_entry_points_match_the_dense_ones(void **state)
     }
     assert_memory_equal(S3, S2, 4 * n * sizeof *S2);
     /* the watchdog: an integrated particle at 5 c_p is named */
-    check(sim, sph_heun_predict_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate, saved3));
+    check(sim, sph_improved_euler_predict_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate,
+                                                  saved3));
     v3[3 * 7] = 5.0 * sqrt((PAPER_K + 4.0 * PAPER_MU / 3.0) / PAPER_RHO0);
-    assert_int_equal(sph_heun_correct_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd, integrate,
-                                              sim->material_of, saved3, &bad),
+    assert_int_equal(sph_improved_euler_correct_strided(sim, n, dt, x3, v3, 3, rho3, S3, &rd,
+                                                        integrate, sim->material_of, saved3, &bad),
                      SPH_ERR_UNSTABLE);
     assert_int_equal(bad, 7);
     assert_non_null(strstr(sph_errmsg(sim), "particle 7"));
@@ -560,7 +562,7 @@ static void strided_entry_points_match_the_dense_ones(void **state)
     v2[2 * 7 + 1] = 0.0;
     check(sim, sph_watchdog_check(sim, n, v2, rho2, sim->material_of, integrate, &bad));
     assert_int_equal(
-        sph_heun_predict_strided(sim, n, dt, x3, v3, 1, rho3, S3, &rd, integrate, saved3),
+        sph_improved_euler_predict_strided(sim, n, dt, x3, v3, 1, rho3, S3, &rd, integrate, saved3),
         SPH_ERR_ARGUMENT);
     assert_non_null(strstr(sph_errmsg(sim), "stride=1"));
     free(x3);

@@ -94,7 +94,7 @@ create_atoms 1 region block
 mass 1 $(2300.0*0.001*0.001)
 pair_style sphsolid 0.001
 pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0
-fix heun all sphsolid/heun
+fix integrate all sphsolid/improved_euler
 # a shearing velocity field: the block starts unstrained and vibrates
 variable vx atom 0.2*y/0.006
 velocity all set v_vx 0.0 0.0 units box

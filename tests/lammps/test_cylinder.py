@@ -84,7 +84,7 @@ RESTARTED = textwrap.dedent("""\
     pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0
     neighbor {skin} bin
     neigh_modify every 1 delay 0 check yes
-    fix heun specimen sphsolid/heun
+    fix integrate specimen sphsolid/improved_euler
     fix piston piston move linear 0.0 -0.0015 0.0 units box
     compute rho all sphsolid/density/atom
     compute stress all sphsolid/stress/atom

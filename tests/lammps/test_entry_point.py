@@ -34,7 +34,7 @@ DECK_WITHOUT_PLUGIN_LOAD = textwrap.dedent("""\
     mass 1 $(2300.0*0.001*0.001)
     pair_style sphsolid 0.001
     pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0
-    fix heun all sphsolid/heun
+    fix integrate all sphsolid/improved_euler
     run 5
     """)
 
@@ -82,7 +82,7 @@ def test_lmp_loads_the_plugin_through_the_entry_point(tmp_path, plugin):
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
     log = (tmp_path / "log.lammps").read_text()
     assert "plugin load" not in log
-    assert "Loop time" in log  # pair sphsolid and fix sphsolid/heun were known
+    assert "Loop time" in log  # pair sphsolid and fix sphsolid/improved_euler were known
 
 
 def test_without_the_entry_point_the_deck_fails(tmp_path, plugin):

@@ -140,7 +140,7 @@ def final_state(path):
     return np.loadtxt(path, skiprows=9)
 
 
-@pytest.mark.parametrize("fix", ["heun", "leapfrog"])
+@pytest.mark.parametrize("fix", ["improved_euler", "leapfrog"])
 def test_atoms_crossing_ranks_keep_their_state(tmp_path, plugin, fix):
     # With the leapfrog the half step's density and stress rates, which
     # predict the next half step, travel with the atoms too (a lost or
@@ -163,7 +163,7 @@ RESTARTED = textwrap.dedent("""\
     pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0
     neighbor {skin} bin
     neigh_modify every 1 delay 0 check yes
-    fix heun specimen sphsolid/heun
+    fix integrate specimen sphsolid/improved_euler
     fix piston piston move linear 0.0 -0.0015 0.0 units box
     compute rho all sphsolid/density/atom
     compute stress all sphsolid/stress/atom

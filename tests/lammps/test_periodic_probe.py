@@ -43,7 +43,7 @@ PERIODIC_STRIP = textwrap.dedent("""\
     neigh_modify every 1 delay 0 check yes
     variable vy atom 2.0*sin(2.0*PI*x/0.02)
     velocity all set 0.0 v_vy 0.0 units box
-    fix heun all sphsolid/heun
+    fix integrate all sphsolid/improved_euler
     compute edge all sphsolid/probe -0.0097 0.005
     compute inside all sphsolid/probe -0.0003 0.005
     fix probes all ave/time 10 1 10 c_edge[*] c_inside[*] file probes.txt format " %.17g"

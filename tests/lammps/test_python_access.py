@@ -97,7 +97,7 @@ create_atoms 1 region block
 mass 1 $(2300.0*0.001*0.001)
 pair_style sphsolid 0.001
 pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0
-fix heun all sphsolid/heun
+fix integrate all sphsolid/improved_euler
 run 5""")
         assert lmp.extract_global("ntimestep") == 5
     finally:

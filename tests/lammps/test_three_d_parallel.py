@@ -46,7 +46,7 @@ SPINNING_BLOCK_3D = textwrap.dedent("""\
     variable vx atom 60.0-2000.0*y
     variable vy atom 2000.0*(x+0.007)
     velocity all set v_vx v_vy 0.0 units box
-    fix heun all sphsolid/heun
+    fix integrate all sphsolid/improved_euler
     compute rho all sphsolid/density/atom
     compute stress all sphsolid/stress/atom
     compute P all sphsolid/probe 0.0 0.0 0.0 outside nan
@@ -101,7 +101,7 @@ RESTART_CONTINUED = textwrap.dedent("""\
     pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0
     neighbor {skin} bin
     neigh_modify every 1 delay 0 check yes
-    fix heun specimen sphsolid/heun
+    fix integrate specimen sphsolid/improved_euler
     fix piston piston move linear 0.0 -0.0015 0.0 units box
     compute A all sphsolid/probe 0.0 $(0.5*0.135) 0.0
     compute B all sphsolid/probe $(0.25*0.054) $(0.75*0.135) 0.0

@@ -34,7 +34,7 @@ DECK = textwrap.dedent("""\
     neighbor 0.0003 bin
     variable vx atom -100.0*(x-0.005)
     velocity all set v_vx 0.0 0.0 units box
-    fix heun all sphsolid/heun
+    fix integrate all sphsolid/improved_euler
     compute rho all sphsolid/density/atom
     compute stress all sphsolid/stress/atom
     run 50

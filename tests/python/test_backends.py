@@ -47,7 +47,7 @@ def run_both(make_scene, until, interval=5, dynamics=sphsolid.ImprovedEuler,
 
 @pytest.mark.parametrize("dynamics", [sphsolid.ImprovedEuler, sphsolid.Leapfrog])
 def test_backends_agree_on_the_piston_scene(dynamics):
-    """fix sphsolid/heun or fix sphsolid/leapfrog against the library.  The
+    """fix sphsolid/improved_euler or fix sphsolid/leapfrog against the library.  The
     leapfrog runs whole steps: a shortened last step makes LAMMPS set up
     again, which re-evaluates the rates at the whole-step velocity where the
     library carries those of the half step (docs/lammps)."""

@@ -146,13 +146,11 @@ def _scene_that_cannot_fit():
                                        rock())])
 
 
-def _far_apart_3d_with_probe_outside():
+def _far_apart_3d():
     a = build.box((0, 0.003), (0, 0.003), (0, 0.003), 1e-3, rock(), name="a")
     b = build.box((1.1e7, 1.1e7 + 0.003), (1.1e7, 1.1e7 + 0.003),
                   (1.1e7, 1.1e7 + 0.003), 1e-3, rock(), name="b")
-    scene = sphsolid.Scene(3, [a, b])
-    sphsolid.ImprovedEuler(scene).run(1)        # runs: no overflow
-    sphsolid.Probes(scene, {"mid": (5e6, 5e6, 5e6)}).sample()
+    sphsolid.Scene(3, [a, b])       # b beyond 1e6 spacings from the origin
 
 
 def _trajectory_of_old_format(tmp_path):
@@ -247,7 +245,7 @@ PYTHON_CASES = [
     (_lammps_missing_plugin, OSError, r"plugin '.*no_such_plugin.so' does not exist"),
     (_builder_that_cannot_fit, MemoryError, r"radius 0.07 m .*dx=1e-06 m.*are available"),
     (_scene_that_cannot_fit, MemoryError, r"block 'specimen' \(dx=3e-06 m\).*need about .* are available"),
-    (_far_apart_3d_with_probe_outside, sphsolid.SimulationError, r"probe 'mid' at \(5e\+06, 5e\+06, 5e\+06\) m is outside"),
+    (_far_apart_3d, ValueError, r"body 'b': particle 0 at x=1.1e\+07 m lies 1.1e\+10 spacings"),
     (_trajectory_of_old_format, OSError, r"old.h5' is in libsphsolid file format 1"),
     (_trajectory_of_newer_format, OSError, r"new.h5' has libsphsolid file format 7"),
     (_trajectory_of_a_checkpoint, OSError, r"is a libsphsolid checkpoint file, not an output file"),

@@ -9,7 +9,6 @@ import pytest
 
 from sphsolid import _lib, cli
 from sphsolid.dynamics import dynamics_for
-from sphsolid.lammps import Lammps
 
 ROOT = Path(__file__).resolve().parents[2]
 GUIDE = ROOT / "docs" / "developer.md"
@@ -34,11 +33,22 @@ def named_paths(text: str) -> set:
             and re.search(r"\.(c|h|cpp|py|md|rst|txt)$|/$", p)}
 
 
+DEPRECATED = re.compile(r"deprecated name of (\w+) (\S+)")
+
+
+def registrations() -> list:
+    """(kind, style, description) of every add(...) of the plugin."""
+    return re.findall(r'add\(reg, lmp, handle, "(\w+)", "([^"]+)",\s*"([^"]*)"',
+                      PLUGIN.read_text())
+
+
 def plugin_styles(atom_table: bool = True) -> list:
-    """(kind, style) of every add(...) in the plugin and (``atom_table``)
-    the per-atom computes of its atom_styles table."""
+    """(kind, style) of every add(...) in the plugin but the deprecated
+    aliases, and (``atom_table``) the per-atom computes of its atom_styles
+    table."""
     source = PLUGIN.read_text()
-    styles = re.findall(r'add\(reg, lmp, handle, "(\w+)", "([^"]+)"', source)
+    styles = [(kind, style) for kind, style, text in registrations()
+              if not DEPRECATED.match(text)]
     if atom_table:
         table = source[source.index("atom_styles[][2]"):]
         table = table[:table.index("};")]
@@ -51,16 +61,10 @@ def style_file(kind: str, style: str) -> str:
     return f"{kind}_{style.lower().replace('/', '_')}"
 
 
-def fix_of(integrator: str) -> str:
-    """The part after 'sphsolid/' of the integrator's fix style."""
-    return Lammps.FIXES[integrator].split("/", 1)[1]
-
-
 def expansions(title: str) -> list:
     """The {placeholder: value} sets a checklist's paths are read with."""
     if title == "Add an integrator":
-        return [{"<name>": n, "<fix>": fix_of(n)}
-                for n in _lib.integrator_names()]
+        return [{"<name>": n} for n in _lib.integrator_names()]
     if title == "Add a LAMMPS style":
         out = []
         # the atom_styles rows share compute_sphsolid_atom.* (named there)
@@ -105,12 +109,14 @@ def test_every_integrator_has_its_record_fix_page_and_class(name):
     assert len(records) == 1, records
     assert records[0].name in (ROOT / "libsphsolid" /
                                "CMakeLists.txt").read_text()
-    assert f"&integrator_{name}" in (src / "integrators.c").read_text()
+    assert f"&integrator_{name}" in \
+        (src / "integrator_registry.c").read_text()
     assert re.search(rf"extern const integrator integrator_{name}\b",
                      (src / "integrator.h").read_text())
     assert dynamics_for(name).integrator == name
-    fix = fix_of(name)
-    assert ("fix", Lammps.FIXES[name]) in plugin_styles()
+    # the plugin runs integrator <name> as fix sphsolid/<name>
+    fix = name
+    assert ("fix", f"sphsolid/{name}") in plugin_styles()
     page = ROOT / "docs" / "lammps" / f"fix_sphsolid_{fix}.rst"
     assert page.is_file() and f"sphsolid/{fix}" in page.read_text()
     source = ROOT / "lammps_plugin" / f"fix_sphsolid_{fix}.cpp"
@@ -145,3 +151,12 @@ def test_every_effect_and_kernel_has_its_registry_row():
         assert re.search(rf"\bX\(SPH_KERNEL_{name.upper()}, {name},",
                          kernel_h), name
         assert re.search(rf"\bSPH_KERNEL_{name.upper()} = \d+", header), name
+
+
+def test_a_deprecated_style_names_its_replacement_on_its_page():
+    aliases = [(k, s, DEPRECATED.match(t).groups()) for k, s, t
+               in registrations() if DEPRECATED.match(t)]
+    for kind, style, (new_kind, new_style) in aliases:
+        assert (new_kind, new_style) in plugin_styles() and new_kind == kind
+        page = ROOT / "docs" / "lammps" / f"{style_file(kind, new_style)}.rst"
+        assert f"{kind} {style}" in page.read_text(), (style, page)

@@ -2,8 +2,9 @@
 
 A plan's calibration runs (and effect detection runs) are keyed by what
 determines them: the scene (its name and the parameters its factory was
-given), the library's version, and the run's own key (spacing, setting,
-end time, quantity, threads). :class:`RunCache` is the dictionary
+given), the library's version and a digest of its file (a rebuilt
+library is a new scope), and the run's own key (spacing, setting, end
+time, quantity, threads). :class:`RunCache` is the dictionary
 :func:`~sphsolid.planner.plan` fills (its ``cache=``), backed by one
 file per entry under ``$SPHSOLID_CACHE`` (default
 ``$XDG_CACHE_HOME/sphsolid/plan``, else ``~/.cache/sphsolid/plan``), so a
@@ -20,6 +21,7 @@ import pickle
 from collections.abc import MutableMapping
 from pathlib import Path
 
+from .._lib import library_path
 from .._lib import version as library_version
 
 
@@ -30,6 +32,15 @@ def cache_root() -> Path:
         return Path(explicit)
     base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
     return Path(base) / "sphsolid" / "plan"
+
+
+def _library_digest() -> str:
+    """A digest of the loaded library's file: a rebuilt library (whose
+    version string a development build does not change) is a new scope."""
+    try:
+        return hashlib.sha256(library_path().read_bytes()).hexdigest()[:16]
+    except OSError:
+        return "unknown"
 
 
 def _digest(text: str) -> str:
@@ -45,7 +56,7 @@ class RunCache(MutableMapping):
     ``root=None`` keeps them in memory only."""
 
     def __init__(self, scene: str, root: Path | str | None = "default"):
-        self.scope = f"{scene}|{library_version()}"
+        self.scope = f"{scene}|{library_version()}|{_library_digest()}"
         self.memory: dict = {}
         if root == "default":
             root = cache_root()

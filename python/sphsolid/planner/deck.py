@@ -232,12 +232,7 @@ def plan_deck(deck, error: float, until: float | None = None, probes=(),
                           scene=f"deck {deck.name}",
                           effects_examined=False)
     if affordable:
-        best = affordable[0]
-        result.setting, result.dx = best.setting, best.dx
-        result.predicted_error = best.model.predict(best.dx)
-        result.error_upper = best.model.upper(best.dx)
-        result.predicted_seconds = best.seconds
-        result.particles, result.steps = best.particles, best.steps
+        result.adopt(affordable[0])
     elif usable:
         best = min(usable, key=lambda c: c.model.upper(c.model.smallest_dx))
         result.best_reachable_error = best.model.upper(

@@ -33,7 +33,6 @@ table is generated from it.
 """
 from __future__ import annotations
 
-import json
 import math
 from functools import lru_cache
 from pathlib import Path
@@ -92,18 +91,8 @@ class Record:
 
     @classmethod
     def load(cls, path: Path | str = RECORD_FILE) -> "Record":
-        path = Path(path)
-        try:
-            text = path.read_text()
-        except OSError as error:
-            raise ValueError(f"{path}: cannot read the verification record "
-                             f"({error.strerror})") from None
-        try:
-            data = json.loads(text)
-        except json.JSONDecodeError as error:
-            raise ValueError(f"{path}: not a JSON verification record "
-                             f"({error})") from None
-        return cls(data, str(path))
+        from .search import read_json
+        return cls(read_json(path, "verification record"), str(path))
 
     def verdict(self, setting, norm: str) -> dict | None:
         """{"ratio", "bias", "factor"} of a setting in a norm, or None when

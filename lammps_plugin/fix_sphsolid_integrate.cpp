@@ -1,12 +1,11 @@
 /*
- * fix_sphsolid_heun.cpp - Improved Euler for pair sphsolid (see the header).
- *
- * The stages are the library's sph_heun_predict_strided() and
- * sph_heun_correct_strided(), working on LAMMPS's own x and v (3 doubles
- * per atom); this file hands them dv/dt and keeps the two rate
- * evaluations in step with LAMMPS's communication.
+ * fix_sphsolid_integrate.cpp - what the integrating fixes of pair sphsolid
+ * share (see the header): the deck checks at init, the library's default
+ * time step, dv/dt of every force with the rigid bodies of fix
+ * sphsolid/force applied, the stage buffer's size and the report of a
+ * non-finite value.
  */
-#include "fix_sphsolid_heun.h"
+#include "fix_sphsolid_integrate.h"
 
 #include "fix_sphsolid_force.h"
 #include "fix_sphsolid_state.h"
@@ -28,22 +27,10 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-// LAMMPS's per-atom 3-vectors (x, v) as one block of doubles, 3 per atom
-static double *xv(double **array)
-{
-  return array ? array[0] : nullptr;
-}
-
 /* ---------------------------------------------------------------------- */
 
-FixSPHSolidHeun::FixSPHSolidHeun(LAMMPS *lmp, int narg, char **arg) :
-    FixSPHSolidHeun(lmp, narg, arg, "improved_euler")
-{
-}
-
-FixSPHSolidHeun::FixSPHSolidHeun(LAMMPS *lmp, int narg, char **arg, const char *name) :
-    Fix(lmp, narg, arg), integrator(name), pair(nullptr), timestep_from_library(false),
-    stage_atoms(-1), stage_in_rows(false)
+FixSPHSolidIntegrate::FixSPHSolidIntegrate(LAMMPS *lmp, int narg, char **arg, const char *name) :
+    Fix(lmp, narg, arg), integrator(name), pair(nullptr), timestep_from_library(false)
 {
   if (narg != 3)
     error->all(FLERR, "fix {} takes no arguments after the style name, got '{}'", style, arg[3]);
@@ -69,24 +56,32 @@ FixSPHSolidHeun::FixSPHSolidHeun(LAMMPS *lmp, int narg, char **arg, const char *
 
 /* ---------------------------------------------------------------------- */
 
-int FixSPHSolidHeun::setmask()
-{
-  return INITIAL_INTEGRATE | PRE_EXCHANGE | FINAL_INTEGRATE;
-}
-
-/* ---------------------------------------------------------------------- */
-
-void FixSPHSolidHeun::init()
+void FixSPHSolidIntegrate::init()
 {
   pair = dynamic_cast<PairSPHSolid *>(force->pair_match("sphsolid", 1));
   if (!pair) error->all(FLERR, "fix {} needs 'pair_style sphsolid'", style);
-  if (modify->get_fix_by_style("^sphsolid/heun$").size() +
+  if (modify->get_fix_by_style("^sphsolid/improved_euler$").size() +
+          modify->get_fix_by_style("^sphsolid/heun$").size() +
           modify->get_fix_by_style("^sphsolid/leapfrog$").size() >
       1)
-    error->all(FLERR, "only one fix sphsolid/heun or sphsolid/leapfrog may be defined: it evolves "
-                      "the SPH state of every atom; its group selects whose motion it integrates");
+    error->all(FLERR, "only one fix sphsolid/improved_euler or sphsolid/leapfrog may be defined: "
+                      "it evolves the SPH state of every atom; its group selects whose motion it "
+                      "integrates");
   if (utils::strmatch(update->integrate_style, "^respa"))
     error->all(FLERR, "fix {} does not support run_style respa", style);
+  // an empty group is a deck whose atoms all move by prescription (fix
+  // move); without such a fix nothing would move at all
+  if (group->count(igroup) == 0) {
+    bool others = false;
+    for (int k = 0; k < modify->nfix; k++)
+      if (modify->fix[k]->time_integrate && !utils::strmatch(modify->fix[k]->style, "^sphsolid/"))
+        others = true;
+    if (!others)
+      error->all(FLERR,
+                 "fix {} {}: group {} has no atoms and no other fix moves any atom, so nothing "
+                 "would move; give it the group of the atoms it should integrate (e.g. all)",
+                 id, style, group->names[igroup]);
+  }
   init_rigid_bodies();
   if (update->dt_default)
     error->all(FLERR,
@@ -100,7 +95,7 @@ void FixSPHSolidHeun::init()
    fix sphsolid/force groups: each inside this fix's group, no atom in two
 ------------------------------------------------------------------------- */
 
-void FixSPHSolidHeun::init_rigid_bodies()
+void FixSPHSolidIntegrate::init_rigid_bodies()
 {
   rigid.clear();
   for (Fix *f : modify->get_fix_by_style("^sphsolid/force$"))
@@ -131,7 +126,7 @@ void FixSPHSolidHeun::init_rigid_bodies()
 }
 
 /* every atom of a fix sphsolid/force group gets the body's acceleration */
-void FixSPHSolidHeun::apply_rigid_bodies()
+void FixSPHSolidIntegrate::apply_rigid_bodies()
 {
   if (rigid.empty()) return;
   const int nlocal = atom->nlocal;
@@ -154,7 +149,7 @@ void FixSPHSolidHeun::apply_rigid_bodies()
 
 /* ---------------------------------------------------------------------- */
 
-void FixSPHSolidHeun::pack()
+void FixSPHSolidIntegrate::pack()
 {
   const int nlocal = atom->nlocal;
   const int dim = pair->dimension();
@@ -181,7 +176,7 @@ void FixSPHSolidHeun::pack()
 }
 
 /* the integrator's default step in units of h/c0 (sph_integrator_info_get) */
-double FixSPHSolidHeun::default_factor()
+double FixSPHSolidIntegrate::default_factor()
 {
   sph_sim *s = nullptr;
   sph_integrator_info info;
@@ -192,7 +187,7 @@ double FixSPHSolidHeun::default_factor()
 }
 
 /* values per atom of the library's stage buffer (sph_integrator_info_get) */
-int FixSPHSolidHeun::saved_values() const
+int FixSPHSolidIntegrate::saved_values() const
 {
   sph_integrator_info info;
   if (sph_integrator_info_get(pair->handle(), integrator, &info) != SPH_OK)
@@ -200,7 +195,7 @@ int FixSPHSolidHeun::saved_values() const
   return (int) info.saved_values;
 }
 
-sph_rates FixSPHSolidHeun::stage_rates()
+sph_rates FixSPHSolidIntegrate::stage_rates()
 {
   sph_rates rates;
   rates.dv_dt = dvbuf.data();
@@ -210,144 +205,11 @@ sph_rates FixSPHSolidHeun::stage_rates()
   return rates;
 }
 
-/* ---------------------------------------------------------------------- */
-
-void FixSPHSolidHeun::initial_integrate(int /*vflag*/)
-{
-  const int nlocal = atom->nlocal;
-  if (pair->rates_count() != nlocal)
-    error->one(FLERR, "fix sphsolid/heun: the stored rates are for {} atoms, this rank owns {}",
-               pair->rates_count(), nlocal);
-  pack();
-  const sph_rates rates = stage_rates();
-  const int nsaved = saved_values();
-  stage.resize((size_t) std::max(nlocal, 1) * nsaved);
-
-  FixSPHSolidState *state = pair->state();
-  const sph_status status = sph_heun_predict_strided(
-      pair->handle(), nlocal, update->dt, xv(atom->x), xv(atom->v), 3, state->rho, state->S_data(),
-      &rates, integrate_motion.data(), stage.data());
-  if (status != SPH_OK)
-    error->one(FLERR, "fix sphsolid/heun: predictor at step {}: {} ({})", update->ntimestep,
-               sph_errmsg(pair->handle()), sph_status_name(status));
-
-  // y_n stays in the library's block layout in `stage` unless atoms move
-  // or are reordered before the corrector (pre_exchange).
-  stage_atoms = nlocal;
-  stage_in_rows = false;
-}
-
-/* ----------------------------------------------------------------------
-   Verlet calls this only on steps that re-neighbour, before atoms migrate
-   between ranks or are sorted: each atom's y_n goes to its row of the
-   state fix, which travels with the atom.
-------------------------------------------------------------------------- */
-
-void FixSPHSolidHeun::pre_exchange()
-{
-  if (stage_atoms < 0 || stage_in_rows) return;
-  if (atom->nlocal != stage_atoms)
-    error->one(FLERR,
-               "fix sphsolid/heun: {} atoms before re-neighbouring, {} after the predictor "
-               "(atoms deleted or created inside a step are not supported)",
-               atom->nlocal, stage_atoms);
-  copy_stage(true);
-  stage_in_rows = true;
-}
-
-/* blocks of `stage` (all v, all rho, all S[, all dx/dt]) <-> per-atom rows
-   of the state fix's `saved`, for the stage_atoms owned atoms */
-void FixSPHSolidHeun::copy_stage(bool to_rows)
-{
-  const int dim = pair->dimension(), ncomp = pair->stress_components();
-  const int nsaved = saved_values();
-  FixSPHSolidState *state = pair->state();
-  const size_t n = stage_atoms;
-  const int blocks[4] = {dim, 1, ncomp, nsaved - dim - 1 - ncomp};
-  size_t offset = 0;
-  int column = 0;
-  for (int block : blocks) {
-    for (size_t i = 0; i < n; i++) {
-      double *row = state->saved[i] + column;
-      double *packed = &stage[offset + i * block];
-      for (int k = 0; k < block; k++) {
-        if (to_rows)
-          row[k] = packed[k];
-        else
-          packed[k] = row[k];
-      }
-    }
-    offset += n * block;
-    column += block;
-  }
-}
-
-/* ---------------------------------------------------------------------- */
-
-void FixSPHSolidHeun::final_integrate()
-{
-  const int nlocal = atom->nlocal;
-  const int dim = pair->dimension();
-  pack();
-  const sph_rates rates = stage_rates();
-  const int nsaved = saved_values();
-  stage.resize((size_t) std::max(nlocal, 1) * nsaved);
-
-  if (stage_atoms < 0)
-    error->one(FLERR, "fix sphsolid/heun: corrector at step {} without a predictor",
-               update->ntimestep);
-  if (stage_in_rows) {
-    // atoms were exchanged or sorted since the predictor: gather the rows
-    stage_atoms = nlocal;
-    copy_stage(false);
-  } else if (stage_atoms != nlocal) {
-    error->one(FLERR, "fix sphsolid/heun: {} atoms at the predictor, {} at the corrector",
-               stage_atoms, nlocal);
-  }
-
-  // the corrector, then the library's watchdog on the integrated atoms
-  // (runaway speed or density), in one pass
-  FixSPHSolidState *state = pair->state();
-  long bad = -1;
-  const sph_status status = sph_heun_correct_strided(
-      pair->handle(), nlocal, update->dt, xv(atom->x), xv(atom->v), 3, state->rho, state->S_data(),
-      &rates, integrate_motion.data(), pair->atom_materials(), stage.data(), &bad);
-  if (status == SPH_ERR_NONFINITE) check_finite();    // names the atom by its ID
-  if (status == SPH_ERR_UNSTABLE)
-    error->one(FLERR,
-               "fix sphsolid/heun: atom {} at step {}: {} (libsphsolid watchdog: speed above c_p "
-               "or density outside [0.5, 2] rho0; {})",
-               atom->tag[bad], update->ntimestep, sph_errmsg(pair->handle()),
-               pair->step_advice(integrator));
-  if (status != SPH_OK)
-    error->one(FLERR, "fix sphsolid/heun: corrector at step {}: {} ({})", update->ntimestep,
-               sph_errmsg(pair->handle()), sph_status_name(status));
-  stage_atoms = -1;
-
-  // The first rate evaluation of the next step, at y_{n+1}.  Forces from
-  // other fixes (gravity) are kept as they were added to f(y*): they do not
-  // depend on the SPH state.
-  double **f = atom->f;
-  const double *dv_pair = pair->dv_dt();
-  for (int i = 0; i < nlocal; i++) {
-    const double m = pair->mass_of(i);
-    for (int d = 0; d < dim; d++)
-      other_force[(size_t) i * dim + d] = f[i][d] - m * dv_pair[(size_t) i * dim + d];
-  }
-  pair->evaluate_rates(true);    // ghosts' x, v, rho and S in one exchange
-  dv_pair = pair->dv_dt();
-  for (int i = 0; i < nlocal; i++) {
-    const double m = pair->mass_of(i);
-    for (int d = 0; d < dim; d++)
-      f[i][d] = m * dv_pair[(size_t) i * dim + d] + other_force[(size_t) i * dim + d];
-  }
-}
-
 /* ----------------------------------------------------------------------
    stop at once on a non-finite value, naming step, atom and quantity
 ------------------------------------------------------------------------- */
 
-void FixSPHSolidHeun::check_finite()
+void FixSPHSolidIntegrate::check_finite()
 {
   const int nlocal = atom->nlocal;
   const int dim = pair->dimension();
@@ -372,7 +234,7 @@ void FixSPHSolidHeun::check_finite()
 
 /* ---------------------------------------------------------------------- */
 
-double FixSPHSolidHeun::memory_usage()
+double FixSPHSolidIntegrate::memory_usage()
 {
   return sizeof(double) * (double) (dvbuf.capacity() + other_force.capacity() + stage.capacity()) +
          (double) integrate_motion.capacity();

@@ -8,7 +8,7 @@
  * moves its particles exactly along their arcs instead); their density and
  * stress evolve like everyone else's.
  *
- * The stages on caller arrays (sph_heun_*, used by the LAMMPS plugin) and
+ * The stages on caller arrays (sph_improved_euler_*, used by the LAMMPS plugin) and
  * the step of a handle share the per-particle updates below.
  */
 #include <math.h>
@@ -96,7 +96,7 @@ static sph_status check_stage_args(sph_sim *sim, size_t n, double dt, double *x,
     return SPH_OK;
 }
 
-/* The external stages: `move` 1 advances every position (sph_heun_*), 0
+/* The external stages: `move` 1 advances every position (sph_improved_euler_*), 0
  * leaves the prescribed particles' x and v to the caller (*_strided). */
 static sph_status predict_external(sph_sim *sim, size_t n, double dt, double *x, double *v,
                                    size_t xs, double *rho, double *S, const sph_rates *r,
@@ -152,17 +152,17 @@ static sph_status correct_external(sph_sim *sim, size_t n, double dt, double *x,
         bad, wild, particle, &out);
 }
 
-sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt, double *x, double *v, double *rho,
-                            double *S, const sph_rates *r, const unsigned char *integrate_motion,
-                            double *saved)
+sph_status sph_improved_euler_predict(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                      double *rho, double *S, const sph_rates *r,
+                                      const unsigned char *integrate_motion, double *saved)
 {
     return predict_external(sim, n, dt, x, v, sim ? (size_t)sim->dim : 0, rho, S, r,
                             integrate_motion, saved, 1);
 }
 
-sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt, double *x, double *v, double *rho,
-                            double *S, const sph_rates *r, const unsigned char *integrate_motion,
-                            const double *saved)
+sph_status sph_improved_euler_correct(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                      double *rho, double *S, const sph_rates *r,
+                                      const unsigned char *integrate_motion, const double *saved)
 {
     return correct_external(sim, n, dt, x, v, sim ? (size_t)sim->dim : 0, rho, S, r,
                             integrate_motion, saved, 1, NULL, NULL);
@@ -178,19 +178,22 @@ static sph_status check_stride(sph_sim *sim, size_t stride)
     return SPH_OK;
 }
 
-sph_status sph_heun_predict_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
-                                    size_t stride, double *rho, double *S, const sph_rates *r,
-                                    const unsigned char *integrate_motion, double *saved)
+sph_status sph_improved_euler_predict_strided(sph_sim *sim, size_t n, double dt, double *x,
+                                              double *v, size_t stride, double *rho, double *S,
+                                              const sph_rates *r,
+                                              const unsigned char *integrate_motion, double *saved)
 {
     sph_status st = check_stride(sim, stride);
     return st ? st
               : predict_external(sim, n, dt, x, v, stride, rho, S, r, integrate_motion, saved, 0);
 }
 
-sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
-                                    size_t stride, double *rho, double *S, const sph_rates *r,
-                                    const unsigned char *integrate_motion, const int *material_of,
-                                    const double *saved, long *particle)
+sph_status sph_improved_euler_correct_strided(sph_sim *sim, size_t n, double dt, double *x,
+                                              double *v, size_t stride, double *rho, double *S,
+                                              const sph_rates *r,
+                                              const unsigned char *integrate_motion,
+                                              const int *material_of, const double *saved,
+                                              long *particle)
 {
     if (particle)
         *particle = -1;
@@ -199,15 +202,49 @@ sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, double *x
         return st;
     if (n > 0 && !material_of)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
-                        "sph_heun_correct_strided: material must not be NULL");
+                        "sph_improved_euler_correct_strided: material must not be NULL");
     for (size_t a = 0; a < n; ++a)
         if (material_of[a] < 0 || material_of[a] >= sim->n_materials)
-            return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "sph_heun_correct_strided: particle %zu has material %d, but %d "
-                            "materials are defined",
-                            a, material_of[a], sim->n_materials);
+            return sph_fail(
+                sim, SPH_ERR_ARGUMENT,
+                "sph_improved_euler_correct_strided: particle %zu has material %d, but %d "
+                "materials are defined",
+                a, material_of[a], sim->n_materials);
     return correct_external(sim, n, dt, x, v, stride, rho, S, r, integrate_motion, saved, 0,
                             material_of, particle);
+}
+
+/* Deprecated aliases of the stages above (sphsolid.h), kept for one
+ * release. */
+sph_status sph_heun_predict(sph_sim *sim, size_t n, double dt, double *x, double *v, double *rho,
+                            double *S, const sph_rates *r, const unsigned char *integrate_motion,
+                            double *saved)
+{
+    return sph_improved_euler_predict(sim, n, dt, x, v, rho, S, r, integrate_motion, saved);
+}
+
+sph_status sph_heun_correct(sph_sim *sim, size_t n, double dt, double *x, double *v, double *rho,
+                            double *S, const sph_rates *r, const unsigned char *integrate_motion,
+                            const double *saved)
+{
+    return sph_improved_euler_correct(sim, n, dt, x, v, rho, S, r, integrate_motion, saved);
+}
+
+sph_status sph_heun_predict_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                    size_t stride, double *rho, double *S, const sph_rates *r,
+                                    const unsigned char *integrate_motion, double *saved)
+{
+    return sph_improved_euler_predict_strided(sim, n, dt, x, v, stride, rho, S, r, integrate_motion,
+                                              saved);
+}
+
+sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, double *x, double *v,
+                                    size_t stride, double *rho, double *S, const sph_rates *r,
+                                    const unsigned char *integrate_motion, const int *material_of,
+                                    const double *saved, long *particle)
+{
+    return sph_improved_euler_correct_strided(sim, n, dt, x, v, stride, rho, S, r, integrate_motion,
+                                              material_of, saved, particle);
 }
 
 /* ------------------------------------------------ the step of a handle */

@@ -1,0 +1,60 @@
+/* -*- c++ -*-
+ * fix_sphsolid_integrate.h - the base of the fixes that integrate pair
+ * sphsolid's SPH state (fix sphsolid/improved_euler, fix
+ * sphsolid/leapfrog), one per library integrator, named after it: what
+ * they share.
+ *
+ * Density and deviatoric stress evolve for every atom of pair sphsolid;
+ * the fix group selects the atoms whose position and velocity it
+ * integrates.  The others are moved by fix move or stay where they are.
+ * Groups of fix sphsolid/force inside it move as rigid bodies under their
+ * applied force: their atoms' dv/dt is the body's (pack()).  Without a
+ * timestep command the fix sets the library's default step of its
+ * integrator when it is defined.
+ */
+#ifndef SPHSOLID_FIX_SPHSOLID_INTEGRATE_H
+#define SPHSOLID_FIX_SPHSOLID_INTEGRATE_H
+
+#include "fix.h"
+
+#include "sphsolid.h"
+
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class PairSPHSolid;
+class FixSPHSolidForce;
+
+class FixSPHSolidIntegrate : public Fix {
+ public:
+  void init() override;
+  double memory_usage() override;
+
+ protected:
+  // `integrator` is the library's name (sph_set_integrator), whose default
+  // step the fix takes and whose stages the derived fix calls
+  FixSPHSolidIntegrate(class LAMMPS *, int, char **, const char *integrator);
+  const char *integrator;
+  PairSPHSolid *pair;
+  bool timestep_from_library;
+  std::vector<double> dvbuf, other_force, stage;
+  std::vector<unsigned char> integrate_motion;
+  std::vector<FixSPHSolidForce *> rigid;    // fix sphsolid/force bodies
+  std::vector<unsigned char> member;        // atoms of one of them
+  std::vector<double> masses;
+
+  void init_rigid_bodies();
+  void apply_rigid_bodies();
+  // dv/dt of every force into dvbuf (rigid bodies applied), and which
+  // atoms the stages integrate (integrate_motion)
+  void pack();
+  int saved_values() const;    // of the library's stages (sph_integrator_info_get)
+  double default_factor();     // default step / (h/c0) of the integrator
+  sph_rates stage_rates();
+  void check_finite();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

@@ -1,0 +1,79 @@
+"""Settings that differ between MPI ranks stop every rank with one message.
+
+A deck whose pair_style or pair_coeff values come from a variable that
+depends on the rank (here the environment's PMI_RANK, set by mpirun) gives
+each rank another model; the ranks would then exchange messages of other
+sizes or sums of another model.  pair sphsolid compares its settings over
+the communicator when a run starts and stops all ranks with an error that
+names the keyword that differs.
+"""
+from __future__ import annotations
+
+import os
+import subprocess
+import textwrap
+
+import pytest
+
+from conftest import lmp_command
+
+DECK = textwrap.dedent("""\
+    plugin load ${{plugin}}
+    variable rank getenv PMI_RANK
+    units si
+    dimension 2
+    boundary f f p
+    atom_style atomic
+    atom_modify map array
+    comm_modify vel yes
+    processors 2 1 1
+    region box block -0.01 0.01 -0.01 0.01 -0.001 0.001 units box
+    create_box 1 box
+    lattice sq 0.001 origin 0.5 0.5 0.0
+    region block block -0.006 0.006 -0.004 0.004 -0.001 0.001 units box
+    create_atoms 1 region block
+    mass 1 0.0023
+    pair_style {pair_style}
+    pair_coeff {pair_coeff}
+    fix integrate all sphsolid/{fix}
+    timestep {timestep}
+    run 5
+    """)
+PAIR_STYLE = "sphsolid 0.001 artificial_viscosity alpha 1.0 beta 0.0"
+PAIR_COEFF = "* * K 12.2e9 mu 2.67e9 rho0 2300.0"
+
+
+def run_two_ranks(tmp_path, plugin, **settings):
+    values = dict(pair_style=PAIR_STYLE, pair_coeff=PAIR_COEFF, fix="improved_euler", timestep="1e-7")
+    values.update(settings)
+    deck = tmp_path / "in.deck"
+    deck.write_text(DECK.format(**values))
+    cmd = lmp_command(2) + ["-in", str(deck), "-log", "log.lammps", "-nocite",
+                            "-var", "plugin", str(plugin)]
+    done = subprocess.run(cmd, cwd=tmp_path, capture_output=True, text=True, timeout=300,
+                          env=dict(os.environ, OMP_NUM_THREADS="1"))
+    log = (tmp_path / "log.lammps").read_text() if (tmp_path / "log.lammps").exists() else ""
+    return done, done.stdout + done.stderr + log
+
+
+@pytest.mark.parametrize("fix", ["improved_euler", "leapfrog"])
+def test_same_settings_on_both_ranks_run(tmp_path, plugin, fix):
+    done, text = run_two_ranks(tmp_path, plugin, fix=fix)
+    assert done.returncode == 0, text
+    assert "differs between MPI ranks" not in text
+
+
+@pytest.mark.parametrize("settings, keyword", [
+    ({"pair_style": "sphsolid $(0.001*(1+v_rank))"}, "dx"),
+    ({"pair_style": "sphsolid 0.001 h_over_dx $(1.2+0.1*v_rank)"}, "h_over_dx"),
+    ({"pair_style": "sphsolid 0.001 artificial_viscosity alpha $(1+v_rank) beta 0.0"},
+     "artificial_viscosity"),
+    ({"pair_coeff": "* * K $(12.2e9*(1+v_rank)) mu 2.67e9 rho0 2300.0"}, "pair_coeff 1 1"),
+    ({"timestep": "$(1e-7*(1+v_rank))"}, "timestep"),
+])
+def test_a_setting_that_differs_between_ranks_is_named(tmp_path, plugin, settings, keyword):
+    done, text = run_two_ranks(tmp_path, plugin, **settings)
+    assert done.returncode != 0, text
+    assert f"pair sphsolid: {keyword} differs between MPI ranks" in text, text
+    # one message: the error is raised on all ranks together, printed once
+    assert text.count("differs between MPI ranks") <= 2, text  # screen and log
