@@ -396,7 +396,10 @@ class Trajectory:
         return "\n".join(lines)
 
 
-_FORMAT = 2      # the libsphsolid file format this module reads
+def file_format() -> int:
+    """The output file format the library writes, which this module reads
+    (``sph_output_format_version``)."""
+    return int(lib.sph_output_format_version())
 
 
 def _format_problem(f) -> str:
@@ -406,12 +409,14 @@ def _format_problem(f) -> str:
     if version is None:
         if "h5md" in f or "checkpoint" in f:
             return ("is in libsphsolid file format 1 (written before the "
-                    f"format was versioned); this version reads format "
-                    f"{_FORMAT}: read it with the version that wrote it")
+                    f"format was versioned); this module reads format "
+                    f"{file_format()}: load its frames into a scene with "
+                    "the library (sph_read_frame) or read it with the "
+                    "version that wrote it")
         return "is not a libsphsolid file (no sphsolid_format attribute)"
-    if int(np.ravel(version)[0]) != _FORMAT:
+    if int(np.ravel(version)[0]) != file_format():
         return (f"has libsphsolid file format {int(np.ravel(version)[0])}; "
-                f"this version reads format {_FORMAT}")
+                f"this version reads format {file_format()}")
     content = _attr(f.attrs.get("sphsolid_content", b""))
     if content != "output":
         return f"is a libsphsolid {content or '(unknown)'} file, not an output file"
