@@ -2,6 +2,7 @@
  * Benchmark of the library on the paper's uniaxial piston scene.
  *
  *   bench_piston [--repeats N] [--quick]
+ *   bench_piston --throughput [--repeats N]
  *
  * (a) particle-steps per second (all particles, piston and plate included,
  *     times steps) over 200 steps at dx = 1 mm, with 1 and 2 threads, per
@@ -17,7 +18,12 @@
  * (c) bytes per particle held by the library, by part (sph_memory_parts),
  *     for the 2D paper scene and a 3D block.
  * Medians over the repeats, side by side; every figure comes from this one
- * run.
+ * run.  With --throughput only one-thread pair throughput: the paper scene
+ * (dx = 1 mm) with each integrator and the 3D cylinder (dx = 3 mm), pair
+ * interactions per wall and CPU second and the share of one core's
+ * double-precision peak they make (flops per pair: docs/performance.md,
+ * "Pair throughput and peak"); scripts/compare_throughput.sh runs it
+ * against another commit's library, interleaved.
  */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
@@ -81,6 +87,53 @@ static void print_memory(sph_sim *sim, const char *what)
 
 static const char *integrator = "improved_euler";
 
+/* Flops per pair interaction (docs/performance.md, "Pair throughput and
+ * peak"; artificial viscosity on, cubic spline): [dimension - 2][leapfrog]. */
+static const double flops_per_pair[2][2] = {{84.0, 102.0}, {140.0, 163.0}};
+
+/* One core's double-precision peak [flop/s]: the clock of /proc/cpuinfo
+ * times 16 flops per cycle with AVX2 or AVX-512 (two 256-bit FMA pipes, as
+ * on AMD Zen 4; Intel server cores with two 512-bit pipes have 32), else
+ * 4 (SSE2: one 2-wide add and one 2-wide multiply).  0 if unknown. */
+static double core_peak(const char **what)
+{
+    double mhz = 0.0;
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    char line[512];
+    while (f && fgets(line, sizeof line, f))
+        if (!strncmp(line, "cpu MHz", 7) && sscanf(strchr(line, ':') + 1, "%lf", &mhz) == 1)
+            break;
+    if (f)
+        fclose(f);
+    double per_cycle = 4.0;
+    *what = "SSE2, 4 flops/cycle";
+#if defined(__GNUC__) && defined(__x86_64__)
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+        per_cycle = 16.0;
+        *what = "AVX2/AVX-512 with FMA, 16 flops/cycle";
+    }
+#endif
+    return mhz * 1e6 * per_cycle;
+}
+
+static sph_sim *cylinder_scene(double dx)
+{
+    sph_sim *sim = NULL;
+    int rock, specimen, plate, piston;
+    const double base[3] = {0.0, 0.0, 0.0};
+    if (sph_create(3, &sim) || sph_set_threads(sim, 1) || sph_set_integrator(sim, integrator) ||
+        sph_add_material_K_mu(sim, 12.2e9, 2.67e9, 2300.0, &rock) ||
+        sph_add_cylinder(sim, "specimen", rock, base, 0.027, 0.135, dx, &specimen) ||
+        sph_add_plate(sim, "plate", -1, specimen, 0, &plate) ||
+        sph_add_piston(sim, "piston", -1, specimen, 0, 1.5e-3, &piston) ||
+        sph_effect(sim, "artificial_viscosity", "alpha=1 beta=0")) {
+        fprintf(stderr, "bench_piston: %s\n", sph_errmsg(sim));
+        exit(1);
+    }
+    return sim;
+}
+
 static sph_sim *scene(double dx, int threads)
 {
     sph_sim *sim = NULL;
@@ -123,6 +176,53 @@ static double timed_run(double dx, int threads, long steps, double t_end, size_t
     return wall;
 }
 
+/* One thread's pair interactions per wall and CPU second, medians. */
+static void throughput(int repeats)
+{
+    const char *what = "";
+    const double peak = core_peak(&what);
+    printf("libsphsolid %s, 1 thread, medians of %d runs; peak of one core %.3g Gflop/s (%s)\n",
+           sph_version(), repeats, peak * 1e-9, what);
+    static const char *const integrators[2] = {"improved_euler", "leapfrog"};
+    double *w = malloc((size_t)repeats * sizeof *w), *c = malloc((size_t)repeats * sizeof *c);
+    for (int dim = 2; dim <= 3; ++dim)
+        for (int q = 0; q < 2; ++q) {
+            integrator = integrators[q];
+            const long steps = dim == 2 ? 100 : 20;
+            double pairs = 0.0, ev = 0.0;
+            size_t n = 0;
+            for (int r = 0; r < repeats; ++r) {
+                sph_sim *sim = dim == 2 ? scene(1e-3, 1) : cylinder_scene(3e-3);
+                sph_integrator_info info;
+                if (sph_integrator_info_get(sim, NULL, &info) || sph_run(sim, 1)) {
+                    fprintf(stderr, "bench_piston: %s\n", sph_errmsg(sim));
+                    exit(1);
+                }
+                ev = info.evaluations;
+                pairs = interacting_pairs(sim);
+                n = sph_particle_count(sim);
+                const double c0 = cpu_now(), t0 = bench_now();
+                if (sph_run(sim, steps)) {
+                    fprintf(stderr, "bench_piston: %s\n", sph_errmsg(sim));
+                    exit(1);
+                }
+                w[r] = bench_now() - t0;
+                c[r] = cpu_now() - c0;
+                sph_destroy(sim);
+            }
+            const double m = bench_median(w, repeats), mc = bench_median(c, repeats);
+            const double rate = ev * pairs * (double)steps / m;
+            const double flops = flops_per_pair[dim - 2][q == 1];
+            printf("%s %-14s %6zu particles: %.4g pair interactions/s (CPU: %.4g), %.0f "
+                   "flops/pair: %.3g Gflop/s, %.1f %% of peak\n",
+                   dim == 2 ? "paper 2D  " : "cylinder 3D", integrator, n, rate,
+                   ev * pairs * (double)steps / mc, flops, rate * flops * 1e-9,
+                   peak > 0.0 ? 100.0 * rate * flops / peak : 0.0);
+        }
+    free(w);
+    free(c);
+}
+
 int main(int argc, char **argv)
 {
     int repeats = 5, quick = 0;
@@ -131,13 +231,19 @@ int main(int argc, char **argv)
             repeats = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--quick"))
             quick = 1;
+        else if (!strcmp(argv[i], "--throughput"))
+            quick = 2;
         else {
-            fprintf(stderr, "usage: bench_piston [--repeats N] [--quick]\n");
+            fprintf(stderr, "usage: bench_piston [--repeats N] [--quick | --throughput]\n");
             return 2;
         }
     }
     if (repeats < 1)
         repeats = 1;
+    if (quick == 2) {
+        throughput(repeats);
+        return 0;
+    }
     double *w = malloc((size_t)repeats * sizeof *w), *c = malloc((size_t)repeats * sizeof *c);
     double pairs = 0.0;
     size_t n = 0, bytes = 0;

@@ -151,12 +151,14 @@ typedef struct parameter_def {
 #define FRACTION     0.0, 1.0, 0, 1            /* (0, 1] */
 
 static const parameter_def viscosity_parameters[] = {
-    {"alpha", "", "linear (bulk) coefficient", 1.0, NON_NEGATIVE, FX(alpha)},
-    {"beta", "", "quadratic (von Neumann-Richtmyer) coefficient", 0.0, NON_NEGATIVE, FX(beta)},
+    {"alpha", "", "linear (bulk) coefficient", 1.0, NON_NEGATIVE, FX(artificial_viscosity_alpha)},
+    {"beta", "", "quadratic (von Neumann-Richtmyer) coefficient", 0.0, NON_NEGATIVE,
+     FX(artificial_viscosity_beta)},
 };
 static const parameter_def artificial_stress_parameters[] = {
-    {"epsilon", "", "strength of the repulsion", 0.3, FRACTION, FX(stress_epsilon)},
-    {"n", "", "exponent of the pair factor (W_ab / W(dx))^n", 4.0, POSITIVE, FX(stress_exponent)},
+    {"epsilon", "", "strength of the repulsion", 0.3, FRACTION, FX(artificial_stress_epsilon)},
+    {"n", "", "exponent of the pair factor (W_ab / W(dx))^n", 4.0, POSITIVE,
+     FX(artificial_stress_n)},
 };
 static const parameter_def gravity_parameters[] = {
     {"gx", "m/s^2", "acceleration along x", 0.0, ANY, FX(g) + 0 * sizeof(double)},
@@ -183,27 +185,26 @@ static sph_status gravity_rule(sph_sim *sim, const double *g)
 #define NO_PARAMETERS     NULL, 0
 
 /* The effects: one row each, the only place an effect is named.
- *   X(name, switch in struct effects, parameters, extra rule or NULL,
+ *   X(name (also its switch in struct effects), parameters, extra rule or NULL,
  *     one-line description with its reference)
  * The names list, describe text (HDF5 attribute), parsing, range checks
  * and the public sph_effect_info_get()/sph_effect_parameter_get() all come
  * from it. */
-#define SPH_EFFECTS(X)                                                                      \
-    X(artificial_viscosity, viscosity, PARAMETERS(viscosity_parameters), NULL,              \
-      "Monaghan (1992) artificial viscosity: a pressure Pi_ab between approaching "         \
-      "pairs; damps the high-frequency modes Improved Euler amplifies")                     \
-    X(artificial_stress, artificial_stress, PARAMETERS(artificial_stress_parameters), NULL, \
-      "Gray, Monaghan & Swift (2001) artificial stress: a repulsion between particles "     \
-      "in tension, against the tensile instability")                                        \
-    X(gravity, gravity, PARAMETERS(gravity_parameters), gravity_rule,                       \
-      "uniform body force: dv/dt += g")                                                     \
-    X(damping, damping, PARAMETERS(damping_parameters), NULL,                               \
-      "velocity damping dv/dt -= rate v, for reaching a static state fast")                 \
-    X(xsph, xsph, PARAMETERS(xsph_parameters), NULL,                                        \
-      "Monaghan (1989) XSPH: particles move with a velocity smoothed over their "           \
-      "neighbours")                                                                         \
-    X(kernel_correction, kernel_correction, NO_PARAMETERS, NULL,                            \
-      "Bonet & Lok (1999) kernel-gradient correction of the velocity gradient: exact "      \
+#define SPH_EFFECTS(X)                                                                         \
+    X(artificial_viscosity, PARAMETERS(viscosity_parameters), NULL,                            \
+      "Monaghan (1992) artificial viscosity: a pressure Pi_ab between approaching "            \
+      "pairs; damps the high-frequency modes Improved Euler amplifies")                        \
+    X(artificial_stress, PARAMETERS(artificial_stress_parameters), NULL,                       \
+      "Gray, Monaghan & Swift (2001) artificial stress: a repulsion between particles "        \
+      "in tension, against the tensile instability")                                           \
+    X(gravity, PARAMETERS(gravity_parameters), gravity_rule, "uniform body force: dv/dt += g") \
+    X(damping, PARAMETERS(damping_parameters), NULL,                                           \
+      "velocity damping dv/dt -= rate v, for reaching a static state fast")                    \
+    X(xsph, PARAMETERS(xsph_parameters), NULL,                                                 \
+      "Monaghan (1989) XSPH: particles move with a velocity smoothed over their "              \
+      "neighbours")                                                                            \
+    X(kernel_correction, NO_PARAMETERS, NULL,                                                  \
+      "Bonet & Lok (1999) kernel-gradient correction of the velocity gradient: exact "         \
       "for linear fields, also at free surfaces")
 
 typedef struct effect_def {
@@ -215,13 +216,13 @@ typedef struct effect_def {
     const char *description;
 } effect_def;
 
-#define EFFECT_ROW(name, on, parameters, rule, text) {#name, FX(on), parameters, rule, text},
+#define EFFECT_ROW(name, parameters, rule, text) {#name, FX(name), parameters, rule, text},
 static const effect_def registry[] = {SPH_EFFECTS(EFFECT_ROW)};
 #undef EFFECT_ROW
 #define N_EFFECTS      ((int)(sizeof registry / sizeof registry[0]))
 #define MAX_PARAMETERS EFFECTS_MAX_PARAMETERS
 
-#define EFFECT_WORD(name, on, parameters, rule, text) " " #name
+#define EFFECT_WORD(name, parameters, rule, text) " " #name
 const char *sph_effect_names(void) { return SPH_EFFECTS(EFFECT_WORD) + 1; }
 #undef EFFECT_WORD
 

@@ -1,8 +1,10 @@
 /*
  * Effects a scene switches on: their parameters and their terms.
- * Pair terms are called only from rate-loop variants compiled with the
- * effect on; per-particle terms run in passes that exist only when on.
- * The table of names and parameter parsing is in effects.c.
+ * A pair term is a function over a block of pairs (physics.h's pair_block)
+ * called by the pair pass (rates.c, pair_terms) when its switch is on; the
+ * switches are tested once per block.  Per-particle terms run in the
+ * passes before (the pair data) and after (the finish) the pair pass.  The
+ * table of names and parameter parsing is in effects.c.
  */
 #ifndef SPHSOLID_EFFECTS_H
 #define SPHSOLID_EFFECTS_H
@@ -11,13 +13,15 @@
 
 #include "physics.h"
 
+/* Each effect's switch is named as the effect in the registry (effects.c)
+ * and each parameter <effect>_<key> (gravity's gx, gy, gz: the vector g). */
 typedef struct effects {
     /* artificial_viscosity: Monaghan (1992) */
-    int viscosity;
-    double alpha, beta;
+    int artificial_viscosity;
+    double artificial_viscosity_alpha, artificial_viscosity_beta;
     /* artificial_stress: Gray, Monaghan & Swift (2001) */
     int artificial_stress;
-    double stress_epsilon, stress_exponent;
+    double artificial_stress_epsilon, artificial_stress_n;
     /* gravity */
     int gravity;
     double g[3];
@@ -48,6 +52,22 @@ static inline double viscosity_pair(double alpha, double beta, double h, double 
     return v_dot_r < 0.0 ? Pi : 0.0;
 }
 
+/* The artificial viscosity's term: T_ab -= Pi_ab I for every pair (even in
+ * r_ab and v_ab, so symmetric in a and b). */
+static inline void artificial_viscosity_term(int dim, double alpha, double beta, double h,
+                                             pair_block *p)
+{
+    for (int k = 0; k < p->n; ++k) {
+        double v_dot_r = 0.0;
+        for (int i = 0; i < dim; ++i)
+            v_dot_r += p->v[i][k] * p->r[i][k];
+        const double Pi =
+            viscosity_pair(alpha, beta, h, v_dot_r, p->r2[k], p->c_mean[k], p->rho_mean[k]);
+        for (int i = 0; i < dim; ++i)
+            p->T[i][k] -= Pi;
+    }
+}
+
 /* Gray et al. (2001) eq. (22): the pair factor f_ab^n, f_ab = W_ab/W(dx). */
 static inline double artificial_stress_factor(double W_ab, double inv_W_dx, double exponent)
 {
@@ -61,6 +81,26 @@ static inline double artificial_stress_factor_4(double W_ab, double inv_W_dx)
     return f2 * f2;
 }
 
+/* The artificial stress's term, Gray et al. (2001) eq. (23):
+ * T_ab += f_ab^n (R_a + R_b) (symmetric in a and b). */
+static inline void artificial_stress_term(int dim, double inv_W_dx, double n,
+                                          pair_block *restrict p)
+{
+    const int nsym = pair_tensor_components(dim);
+    if (n == 4.0)
+        for (int k = 0; k < p->n; ++k) {
+            const double fn = artificial_stress_factor_4(p->W[k], inv_W_dx);
+            for (int c = 0; c < nsym; ++c)
+                p->T[c][k] += p->R[c][k] * fn;
+        }
+    else
+        for (int k = 0; k < p->n; ++k) {
+            const double fn = artificial_stress_factor(p->W[k], inv_W_dx, n);
+            for (int c = 0; c < nsym; ++c)
+                p->T[c][k] += p->R[c][k] * fn;
+        }
+}
+
 /* Gray et al. (2001) eqs (24)-(26): per-particle artificial stress R_a.
  * In the principal frame of the in-plane stress, R'_ii = -epsilon
  * sigma'_ii / rho^2 where sigma'_ii > 0 (tension), else 0; rotated back.
@@ -68,34 +108,46 @@ static inline double artificial_stress_factor_4(double W_ab, double inv_W_dx)
 void artificial_stress_tensor(int dim, const double *S, double P, double rho, double epsilon,
                               double *R);
 
-/* Monaghan (1989): XSPH velocity correction contribution of b,
- * epsilon (m_b / rho_ab) (v_b - v_a) W_ab. */
-static inline void xsph_pair(int dim, double epsilon, double m_b, double rho_mean,
-                             const double *v_ab, double W_ab, double *dx_dt)
+/* Monaghan (1989) XSPH: dx_a/dt += epsilon (m_b / rho_ab) (v_b - v_a) W_ab
+ * (odd: b gets -m_a times the same).  dim components. */
+static inline void xsph_term(int dim, double epsilon, const pair_block *restrict p,
+                             pair_rows *restrict ta, pair_rows *restrict tb)
 {
-    const double s = epsilon * m_b / rho_mean * W_ab;
-    for (int i = 0; i < dim; ++i)
-        dx_dt[i] -= s * v_ab[i];
+    for (int k = 0; k < p->n; ++k) {
+        const double s = epsilon / p->rho_mean[k] * p->W[k];
+        for (int i = 0; i < dim; ++i) {
+            const double t = -(s * p->v[i][k]);
+            ta[i][k] = p->m_b[k] * t;
+            tb[i][k] = -(p->m_a * t);
+        }
+    }
 }
 
 /* Kernel-gradient correction matrix, Bonet & Lok (1999): the term of b in
  * M_a = sum_b V_b (r_b - r_a) (x) grad_a W_ab, a symmetric tensor since
- * grad_a W_ab is parallel to r_ab; written to term[] in the compact order
- * of pair_tensor_index (xx yy xy, or xx yy zz xy xz yz).  Straight-line
- * code, so that the pair loop around it vectorises. */
-static inline void correction_matrix_pair(int dim, double volume_b, const double *r_ab,
-                                          const double *grad_W, double *term)
+ * grad_a W_ab is parallel to r_ab (even: b gets V_a times the same); nsym
+ * components in the compact order of pair_tensor_index (xx yy xy, or xx
+ * yy zz xy xz yz). */
+static inline void correction_moment_term(int dim, const pair_block *restrict p,
+                                          pair_rows *restrict ta, pair_rows *restrict tb)
 {
-    const double s = -volume_b;
-    term[0] = s * r_ab[0] * grad_W[0];
-    term[1] = s * r_ab[1] * grad_W[1];
-    if (dim == 2) {
-        term[2] = s * r_ab[0] * grad_W[1];
-    } else {
-        term[2] = s * r_ab[2] * grad_W[2];
-        term[3] = s * r_ab[0] * grad_W[1];
-        term[4] = s * r_ab[0] * grad_W[2];
-        term[5] = s * r_ab[1] * grad_W[2];
+    const int nsym = pair_tensor_components(dim);
+    for (int k = 0; k < p->n; ++k) {
+        double H[6];
+        H[0] = -p->r[0][k] * p->gW[0][k];
+        H[1] = -p->r[1][k] * p->gW[1][k];
+        if (dim == 2) {
+            H[2] = -p->r[0][k] * p->gW[1][k];
+        } else {
+            H[2] = -p->r[2][k] * p->gW[2][k];
+            H[3] = -p->r[0][k] * p->gW[1][k];
+            H[4] = -p->r[0][k] * p->gW[2][k];
+            H[5] = -p->r[1][k] * p->gW[2][k];
+        }
+        for (int c = 0; c < nsym; ++c) {
+            ta[c][k] = p->V_b[k] * H[c];
+            tb[c][k] = p->V_a * H[c];
+        }
     }
 }
 

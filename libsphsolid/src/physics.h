@@ -59,38 +59,79 @@ static inline void stress_over_rho2(int dim, const double *S, double P, double r
     }
 }
 
-/* Continuity, paper eq. (3): contribution of b to drho_a/dt,
- * m_b v_ab . grad_a W_ab. */
-static inline double continuity_pair(int dim, double m_b, const double *v_ab, const double *grad_W)
+/*
+ * Pair terms over a block of pairs (a, b_k), k < n, of one row a: the
+ * inputs in structure-of-arrays form (one short array per quantity, so that
+ * the loops over k vectorise), filled by the pair pass (rates.c).  Each
+ * term writes, for every pair, the contribution to particle a (ta, partner
+ * weight m_b or V_b) and to particle b (tb, weight m_a or V_a) as rows
+ * ta[c][k] of its components c.  Swapping a and b maps r_ab, v_ab and
+ * grad_a W_ab to their negatives: a term even in them gives b the same
+ * unweighted value, an odd one its negative; written out so, the one-sided
+ * form (the pair seen from b) gives b's contribution to the bit.
+ */
+#define PAIR_BLOCK 16
+
+typedef struct pair_block {
+    int n;                    /* pairs in the block */
+    double m_a, V_a;          /* mass and volume m/rho of a */
+    double r[3][PAIR_BLOCK];  /* r_ab = x_a - x_b */
+    double v[3][PAIR_BLOCK];  /* v_ab = v_a - v_b */
+    double r2[PAIR_BLOCK];    /* |r_ab|^2 */
+    double gW[3][PAIR_BLOCK]; /* grad_a W_ab */
+    double W[PAIR_BLOCK];     /* W_ab (with artificial stress or XSPH) */
+    double m_b[PAIR_BLOCK], V_b[PAIR_BLOCK];
+    double rho_mean[PAIR_BLOCK], c_mean[PAIR_BLOCK]; /* (rho_a + rho_b)/2, same for c0 */
+    /* momentum: T_ab = sigma_a/rho_a^2 + sigma_b/rho_b^2 (+ effect terms),
+     * in-plane compact storage; R_a + R_b of the artificial stress */
+    double T[6][PAIR_BLOCK];
+    double R[6][PAIR_BLOCK];
+} pair_block;
+
+typedef double pair_rows[PAIR_BLOCK];
+
+/* Continuity, paper eq. (3): drho_a/dt += m_b v_ab . grad_a W_ab (even:
+ * b gets m_a times the same).  1 component. */
+static inline void continuity_term(int dim, const pair_block *restrict p, pair_rows *restrict ta,
+                                   pair_rows *restrict tb)
 {
-    double s = 0.0;
-    for (int i = 0; i < dim; ++i)
-        s += v_ab[i] * grad_W[i];
-    return m_b * s;
+    for (int k = 0; k < p->n; ++k) {
+        double s = 0.0;
+        for (int i = 0; i < dim; ++i)
+            s += p->v[i][k] * p->gW[i][k];
+        ta[0][k] = p->m_b[k] * s;
+        tb[0][k] = p->m_a * s;
+    }
 }
 
-/* Velocity gradient: (dv^i/dx^j)_a += (m_b/rho_b) (v_b^i - v_a^i)
- * dW_ab/dx_a^j, with v_b - v_a = -v_ab. */
-static inline void velocity_gradient_pair(int dim, double volume_b, const double *v_ab,
-                                          const double *grad_W, double L[3][3])
+/* Velocity gradient: (dv^i/dx^j)_a += V_b (v_b^i - v_a^i) dW_ab/dx_a^j
+ * = -V_b v_ab^i (grad_a W_ab)^j (even).  dim x dim components, row-major. */
+static inline void velocity_gradient_term(int dim, const pair_block *restrict p,
+                                          pair_rows *restrict ta, pair_rows *restrict tb)
 {
     for (int i = 0; i < dim; ++i)
         for (int j = 0; j < dim; ++j)
-            L[i][j] -= volume_b * v_ab[i] * grad_W[j];
+            for (int k = 0; k < p->n; ++k) {
+                ta[i * dim + j][k] = -(p->V_b[k] * p->v[i][k] * p->gW[j][k]);
+                tb[i * dim + j][k] = -(p->V_a * p->v[i][k] * p->gW[j][k]);
+            }
 }
 
 /* Symmetric momentum equation, Gray, Monaghan & Swift (2001) eq. (29):
- * dv_a/dt += m_b T_ab . grad_a W_ab with T_ab = sigma_a/rho_a^2 +
- * sigma_b/rho_b^2 (+ effect terms), an in-plane symmetric tensor. */
-static inline void momentum_pair(int dim, double m_b, const double *T_ab, const double *grad_W,
-                                 double *dv_dt)
+ * dv_a/dt += m_b T_ab . grad_a W_ab (odd: b gets -m_a times the same).
+ * T_ab is built from a per-particle stress factor (sigma/rho^2, made in
+ * the pair pass's first pass) and the effect terms.  dim components. */
+static inline void momentum_term(int dim, const pair_block *restrict p, pair_rows *restrict ta,
+                                 pair_rows *restrict tb)
 {
-    for (int i = 0; i < dim; ++i) {
-        double s = 0.0;
-        for (int j = 0; j < dim; ++j)
-            s += T_ab[pair_tensor_index(dim, i, j)] * grad_W[j];
-        dv_dt[i] += m_b * s;
-    }
+    for (int i = 0; i < dim; ++i)
+        for (int k = 0; k < p->n; ++k) {
+            double s = 0.0;
+            for (int j = 0; j < dim; ++j)
+                s += p->T[pair_tensor_index(dim, i, j)][k] * p->gW[j][k];
+            ta[i][k] = p->m_b[k] * s;
+            tb[i][k] = -(p->m_a * s);
+        }
 }
 
 /* Deviatoric stress rate, paper eqs. (6)-(8) (Jaumann rate, Hooke):

@@ -40,9 +40,14 @@
  * zeros, so the extra pairs of the skin do not change any sum either:
  * results do not depend on when the list was rebuilt.
  *
- * The pair loop is compiled in one variant per (dimension, kernel); the
- * effects are runtime switches tested once per block of PAIR_BLOCK pairs,
- * each effect's terms computed in its own short loop that vectorises.
+ * The pair loop is compiled in one variant per (dimension, kernel, pass,
+ * sums layout) and instruction-set path.  A row's neighbours are taken in
+ * blocks of PAIR_BLOCK: gathered into structure-of-arrays form, then every
+ * pair term (physics.h, effects.h; one function each, the only place its
+ * equation is written) runs over the block in a short loop that
+ * vectorises; effects are runtime switches tested once per block.  The
+ * terms are written as records of the sums, which one scatter
+ * (add_record) adds to a particle's sums wherever they are kept.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -95,6 +100,7 @@ typedef struct engine {
     effects fx;
     double inv_W_dx;
     int pass; /* PASS_CONTINUITY | PASS_MOMENTUM */
+    int path; /* RATE_PATH_*: the instruction set of the pair loop */
     /* pair pass */
     int full;       /* full list: a pair with b < a is skipped unless far */
     int reverse;    /* a far pair of locals is in both rows (no far records) */
@@ -142,7 +148,13 @@ size_t rates_chunk_rows(int dim, size_t n)
     return c > least ? c : least;
 }
 
-static inline void neighbours_of(const engine *e, size_t a, const int **list, int *count)
+#if defined(__GNUC__)
+#define ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define ALWAYS_INLINE inline
+#endif
+
+static ALWAYS_INLINE void neighbours_of(const engine *e, size_t a, const int **list, int *count)
 {
     if (e->offsets32) {
         *list = e->indices + e->offsets32[a];
@@ -172,12 +184,6 @@ static inline double separation(const engine *e, const double *xa, size_t b, con
     return r2;
 }
 
-#if defined(__GNUC__)
-#define ALWAYS_INLINE inline __attribute__((always_inline))
-#else
-#define ALWAYS_INLINE inline
-#endif
-
 /* Append one far record (the terms for particle b, `record` <= f->record
  * doubles); on allocation failure the list is marked and the pass reports
  * it. */
@@ -203,277 +209,206 @@ static void far_append(far_list *f, int record, size_t b, const double *terms)
     f->count++;
 }
 
-/* The pair pass for row a of a chunk whose direct targets are [b0, dend).
- * Neighbours are taken in blocks: their data are gathered into short
- * arrays, the terms of every pair are computed in loops without branches
- * (which the compiler vectorises), and then added in neighbour order: the
- * a-side into registers, the b-side into b's sums (or b's far record). */
-#define PAIR_BLOCK 32
+/* The largest record of sums: drho (1), dv (3), L (9), M (6), u (3). */
+#define MAX_RECORD (1 + 3 + 9 + 6 + 3)
 
-static ALWAYS_INLINE void column(const double (*a)[PAIR_BLOCK], int k, int rows, double *out)
+/* Adds a record of terms t (its doubles `step` apart, in the order of the
+ * sums' offsets) to particle b's sums.  The one scatter of the pair pass:
+ * own rows, partners, far records and the partial-sum buffer. */
+static ALWAYS_INLINE void add_record(const sums *s, size_t b, const double *t, size_t step)
 {
-    for (int i = 0; i < rows; ++i)
-        out[i] = a[i][k];
+#pragma GCC unroll 6
+    for (int q = 0; q < N_SUMS; ++q) {
+        if (!s->width[q])
+            continue;
+        double *dst = s->p[q] + b * s->stride[q];
+        for (int i = 0; i < s->width[q]; ++i)
+            dst[i] += t[(size_t)(s->offset[q] + i) * step];
+    }
 }
 
-static ALWAYS_INLINE void set_column(double (*a)[PAIR_BLOCK], int k, int rows, const double *in)
+/* The engine's sums with what the variant fixes at compile time: the
+ * widths of the pass and, in the rate arrays, the strides. */
+static ALWAYS_INLINE sums loop_sums(const engine *e, const int dim, const int split, const int pass,
+                                    const int plain)
 {
-    for (int i = 0; i < rows; ++i)
-        a[i][k] = in[i];
+    sums s = e->acc;
+    if (plain) { /* no sums of effects (M, u): the record's length is fixed */
+        s.width[SUM_M] = s.width[SUM_U] = 0;
+        s.record = (pass & PASS_CONTINUITY ? 1 + dim * dim : 0) + (pass & PASS_MOMENTUM ? dim : 0);
+    }
+    const int cont = (pass & PASS_CONTINUITY) != 0, mom = (pass & PASS_MOMENTUM) != 0;
+    const int ncomp = dim == 2 ? 4 : 6, nL = split ? dim * dim : ncomp;
+    s.width[SUM_RHO] = cont;
+    s.width[SUM_DV] = mom ? dim : 0;
+    s.width[SUM_L] = cont ? nL : 0;
+    s.width[SUM_L2] = cont ? dim * dim - nL : 0;
+    s.offset[SUM_DV] = cont;
+    s.offset[SUM_L] = cont + s.width[SUM_DV];
+    s.offset[SUM_L2] = s.offset[SUM_L] + nL;
+    if (!split) {
+        s.stride[SUM_RHO] = 1;
+        s.stride[SUM_DV] = (size_t)dim;
+        s.stride[SUM_L] = (size_t)ncomp;
+        s.stride[SUM_L2] = (size_t)(dim * dim - ncomp);
+    }
+    return s;
 }
 
-/* Component c of particle b's sum of L: in sL if c < nL, else in sL2. */
-static ALWAYS_INLINE double *L_at(double *sL, size_t zL, double *sL2, size_t zL2, int nL, size_t b,
-                                  int c)
+/* The pair block of row a: neighbours list[0..count) (at most PAIR_BLOCK),
+ * those the row computes gathered in structure-of-arrays form with the
+ * per-pair factors of the pass, then the kernel (and its gradient). */
+static ALWAYS_INLINE void gather_block(const engine *e, size_t a, const int *list, int count,
+                                       size_t far_below, const int dim, const int kernel,
+                                       const int pass, pair_block *p, int *bidx)
 {
-    return c < nL ? sL + b * zL + (size_t)c : sL2 + b * zL2 + (size_t)(c - nL);
-}
-
-static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t dend, far_list *far,
-                                   const int dim, const int kernel, const int split, const int pass)
-{
-    const int periodic = e->periodic;
-    const int nsym = dim == 2 ? 3 : 6;
-    const int pstride = e->pstride;
-    const double c0_all = e->c0_all;
+    const int nsym = dim == 2 ? 3 : 6, pstride = e->pstride;
     const int cont = pass & PASS_CONTINUITY, mom = pass & PASS_MOMENTUM;
-    const int viscosity = mom && e->fx.viscosity;
-    const int stress = !mom || !e->R ? 0 : e->fx.stress_exponent == 4.0 ? 1 : 2;
-    const int correct = cont && e->acc.width[SUM_M] > 0;
+    const int viscosity = mom && e->fx.artificial_viscosity, stress = mom && e->R;
     const int xsph = cont && e->acc.width[SUM_U] > 0;
-    const size_t n_local = e->n_local;
-    const double *xa = e->x + a * e->xs;
-    const double *va = e->v + a * e->xs;
+    const double *xa = e->x + a * e->xs, *va = e->v + a * e->xs;
     const double *Pa = e->pair_data + a * (size_t)pstride;
-    const double m_a = e->mass[a], rho_a = e->rho[a], V_a = m_a / rho_a;
-    const double c_a = c0_all > 0.0 || !mom ? c0_all : Pa[nsym];
     const double *Ra = stress ? e->R + a * (size_t)nsym : NULL;
-    double *const sr = e->acc.p[SUM_RHO], *const sv = e->acc.p[SUM_DV];
-    double *const sL = e->acc.p[SUM_L], *const sL2 = e->acc.p[SUM_L2];
-    double *const sM = e->acc.p[SUM_M], *const su = e->acc.p[SUM_U];
-    /* strides: compile-time constants for the sums in the rate arrays
-     * (sums_in_rates), one record for the partial-sum buffer */
-    const size_t zr = split ? (size_t)e->acc.record : 1;
-    const size_t zv = split ? (size_t)e->acc.record : (size_t)dim;
-    const int nL = split ? dim * dim : dim == 2 ? 4 : 6; /* components of L in sL */
-    const size_t zL = split ? (size_t)e->acc.record : (size_t)nL;
-    const size_t zL2 = split ? (size_t)e->acc.record : (size_t)(dim * dim - nL);
-    const size_t zM = split ? (size_t)e->acc.record : (size_t)nsym;
-    const size_t zu = split ? (size_t)e->acc.record : (size_t)dim;
-    const int record = e->acc.record;
+    const double rho_a = e->rho[a], c0_all = e->c0_all;
+    const double c_a = c0_all > 0.0 || !mom ? c0_all : Pa[nsym];
+    double rho_b[PAIR_BLOCK];
+    int n = 0;
+    p->m_a = e->mass[a];
+    p->V_a = p->m_a / rho_a;
+    for (int kk = 0; kk < count; ++kk) {
+        const int b = list[kk];
+        if (e->full && (size_t)b < a && (size_t)b >= far_below)
+            continue; /* a full list: the pair is computed in b's row */
+        const int k = n++;
+        bidx[k] = b;
+        double r_ab[3];
+        separation(e, xa, (size_t)b, dim, e->periodic, r_ab);
+        const double *vb = e->v + (size_t)b * e->xs;
+        const double *Pb = e->pair_data + (size_t)b * (size_t)pstride;
+        for (int i = 0; i < dim; ++i) {
+            p->r[i][k] = r_ab[i];
+            p->v[i][k] = va[i] - vb[i];
+        }
+        p->m_b[k] = e->mass[b];
+        rho_b[k] = e->rho[b];
+        if (mom) /* the per-particle stress factors (pass_pair_data) */
+            for (int c = 0; c < nsym; ++c)
+                p->T[c][k] = Pa[c] + Pb[c];
+        if (viscosity)
+            p->c_mean[k] = c0_all > 0.0 ? c0_all : 0.5 * (c_a + Pb[nsym]);
+        if (stress)
+            for (int c = 0; c < nsym; ++c)
+                p->R[c][k] = Ra[c] + e->R[(size_t)b * (size_t)nsym + (size_t)c];
+    }
+    p->n = n;
+    /* the rest in short loops without branches, which vectorise */
+    if (cont) /* volumes m/rho (rounded as when they were stored) */
+        for (int k = 0; k < n; ++k)
+            p->V_b[k] = p->m_b[k] / rho_b[k];
+    if (viscosity || xsph)
+        for (int k = 0; k < n; ++k)
+            p->rho_mean[k] = 0.5 * (rho_a + rho_b[k]);
+    double q[PAIR_BLOCK];
+    for (int k = 0; k < n; ++k) {
+        double q2 = 0.0;
+        for (int i = 0; i < dim; ++i)
+            q2 += p->r[i][k] * p->r[i][k];
+        p->r2[k] = q2;
+        q[k] = sqrt(q2) * e->inv_h;
+    }
+    for (int k = 0; k < n; ++k) {
+        const double F = kernel_f(kernel, dim, q[k]) * e->f_norm;
+        for (int i = 0; i < dim; ++i)
+            p->gW[i][k] = F * p->r[i][k];
+    }
+    if (stress || xsph)
+        for (int k = 0; k < n; ++k)
+            p->W[k] = kernel_w(kernel, dim, q[k]) * e->w_norm;
+}
 
-    double L[3][3] = {{0.0}};
-    double M[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    double dv[3] = {0.0, 0.0, 0.0}, u[3] = {0.0, 0.0, 0.0};
-    double drho = 0.0;
+/* The terms of a block: every pair term of the pass whose switch is on,
+ * written to the rows of its sums in the record (ta for a, tb for b). */
+static ALWAYS_INLINE void pair_terms(const engine *e, pair_block *p, const sums *s, const int dim,
+                                     const int pass, pair_rows *ta, pair_rows *tb)
+{
+    if (pass & PASS_MOMENTUM) {
+        const effects *fx = &e->fx;
+        if (fx->artificial_viscosity)
+            artificial_viscosity_term(dim, fx->artificial_viscosity_alpha,
+                                      fx->artificial_viscosity_beta, e->h, p);
+        if (e->R)
+            artificial_stress_term(dim, e->inv_W_dx, fx->artificial_stress_n, p);
+        momentum_term(dim, p, ta + s->offset[SUM_DV], tb + s->offset[SUM_DV]);
+    }
+    if (pass & PASS_CONTINUITY) {
+        continuity_term(dim, p, ta + s->offset[SUM_RHO], tb + s->offset[SUM_RHO]);
+        velocity_gradient_term(dim, p, ta + s->offset[SUM_L], tb + s->offset[SUM_L]);
+        if (s->width[SUM_M])
+            correction_moment_term(dim, p, ta + s->offset[SUM_M], tb + s->offset[SUM_M]);
+        if (s->width[SUM_U])
+            xsph_term(dim, e->fx.xsph_epsilon, p, ta + s->offset[SUM_U], tb + s->offset[SUM_U]);
+    }
+}
 
+/* The pair pass for row a of a chunk whose direct targets are [b0, dend):
+ * block by block, the terms of every pair; a's summed in neighbour order,
+ * b's added to b's sums, or left to b's row (a far pair listed in both
+ * rows), or appended to the chunk's far records. */
+static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t dend, far_list *far,
+                                   const int dim, const int kernel, const int split, const int pass,
+                                   const int plain)
+{
+    const sums s = loop_sums(e, dim, split, pass, plain);
+    const int record = s.record;
+    double acc[MAX_RECORD];
+    for (int c = 0; c < record; ++c)
+        acc[c] = 0.0;
     const int *list;
     int count;
     neighbours_of(e, a, &list, &count);
     /* a neighbour b < far_below is at least two chunks before a */
     const size_t far_below = b0 >= e->chunk ? b0 - e->chunk : 0;
     for (int k0 = 0; k0 < count; k0 += PAIR_BLOCK) {
-        const int kn = count - k0 < PAIR_BLOCK ? count - k0 : PAIR_BLOCK;
-        /* gathered per-pair inputs */
+        pair_block p;
         int bidx[PAIR_BLOCK];
-        double r[3][PAIR_BLOCK], vr[3][PAIR_BLOCK], mb[PAIR_BLOCK], rhob[PAIR_BLOCK],
-            Vb[PAIR_BLOCK];
-        double T[6][PAIR_BLOCK], RR[6][PAIR_BLOCK], rho_mean[PAIR_BLOCK], c_mean[PAIR_BLOCK];
-        /* per-pair terms */
-        double gW[3][PAIR_BLOCK], tc[PAIR_BLOCK], f[3][PAIR_BLOCK], W[PAIR_BLOCK];
-        double H[6][PAIR_BLOCK], s[3][PAIR_BLOCK], r2[PAIR_BLOCK];
-        int nk = 0;
-        for (int kk = 0; kk < kn; ++kk) {
-            const int b = list[k0 + kk];
-            if (e->full && (size_t)b < a && (size_t)b >= far_below)
-                continue; /* a full list: the pair is computed in b's row */
-            const int k = nk++;
-            bidx[k] = b;
-            double r_ab[3];
-            separation(e, xa, (size_t)b, dim, periodic, r_ab);
-            const double *vb = e->v + (size_t)b * e->xs;
-            const double *Pb = e->pair_data + (size_t)b * (size_t)pstride;
-            for (int i = 0; i < dim; ++i) {
-                r[i][k] = r_ab[i];
-                vr[i][k] = va[i] - vb[i];
-            }
-            mb[k] = e->mass[b];
-            rhob[k] = e->rho[b];
-            if (mom)
-                for (int c = 0; c < nsym; ++c)
-                    T[c][k] = Pa[c] + Pb[c];
-            if (viscosity)
-                c_mean[k] = c0_all > 0.0 ? c0_all : 0.5 * (c_a + Pb[nsym]);
-            if (stress) {
-                const double *Rb = e->R + (size_t)b * (size_t)nsym;
-                for (int c = 0; c < nsym; ++c)
-                    RR[c][k] = Ra[c] + Rb[c];
-            }
-        }
-        if (cont) /* volumes m/rho (rounded as when they were stored) */
-            for (int k = 0; k < nk; ++k)
-                Vb[k] = mb[k] / rhob[k];
-        if (viscosity || xsph)
-            for (int k = 0; k < nk; ++k)
-                rho_mean[k] = 0.5 * (rho_a + rhob[k]);
-        /* kernel gradient and continuity */
-        for (int k = 0; k < nk; ++k) {
-            double q2 = 0.0;
-            for (int i = 0; i < dim; ++i)
-                q2 += r[i][k] * r[i][k];
-            r2[k] = q2;
-            const double F = kernel_f(kernel, dim, sqrt(q2) * e->inv_h) * e->f_norm;
-            double c = 0.0;
-            for (int i = 0; i < dim; ++i) {
-                gW[i][k] = F * r[i][k];
-                c += vr[i][k] * gW[i][k];
-            }
-            tc[k] = c;
-        }
-        if (viscosity)
-            for (int k = 0; k < nk; ++k) {
-                double v_dot_r = 0.0;
-                for (int i = 0; i < dim; ++i)
-                    v_dot_r += vr[i][k] * r[i][k];
-                const double Pi = viscosity_pair(e->fx.alpha, e->fx.beta, e->h, v_dot_r, r2[k],
-                                                 c_mean[k], rho_mean[k]);
-                for (int i = 0; i < dim; ++i)
-                    T[i][k] -= Pi;
-            }
-        if (stress || xsph)
-            for (int k = 0; k < nk; ++k)
-                W[k] = kernel_w(kernel, dim, sqrt(r2[k]) * e->inv_h) * e->w_norm;
-        if (stress == 1)
-            for (int k = 0; k < nk; ++k) {
-                const double fn = artificial_stress_factor_4(W[k], e->inv_W_dx);
-                for (int c = 0; c < nsym; ++c)
-                    T[c][k] += RR[c][k] * fn;
-            }
-        else if (stress == 2)
-            for (int k = 0; k < nk; ++k) {
-                const double fn =
-                    artificial_stress_factor(W[k], e->inv_W_dx, e->fx.stress_exponent);
-                for (int c = 0; c < nsym; ++c)
-                    T[c][k] += RR[c][k] * fn;
-            }
-        /* momentum: T_ab . grad_a W_ab */
-        /* (the pair functions take one pair's terms as short vectors:
-         * column k of the block's arrays) */
-        if (mom || correct)
-            for (int k = 0; k < nk; ++k) {
-                double gk[3];
-                column(gW, k, dim, gk);
-                if (mom) {
-                    double Tk[6], fk[3] = {0.0, 0.0, 0.0};
-                    column(T, k, nsym, Tk);
-                    momentum_pair(dim, 1.0, Tk, gk, fk);
-                    set_column(f, k, dim, fk);
-                }
-                if (correct) {
-                    double rk[3], Hk[6];
-                    column(r, k, dim, rk);
-                    correction_matrix_pair(dim, 1.0, rk, gk, Hk);
-                    set_column(H, k, nsym, Hk);
-                }
-            }
-        if (xsph)
-            for (int k = 0; k < nk; ++k) {
-                double vk[3], t[3] = {0.0, 0.0, 0.0};
-                column(vr, k, dim, vk);
-                xsph_pair(dim, e->fx.xsph_epsilon, 1.0, rho_mean[k], vk, W[k], t);
-                set_column(s, k, dim, t);
-            }
-        /* Sums in neighbour order.  With g the unweighted term of the pair
-         * (grad_b W_ba = -grad_a W_ab, v_ba = -v_ab, r_ba = -r_ab):
-         *   continuity  a: +m_b g     b: +m_a g
-         *   L, M        a: +V_b g     b: +V_a g   (g = -v_ab (x) grad W, H)
-         *   momentum    a: +m_b g     b: -m_a g
-         *   XSPH        a: +m_b g     b: -m_a g                          */
-        for (int k = 0; k < nk; ++k) {
-            const double m = mb[k], V = Vb[k];
-            if (cont) {
-                drho += m * tc[k];
-                for (int i = 0; i < dim; ++i)
-                    for (int j = 0; j < dim; ++j)
-                        L[i][j] -= V * vr[i][k] * gW[j][k];
-            }
-            if (mom)
-                for (int i = 0; i < dim; ++i)
-                    dv[i] += m * f[i][k];
-            if (correct)
-                for (int c = 0; c < nsym; ++c)
-                    M[c] += V * H[c][k];
-            if (xsph)
-                for (int i = 0; i < dim; ++i)
-                    u[i] += m * s[i][k];
-
+        pair_rows ta[MAX_RECORD], tb[MAX_RECORD];
+        const int kn = count - k0 < PAIR_BLOCK ? count - k0 : PAIR_BLOCK;
+        gather_block(e, a, list + k0, kn, far_below, dim, kernel, pass, &p, bidx);
+        pair_terms(e, &p, &s, dim, pass, ta, tb);
+        for (int k = 0; k < p.n; ++k) /* each sum in neighbour order */
+#pragma GCC unroll 22
+            for (int c = 0; c < record; ++c)
+                acc[c] += ta[c][k];
+        for (int k = 0; k < p.n; ++k) {
             const size_t b = (size_t)bidx[k];
             if (b >= b0 && b < dend) {
-                if (cont) {
-                    sr[b * zr] += m_a * tc[k];
-                    for (int i = 0; i < dim; ++i)
-                        for (int j = 0; j < dim; ++j)
-                            *L_at(sL, zL, sL2, zL2, nL, b, i * dim + j) -=
-                                V_a * vr[i][k] * gW[j][k];
-                }
-                if (mom)
-                    for (int i = 0; i < dim; ++i)
-                        sv[b * zv + (size_t)i] -= m_a * f[i][k];
-                if (correct)
-                    for (int c = 0; c < nsym; ++c)
-                        sM[b * zM + (size_t)c] += V_a * H[c][k];
-                if (xsph)
-                    for (int i = 0; i < dim; ++i)
-                        su[b * zu + (size_t)i] -= m_a * s[i][k];
-            } else if (e->reverse && b < n_local) {
+                add_record(&s, b, &tb[0][k], PAIR_BLOCK);
+            } else if (e->reverse && b < e->n_local) {
                 /* a far pair listed in both rows: b's row adds b's terms */
-            } else if (b < n_local || e->ghost_sums) {
-                double t[1 + 3 + 9 + 6 + 3];
-                double *o = t;
-                if (cont)
-                    *o++ = m_a * tc[k];
-                if (mom)
-                    for (int i = 0; i < dim; ++i)
-                        *o++ = -(m_a * f[i][k]);
-                if (cont)
-                    for (int i = 0; i < dim; ++i)
-                        for (int j = 0; j < dim; ++j)
-                            *o++ = -(V_a * vr[i][k] * gW[j][k]);
-                if (correct)
-                    for (int c = 0; c < nsym; ++c)
-                        *o++ = V_a * H[c][k];
-                if (xsph)
-                    for (int i = 0; i < dim; ++i)
-                        *o++ = -(m_a * s[i][k]);
+            } else if (b < e->n_local || e->ghost_sums) {
+                double t[MAX_RECORD];
+                for (int c = 0; c < record; ++c)
+                    t[c] = tb[c][k];
                 far_append(far, record, b, t);
             }
         }
     }
-
-    if (cont) {
-        sr[a * zr] += drho;
-        for (int i = 0; i < dim; ++i)
-            for (int j = 0; j < dim; ++j)
-                *L_at(sL, zL, sL2, zL2, nL, a, i * dim + j) += L[i][j];
-    }
-    if (mom)
-        for (int i = 0; i < dim; ++i)
-            sv[a * zv + (size_t)i] += dv[i];
-    if (correct)
-        for (int c = 0; c < nsym; ++c)
-            sM[a * zM + (size_t)c] += M[c];
-    if (xsph)
-        for (int i = 0; i < dim; ++i)
-            su[a * zu + (size_t)i] += u[i];
+    add_record(&s, a, acc, 1);
 }
 
-/* One function per (dimension, kernel): the rows of one chunk.  Compiled
- * for AVX2+FMA as well as the baseline and picked at load time where the
- * CPU has it. */
+/* One function per (dimension, kernel, sums, pass) and instruction-set
+ * path: the rows of one chunk.  The baseline path is compiled for the
+ * build's target; on x86-64 with GCC also for x86-64-v3 (AVX2, FMA) and
+ * x86-64-v4 (AVX-512, 512-bit vectors), and each call takes the widest
+ * path the CPU has (rates_path), unless the handle asks for another.  The
+ * paths compute the same sums in the same order; they may differ in the
+ * last bits where the compiler fuses a multiply and an add (FMA). */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(SPHSOLID_NO_CLONES)
-#define RATE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define RATE_WIDE_PATHS 1
+#define TARGET_AVX2     __attribute__((target("arch=x86-64-v3")))
+#define TARGET_AVX512   __attribute__((target("arch=x86-64-v4,prefer-vector-width=512")))
 #else
-#define RATE_CLONES
+#define RATE_WIDE_PATHS 0
 #endif
 
 typedef void (*chunk_fn)(const engine *, long);
@@ -484,15 +419,27 @@ static ALWAYS_INLINE void chunk_rows(const engine *e, long c, const int dim, con
     const size_t b0 = (size_t)c * e->chunk;
     const size_t b1 = b0 + e->chunk < e->n_local ? b0 + e->chunk : e->n_local;
     const size_t dend = b1 + e->chunk < e->n_local ? b1 + e->chunk : e->n_local;
-    for (size_t a = b0; a < b1; ++a)
-        row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split, pass);
+    if (!e->acc.width[SUM_M] && !e->acc.width[SUM_U])
+        for (size_t a = b0; a < b1; ++a)
+            row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split, pass, 1);
+    else
+        for (size_t a = b0; a < b1; ++a)
+            row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split, pass, 0);
 }
 
-#define CHUNK_VARIANT(DIM, KERNEL, SPLIT, PASS)                                                \
-    RATE_CLONES static void chunk_##DIM##_##KERNEL##_##SPLIT##_##PASS(const engine *e, long c) \
-    {                                                                                          \
-        chunk_rows(e, c, DIM, KERNEL, SPLIT, PASS);                                            \
+#define CHUNK_FN(ATTR, PATH, DIM, KERNEL, SPLIT, PASS)                                           \
+    ATTR static void chunk_##PATH##_##DIM##_##KERNEL##_##SPLIT##_##PASS(const engine *e, long c) \
+    {                                                                                            \
+        chunk_rows(e, c, DIM, KERNEL, SPLIT, PASS);                                              \
     }
+#if RATE_WIDE_PATHS
+#define CHUNK_VARIANT(DIM, KERNEL, SPLIT, PASS)           \
+    CHUNK_FN(, base, DIM, KERNEL, SPLIT, PASS)            \
+    CHUNK_FN(TARGET_AVX2, avx2, DIM, KERNEL, SPLIT, PASS) \
+    CHUNK_FN(TARGET_AVX512, avx512, DIM, KERNEL, SPLIT, PASS)
+#else
+#define CHUNK_VARIANT(DIM, KERNEL, SPLIT, PASS) CHUNK_FN(, base, DIM, KERNEL, SPLIT, PASS)
+#endif
 #define CHUNK_VARIANTS_OF_PASS(ID, PASS) \
     CHUNK_VARIANT(2, ID, 0, PASS)        \
     CHUNK_VARIANT(3, ID, 0, PASS) CHUNK_VARIANT(2, ID, 1, PASS) CHUNK_VARIANT(3, ID, 1, PASS)
@@ -500,25 +447,56 @@ static ALWAYS_INLINE void chunk_rows(const engine *e, long c, const int dim, con
 #define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP) \
     CHUNK_VARIANTS_OF_PASS(ID, 1) CHUNK_VARIANTS_OF_PASS(ID, 2) CHUNK_VARIANTS_OF_PASS(ID, 3)
 SPH_KERNELS(CHUNK_VARIANTS_OF_KERNEL)
-#define CHUNK_PASS_ENTRY(ID, PASS)                           \
-    {                                                        \
-        {chunk_2_##ID##_0_##PASS, chunk_3_##ID##_0_##PASS},  \
-        {                                                    \
-            chunk_2_##ID##_1_##PASS, chunk_3_##ID##_1_##PASS \
-        }                                                    \
+#define CHUNK_PASS_ENTRY(PATH, ID, PASS)                                       \
+    {                                                                          \
+        {chunk_##PATH##_2_##ID##_0_##PASS, chunk_##PATH##_3_##ID##_0_##PASS},  \
+        {                                                                      \
+            chunk_##PATH##_2_##ID##_1_##PASS, chunk_##PATH##_3_##ID##_1_##PASS \
+        }                                                                      \
     }
-#define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT, STEP) \
-    [ID] = {CHUNK_PASS_ENTRY(ID, 1), CHUNK_PASS_ENTRY(ID, 2), CHUNK_PASS_ENTRY(ID, 3)},
-/* [kernel][pass - 1][partial-sum buffer][dimension - 2] */
-static const chunk_fn chunk_variants[][3][2][2] = {SPH_KERNELS(CHUNK_ENTRY)};
+#define CHUNK_ENTRY(PATH, ID)                                             \
+    [ID] = {CHUNK_PASS_ENTRY(PATH, ID, 1), CHUNK_PASS_ENTRY(PATH, ID, 2), \
+            CHUNK_PASS_ENTRY(PATH, ID, 3)},
+#define CHUNK_ENTRY_BASE(ID, NAME, PREFIX, SUPPORT, STEP)   CHUNK_ENTRY(base, ID)
+#define CHUNK_ENTRY_AVX2(ID, NAME, PREFIX, SUPPORT, STEP)   CHUNK_ENTRY(avx2, ID)
+#define CHUNK_ENTRY_AVX512(ID, NAME, PREFIX, SUPPORT, STEP) CHUNK_ENTRY(avx512, ID)
+#define COUNT_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP)       +1
+enum { N_KERNELS = 0 SPH_KERNELS(COUNT_KERNEL) };
+#undef COUNT_KERNEL
+/* [path - 1][kernel][pass - 1][partial-sum buffer][dimension - 2] */
+static const chunk_fn chunk_variants[][N_KERNELS][3][2][2] = {
+    {SPH_KERNELS(CHUNK_ENTRY_BASE)},
+#if RATE_WIDE_PATHS
+    {SPH_KERNELS(CHUNK_ENTRY_AVX2)},
+    {SPH_KERNELS(CHUNK_ENTRY_AVX512)},
+#endif
+};
 #undef CHUNK_ENTRY
 #undef CHUNK_PASS_ENTRY
+
+int rates_path(int wanted)
+{
+#if RATE_WIDE_PATHS
+    __builtin_cpu_init();
+    int widest = RATE_PATH_BASELINE;
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+        widest = RATE_PATH_AVX2;
+    if (widest == RATE_PATH_AVX2 && __builtin_cpu_supports("avx512f") &&
+        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") &&
+        __builtin_cpu_supports("avx512dq"))
+        widest = RATE_PATH_AVX512;
+    return wanted == RATE_PATH_AUTO || wanted > widest ? widest : wanted;
+#else
+    (void)wanted;
+    return RATE_PATH_BASELINE;
+#endif
+}
 
 /* Pass 2: the pair sums.  Even chunks, then odd chunks, then the far
  * records in chunk order (each thread adds those of its own particles). */
 static void pass_pairs(const engine *e, int kernel, size_t n_sums)
 {
-    const chunk_fn run = chunk_variants[kernel][e->pass - 1][e->split][e->dim - 2];
+    const chunk_fn run = chunk_variants[e->path - 1][kernel][e->pass - 1][e->split][e->dim - 2];
     const long n_chunks = e->n_chunks;
 #pragma omp parallel num_threads(e->threads)
     {
@@ -536,12 +514,7 @@ static void pass_pairs(const engine *e, int kernel, size_t n_sums)
                 const long b = f->target[k];
                 if (b < begin || b >= end)
                     continue;
-                const double *t = f->terms + k * (size_t)record;
-                for (int q = 0; q < N_SUMS; ++q) {
-                    double *dst = e->acc.p[q] + (size_t)b * e->acc.stride[q];
-                    for (int i = 0; i < e->acc.width[q]; ++i)
-                        dst[i] += t[e->acc.offset[q] + i];
-                }
+                add_record(&e->acc, (size_t)b, f->terms + k * (size_t)record, 1);
             }
         }
     }
@@ -568,11 +541,10 @@ static void finish_particle(const engine *e, size_t a)
         return;
     e->drho_dt[a] = s->p[SUM_RHO][a * s->stride[SUM_RHO]];
     double grad_v[3][3] = {{0.0}};
-    const int nL = s->width[SUM_L];
-    for (int i = 0; i < dim; ++i)
-        for (int j = 0; j < dim; ++j)
-            grad_v[i][j] = *L_at(s->p[SUM_L], s->stride[SUM_L], s->p[SUM_L2], s->stride[SUM_L2], nL,
-                                 a, i * dim + j);
+    const int nL = s->width[SUM_L]; /* the rest of L in SUM_L2 */
+    for (int c = 0; c < dim * dim; ++c)
+        grad_v[c / dim][c % dim] = c < nL ? s->p[SUM_L][a * s->stride[SUM_L] + (size_t)c]
+                                          : s->p[SUM_L2][a * s->stride[SUM_L2] + (size_t)(c - nL)];
     if (s->width[SUM_M]) {
         double Mc[6];
         for (int c = 0; c < e->nsym; ++c)
@@ -647,7 +619,8 @@ static void pass_pair_data(const engine *e, double *pair_data, double *R)
         if (e->pstride > nsym)
             pd[nsym] = m->c0;
         if (R)
-            artificial_stress_tensor(dim, S, P, rho, e->fx.stress_epsilon, R + (size_t)a * nsym);
+            artificial_stress_tensor(dim, S, P, rho, e->fx.artificial_stress_epsilon,
+                                     R + (size_t)a * nsym);
     }
 }
 
@@ -786,6 +759,7 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
         e->periodic |= e->periodic_axis[i];
     }
     e->pass = call->pass ? call->pass : PASS_ALL;
+    e->path = rates_path(sim->rate_path);
     e->full = !call->half;
     e->reverse = e->full || call->far_in_both_rows;
     e->ghost_sums = call->partial != NULL;

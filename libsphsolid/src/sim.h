@@ -73,6 +73,7 @@ struct output_file;
 struct sph_sim {
     int dim, ncomp, nsym;
     int threads;
+    int rate_path; /* RATE_PATH_*: the pair loop's instruction set (0: the widest) */
     char errmsg[SPH_ERRMSG_SIZE];
 
     /* model */
@@ -207,6 +208,17 @@ enum {
     PASS_MOMENTUM = SPH_RATES_MOMENTUM,     /* dv/dt */
     PASS_ALL = SPH_RATES_ALL
 };
+
+/* Instruction-set paths of the pair loop (rates.c). */
+enum {
+    RATE_PATH_AUTO = 0,     /* the widest the CPU has */
+    RATE_PATH_BASELINE = 1, /* the build's target (x86-64: SSE2) */
+    RATE_PATH_AVX2 = 2,     /* x86-64-v3: AVX2 and FMA */
+    RATE_PATH_AVX512 = 3    /* x86-64-v4: AVX-512 */
+};
+/* The path a call takes when `wanted` is asked for: `wanted` if the build
+ * and the CPU have it, else the widest they have. */
+int rates_path(int wanted);
 
 sph_status rates_run(sph_sim *sim, const rate_call *call);
 /* The rates of the handle's own particles (periodic, its half list) into its

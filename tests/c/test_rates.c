@@ -444,6 +444,251 @@ static void far_pairs_are_computed_in_both_rows(void **state)
 /* The pair loop has the usual exponent n = 4 compiled in and takes any
  * other n through pow: n = 4 and n = 4 (1 + 1e-12) give the same rates to
  * a few 1e-12. */
+/* The instruction-set paths of the pair loop (baseline, AVX2, AVX-512;
+ * those the build and CPU have) add the same terms in the same order; they
+ * may differ where the compiler fuses a multiply and an add (FMA), which
+ * rounds once instead of twice: by a few units in the last place of the
+ * terms, far below 1e-12 of each rate's largest value.  Each path gives
+ * bitwise the same rates on 1, 2 and 3 threads. */
+static void rate_paths_agree(void **state)
+{
+    (void)state;
+    const int nx = 40, ny = 30;
+    const size_t n = (size_t)nx * (size_t)ny;
+    sph_sim *sim = free_block_2d(nx, ny, 1e-3);
+    check(sim, sph_effect(sim, "kernel_correction", ""));
+    check(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 beta=2"));
+    check(sim, sph_effect(sim, "artificial_stress", "epsilon=0.3 n=4"));
+    perturb(sim, 23u);
+    sim->rate_path = RATE_PATH_BASELINE;
+    check(sim, sph_set_threads(sim, 1));
+    rates_buf base = handle_rates(sim);
+    const double sv = largest(base.dv, 2 * n), sr = largest(base.drho, n),
+                 sS = largest(base.dS, 4 * n);
+    int paths = 0;
+    for (int path = RATE_PATH_BASELINE; path <= RATE_PATH_AVX512; ++path) {
+        if (rates_path(path) != path)
+            continue; /* not in this build or on this CPU */
+        paths++;
+        sim->rate_path = path;
+        check(sim, sph_set_threads(sim, 1));
+        rates_buf one = handle_rates(sim);
+        for (int threads = 2; threads <= 3; ++threads) {
+            check(sim, sph_set_threads(sim, threads));
+            rates_buf r = handle_rates(sim);
+            assert_memory_equal(r.dv, one.dv, 2 * n * sizeof(double));
+            assert_memory_equal(r.drho, one.drho, n * sizeof(double));
+            assert_memory_equal(r.dS, one.dS, 4 * n * sizeof(double));
+            free_rates(r);
+        }
+        for (size_t a = 0; a < n; ++a) {
+            for (int i = 0; i < 2; ++i)
+                assert_close(one.dv[2 * a + i], base.dv[2 * a + i], 1e-12 * sv, "dv/dt");
+            assert_close(one.drho[a], base.drho[a], 1e-12 * sr, "drho/dt");
+            for (int c = 0; c < 4; ++c)
+                assert_close(one.dS[4 * a + c], base.dS[4 * a + c], 1e-12 * sS, "dS/dt");
+        }
+        free_rates(one);
+    }
+    assert_true(paths >= 1);
+    free_rates(base);
+    sph_destroy(sim);
+}
+
+/* ------------------------------------------- pair terms: one-sided forms */
+
+/* A block of pairs (a, b_k) with random inputs, seen from a. */
+static pair_block random_block(int dim, unsigned seed)
+{
+    pair_block p;
+    memset(&p, 0, sizeof p);
+    p.n = 7;
+    p.m_a = 1.0 + uniform(&seed);
+    p.V_a = 1e-3 * (1.0 + uniform(&seed));
+    for (int k = 0; k < p.n; ++k) {
+        const double F = -1.0 - uniform(&seed); /* W'(r)/r < 0 */
+        p.r2[k] = 0.0;
+        for (int i = 0; i < dim; ++i) {
+            p.r[i][k] = uniform(&seed);
+            p.v[i][k] = uniform(&seed);
+            p.r2[k] += p.r[i][k] * p.r[i][k];
+            p.gW[i][k] = F * p.r[i][k];
+        }
+        p.W[k] = 0.5 + uniform(&seed);
+        p.m_b[k] = 1.0 + uniform(&seed);
+        p.V_b[k] = 1e-3 * (1.0 + uniform(&seed));
+        p.rho_mean[k] = 2000.0 + 100.0 * uniform(&seed);
+        p.c_mean[k] = 3000.0 + 100.0 * uniform(&seed);
+        for (int c = 0; c < 6; ++c) {
+            p.T[c][k] = uniform(&seed);
+            p.R[c][k] = -0.5 + uniform(&seed); /* tension: R < 0 */
+        }
+    }
+    return p;
+}
+
+/* Pair k of p seen from b: a and b swapped, r, v and grad W negated; the
+ * symmetric pair factors (T, R, means) the same. */
+static pair_block mirrored(int dim, const pair_block *p, int k)
+{
+    pair_block m;
+    memset(&m, 0, sizeof m);
+    m.n = 1;
+    m.m_a = p->m_b[k];
+    m.V_a = p->V_b[k];
+    m.m_b[0] = p->m_a;
+    m.V_b[0] = p->V_a;
+    for (int i = 0; i < dim; ++i) {
+        m.r[i][0] = -p->r[i][k];
+        m.v[i][0] = -p->v[i][k];
+        m.gW[i][0] = -p->gW[i][k];
+    }
+    m.r2[0] = p->r2[k];
+    m.W[0] = p->W[k];
+    m.rho_mean[0] = p->rho_mean[k];
+    m.c_mean[0] = p->c_mean[k];
+    for (int c = 0; c < 6; ++c) {
+        m.T[c][0] = p->T[c][k];
+        m.R[c][0] = p->R[c][k];
+    }
+    return m;
+}
+
+/* The pair terms, each as the pair pass calls it (the effects on the pair
+ * tensor followed by the momentum term they act through). */
+typedef void (*term_call)(int dim, pair_block *p, pair_rows *ta, pair_rows *tb);
+static void call_continuity(int dim, pair_block *p, pair_rows *ta, pair_rows *tb)
+{
+    continuity_term(dim, p, ta, tb);
+}
+static void call_velocity_gradient(int dim, pair_block *p, pair_rows *ta, pair_rows *tb)
+{
+    velocity_gradient_term(dim, p, ta, tb);
+}
+static void call_momentum(int dim, pair_block *p, pair_rows *ta, pair_rows *tb)
+{
+    momentum_term(dim, p, ta, tb);
+}
+static void call_viscosity(int dim, pair_block *p, pair_rows *ta, pair_rows *tb)
+{
+    artificial_viscosity_term(dim, 1.0, 2.0, 0.3, p);
+    momentum_term(dim, p, ta, tb);
+}
+static void call_stress(int dim, pair_block *p, pair_rows *ta, pair_rows *tb)
+{
+    artificial_stress_term(dim, 1.3, 4.0, p);
+    momentum_term(dim, p, ta, tb);
+}
+static void call_stress_pow(int dim, pair_block *p, pair_rows *ta, pair_rows *tb)
+{
+    artificial_stress_term(dim, 1.3, 2.5, p);
+    momentum_term(dim, p, ta, tb);
+}
+static void call_xsph(int dim, pair_block *p, pair_rows *ta, pair_rows *tb)
+{
+    xsph_term(dim, 0.5, p, ta, tb);
+}
+static void call_correction(int dim, pair_block *p, pair_rows *ta, pair_rows *tb)
+{
+    correction_moment_term(dim, p, ta, tb);
+}
+
+/* The symmetric form (one call per pair, terms for a and b) against the
+ * one-sided form (the pair computed from b's side): b's terms bitwise
+ * equal, and a's. */
+static void check_one_sided(const char *name, term_call call, int components2, int components3)
+{
+    for (int dim = 2; dim <= 3; ++dim) {
+        const int nc = dim == 2 ? components2 : components3;
+        const pair_block p = random_block(dim, 11u + (unsigned)dim);
+        pair_block q = p;
+        pair_rows ta[9], tb[9];
+        call(dim, &q, ta, tb);
+        for (int k = 0; k < p.n; ++k) {
+            pair_block m = mirrored(dim, &p, k);
+            pair_rows ma[9], mb[9];
+            call(dim, &m, ma, mb);
+            for (int c = 0; c < nc; ++c)
+                if (memcmp(&ma[c][0], &tb[c][k], sizeof(double)) ||
+                    memcmp(&mb[c][0], &ta[c][k], sizeof(double)))
+                    fail_msg("%s, %dD, pair %d, component %d: b's term %.17g one-sided %.17g, "
+                             "a's %.17g one-sided %.17g",
+                             name, dim, k, c, tb[c][k], ma[c][0], ta[c][k], mb[c][0]);
+        }
+    }
+}
+
+static void one_sided_continuity(void **state)
+{
+    (void)state;
+    check_one_sided("continuity", call_continuity, 1, 1);
+}
+static void one_sided_velocity_gradient(void **state)
+{
+    (void)state;
+    check_one_sided("velocity gradient", call_velocity_gradient, 4, 9);
+}
+static void one_sided_momentum(void **state)
+{
+    (void)state;
+    check_one_sided("momentum", call_momentum, 2, 3);
+}
+static void one_sided_artificial_viscosity(void **state)
+{
+    (void)state;
+    check_one_sided("artificial viscosity", call_viscosity, 2, 3);
+}
+static void one_sided_artificial_stress(void **state)
+{
+    (void)state;
+    check_one_sided("artificial stress (n = 4)", call_stress, 2, 3);
+    check_one_sided("artificial stress (n = 2.5)", call_stress_pow, 2, 3);
+}
+static void one_sided_xsph(void **state)
+{
+    (void)state;
+    check_one_sided("xsph", call_xsph, 2, 3);
+}
+static void one_sided_correction_moment(void **state)
+{
+    (void)state;
+    check_one_sided("kernel-correction moment", call_correction, 3, 6);
+}
+
+/* The pair-tensor effects push a pair apart (Monaghan 1992; Gray et al.
+ * 2001): viscosity when approaching, artificial stress in tension.  With
+ * either on, a's momentum term gains a part along r_ab = x_a - x_b. */
+static void pair_tensor_effects_repel(void **state)
+{
+    (void)state;
+    for (int dim = 2; dim <= 3; ++dim)
+        for (int effect = 0; effect < 2; ++effect) {
+            pair_block p = random_block(dim, 3u);
+            for (int k = 0; k < p.n; ++k) { /* approaching: v_ab = -r_ab */
+                for (int i = 0; i < dim; ++i)
+                    p.v[i][k] = -p.r[i][k];
+                for (int c = 0; c < 6; ++c)
+                    p.R[c][k] = c < dim ? -0.25 : 0.0; /* tension in every direction */
+            }
+            pair_block q = p;
+            pair_rows ta0[3], tb0[3], ta[3], tb[3];
+            momentum_term(dim, &p, ta0, tb0);
+            if (effect == 0)
+                artificial_viscosity_term(dim, 1.0, 0.0, 0.3, &q);
+            else
+                artificial_stress_term(dim, 1.3, 4.0, &q);
+            momentum_term(dim, &q, ta, tb);
+            for (int k = 0; k < p.n; ++k) {
+                double push = 0.0;
+                for (int i = 0; i < dim; ++i)
+                    push += (ta[i][k] - ta0[i][k]) * p.r[i][k];
+                if (!(push > 0.0))
+                    fail_msg("%s, %dD, pair %d: push along r_ab %g, not > 0",
+                             effect ? "artificial stress" : "artificial viscosity", dim, k, push);
+            }
+        }
+}
+
 static void artificial_stress_exponent_paths_agree(void **state)
 {
     (void)state;
@@ -1135,6 +1380,15 @@ int main(void)
         cmocka_unit_test(jaumann_rate_keeps_stress_magnitude_under_rotation),
         cmocka_unit_test(momentum_of_isolated_body_is_conserved),
         cmocka_unit_test(far_pairs_are_computed_in_both_rows),
+        cmocka_unit_test(one_sided_continuity),
+        cmocka_unit_test(one_sided_velocity_gradient),
+        cmocka_unit_test(one_sided_momentum),
+        cmocka_unit_test(one_sided_artificial_viscosity),
+        cmocka_unit_test(one_sided_artificial_stress),
+        cmocka_unit_test(one_sided_xsph),
+        cmocka_unit_test(one_sided_correction_moment),
+        cmocka_unit_test(pair_tensor_effects_repel),
+        cmocka_unit_test(rate_paths_agree),
         cmocka_unit_test(artificial_stress_exponent_paths_agree),
         cmocka_unit_test(strided_entry_points_match_the_dense_ones),
         cmocka_unit_test(split_evaluation_over_two_processes),

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Compares the probe series of this tree with those of another commit, bit
+# for bit: builds bench/probe_series.c against both libraries (the commit's
+# sources exported to a temporary folder) and compares the outputs.
+#
+#   bash scripts/compare_probes.sh [COMMIT] [-- CMAKE_ARGS...]
+#
+# COMMIT defaults to f631483.  Extra CMake arguments apply to both builds,
+# e.g. -DCMAKE_C_FLAGS=-DSPHSOLID_NO_CLONES for the baseline path only.  The
+# series run on 1 thread, then on 3 threads for this tree (which must give
+# the same bits).  Exit status 0 when all agree.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+base=${1:-f631483}
+shift || true
+[ "${1:-}" = "--" ] && shift
+extra=("$@")
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+. scripts/build_beside.sh
+build_beside "$base" "$tmp" probe_series ${extra[@]+"${extra[@]}"}
+"$tmp/build-base/bench/probe_series" --threads 1 >"$tmp/base.txt"
+"$tmp/build-head/bench/probe_series" --threads 1 >"$tmp/head.txt"
+"$tmp/build-head/bench/probe_series" --threads 3 >"$tmp/head3.txt"
+status=0
+if cmp -s "$tmp/base.txt" "$tmp/head.txt"; then
+    echo "compare_probes: $(wc -l <"$tmp/head.txt") series lines bitwise equal to $base"
+else
+    echo "compare_probes: series differ from $base:"
+    diff "$tmp/base.txt" "$tmp/head.txt" | head -20
+    status=1
+fi
+if cmp -s "$tmp/head.txt" "$tmp/head3.txt"; then
+    echo "compare_probes: 1 and 3 threads bitwise equal"
+else
+    echo "compare_probes: 1 and 3 threads differ"
+    status=1
+fi
+exit $status
