@@ -36,7 +36,6 @@ import time as wallclock
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import nnls
 
 from sphsolid import metrics, planner
 from sphsolid.planner import record as record_module
@@ -96,15 +95,28 @@ def reference_scene(name: str, out: Path, log) -> accuracy.Scene:
 
 def _bias(spacings, errors, order) -> float:
     """b of the non-negative least-squares fit e = a dx^q + b (relative
-    residuals), 0 with fewer than three levels."""
+    residuals, a >= 0, b >= 0), 0 with fewer than three levels."""
     if len(errors) < 3:
         return 0.0
     h = np.asarray(spacings, float)
     e = np.asarray(errors, float)
-    weights = 1.0 / e
-    design = np.column_stack([(h / h.max()) ** order, np.ones_like(h)])
-    coefficients, _ = nnls(design * weights[:, None], e * weights)
-    return float(coefficients[1])
+    w = 1.0 / e ** 2                 # relative residuals
+    x = (h / h.max()) ** order
+
+    def fit(with_a: bool, with_b: bool):
+        if with_a and with_b:
+            design = np.column_stack([x, np.ones_like(x)]) * np.sqrt(w)[:, None]
+            return np.linalg.lstsq(design, e * np.sqrt(w), rcond=None)[0]
+        if with_a:
+            return np.array([np.sum(w * x * e) / np.sum(w * x * x), 0.0])
+        return np.array([0.0, np.sum(w * e) / np.sum(w)])
+    a, b = fit(True, True)
+    if a >= 0 and b >= 0:
+        return float(b)
+    # the optimum lies on a bound: the better of the two one-term fits
+    candidates = [fit(True, False), fit(False, True)]
+    costs = [np.sum(w * (e - c[0] * x - c[1]) ** 2) for c in candidates]
+    return float(candidates[int(np.argmin(costs))][1])
 
 
 def verify_scene(scene: accuracy.Scene, threads: int, log) -> dict:

@@ -508,12 +508,9 @@ def numbers(values, name: str, n=None) -> list:
     if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
         raise ValueError(f"{name} must be a sequence of numbers, got "
                          f"{values!r}")
+    from .units import check_entries
     seq = [number(v, f"{name}[{i}]") for i, v in enumerate(values)]
-    allowed = (n,) if isinstance(n, int) else n
-    if allowed is not None and len(seq) not in allowed:
-        want = " or ".join(str(k) for k in allowed)
-        raise ValueError(f"{name} must have {want} entries, got {len(seq)}: "
-                         f"{values!r}")
+    check_entries(seq, values, name, n)
     return seq
 
 

@@ -33,7 +33,8 @@ import numpy as np
 from . import _lib
 from ._lib import lib
 from .material import Material
-from .units import length as _length, quantity as _quantity, to_si as _to_si
+from .units import length as _length, lengths as _lengths, \
+    quantities as _quantities, quantity as _quantity
 
 __all__ = ["Body", "Motion", "Free", "Fixed", "Velocity", "Force",
            "Pressure", "Rotation", "block", "rectangle", "box", "prism",
@@ -67,7 +68,7 @@ class Fixed(Motion):
 
 
 def _vector(name, values, dim, kind=None):
-    vec = _lib.numbers(_to_si(values, kind, name), name)   # "1.5mm/s" too
+    vec = list(_quantities(values, kind, name))   # "1.5mm/s" too
     if len(vec) != dim:
         raise ValueError(f"{name} must have {dim} entries (one per "
                          f"dimension), got {len(vec)}")
@@ -84,8 +85,7 @@ class Velocity(Motion):
     kind = "velocity"
 
     def __post_init__(self):
-        _lib.numbers(_to_si(self.velocity, "velocity", "Velocity.velocity"),
-                     "Velocity.velocity", (2, 3))
+        _quantities(self.velocity, "velocity", "Velocity.velocity", (2, 3))
 
     def vector(self, body, dim):
         return _vector("Velocity.velocity", self.velocity, dim, "velocity")
@@ -103,8 +103,7 @@ class Force(Motion):
     kind = "force"
 
     def __post_init__(self):
-        _lib.numbers(_to_si(self.force, "force", "Force.force"), "Force.force",
-                     (2, 3))
+        _quantities(self.force, "force", "Force.force", (2, 3))
 
     def vector(self, body, dim):
         return _vector("Force.force", self.force, dim, "force")
@@ -172,18 +171,17 @@ class Rotation(Motion):
     def angular_velocity(self, dim):
         """The rotation vector, 3 numbers."""
         if dim == 2:
-            try:
-                w = float(self.omega)
-            except TypeError:
+            if isinstance(self.omega, (list, tuple, np.ndarray)):
                 raise ValueError("Rotation.omega must be one number in 2D "
-                                 f"(rad/s about z), got {self.omega!r}") from None
+                                 f"(rad/s about z), got {self.omega!r}")
+            w = _quantity(self.omega, "angular velocity", "Rotation.omega")
             if not math.isfinite(w):
                 raise ValueError(f"Rotation.omega must be finite, got {self.omega!r}")
             return [0.0, 0.0, w]
-        return _vector("Rotation.omega", self.omega, 3)
+        return _vector("Rotation.omega", self.omega, 3, "angular velocity")
 
     def vector(self, body, dim):
-        return _vector("Rotation.centre", self.centre, dim)
+        return _vector("Rotation.centre", self.centre, dim, "length")
 
 
 def _motion(motion) -> Motion:
@@ -265,8 +263,10 @@ class Body:
     length: float | None = None
     against: "Body | None" = None
     inset: float | str = 0.0
-    #: particles per axis of a block or prism (the library's lattice)
-    counts: tuple | None = None
+    #: particles per axis of a block or prism (the library's lattice, asked
+    #: for once; not an init field, so a copy with another dx or extent,
+    #: dataclasses.replace, asks again)
+    counts: tuple | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self):
         # what each shape needs; a shape not given follows from the fields
@@ -296,8 +296,17 @@ class Body:
         if missing:
             raise ValueError(f"Body {self.name!r}: a {self.shape!r} body "
                              f"needs {' and '.join(missing)}")
+        self.dx = _length(self.dx, "dx")
+        for key in ("lo", "hi"):
+            if getattr(self, key) is not None:
+                setattr(self, key, _lengths(getattr(self, key), key))
+        for key in ("radius", "length"):
+            if getattr(self, key) is not None:
+                setattr(self, key, _length(getattr(self, key), key))
+        if self.base is not None:
+            self.base = _lengths(self.base, "base")
         if self.shape == "points":
-            self.points = np.asarray(self.points, dtype=np.float64)
+            self.points = _point_array(self.points)
 
     @property
     def dimension(self) -> int:
@@ -504,32 +513,36 @@ def block(lo: Sequence[float], hi: Sequence[float], dx: float,
     dx = _length(dx, "dx")      # 0.001 or "1mm"
     _check_material(material)
     _check_name(name)
-    lo = tuple(_lib.numbers(_to_si(lo, "length", "lo"), "lo", (2, 3)))
-    hi = tuple(_lib.numbers(_to_si(hi, "length", "hi"), "hi", (2, 3)))
+    lo = _lengths(lo, "lo", (2, 3))
+    hi = _lengths(hi, "hi", (2, 3))
     if len(hi) != len(lo):
         raise ValueError(f"lo and hi must both have 2 or 3 entries, got "
                          f"lo={lo!r}, hi={hi!r}")
     counts = _block_lattice(name, lo, hi, dx)    # the library judges them
     if velocity is not None:
         velocity = _vector("velocity", velocity, len(lo), "velocity")
-    return Body(name=name, material=material, dx=dx, motion=_motion(motion),
-                lo=lo, hi=hi, velocity=velocity, role=role, shape="block",
-                counts=counts)
+    body = Body(name=name, material=material, dx=dx, motion=_motion(motion),
+                lo=lo, hi=hi, velocity=velocity, role=role, shape="block")
+    body.counts = counts
+    return body
 
 
 def rectangle(x: Sequence[float], y: Sequence[float], dx: float,
               material: Material, name: str = "specimen", motion=None,
               velocity=None) -> Body:
     """A 2D rectangle x in [x0, x1], y in [y0, y1] [m] (see :func:`block`)."""
-    x = _lib.numbers(x, "rectangle x (x0, x1)", 2)
-    y = _lib.numbers(y, "rectangle y (y0, y1)", 2)
+    x = _lengths(x, "rectangle x (x0, x1)", 2)
+    y = _lengths(y, "rectangle y (y0, y1)", 2)
     return block((x[0], y[0]), (x[1], y[1]), dx, material, name, motion,
                  velocity, role="specimen")
 
 
 def box(x, y, z, dx: float, material: Material, name: str = "specimen",
         motion=None, velocity=None) -> Body:
-    """A 3D box (see :func:`block`)."""
+    """A 3D box x in [x0, x1], y in [y0, y1], z in [z0, z1] [m] (see
+    :func:`block`)."""
+    x, y, z = (_lengths(v, f"box {a} ({a}0, {a}1)", 2)
+               for v, a in ((x, "x"), (y, "y"), (z, "z")))
     return block((x[0], y[0], z[0]), (x[1], y[1], z[1]), dx, material, name,
                  motion, velocity, role="specimen")
 
@@ -626,7 +639,7 @@ def piston(over: Body, layers: int | None = None, velocity=None,
 def _base(base):
     if base is None:
         return (0.0, 0.0, 0.0)
-    return tuple(_lib.numbers(_to_si(base, "length", "base"), "base", (3,)))
+    return _lengths(base, "base", 3)
 
 
 def cylinder(radius: float, length: float, dx: float, material: Material,
@@ -714,7 +727,7 @@ def particles(points, dx: float, material: Material,
     dx = _length(dx, "dx")
     _check_material(material)
     _check_name(name)
-    pts = np.array(points, dtype=np.float64)
+    pts = _point_array(points)
     if pts.ndim != 2 or pts.shape[1] not in (2, 3) or len(pts) == 0:
         raise ValueError(f"points must be an (n, 2) or (n, 3) array with n "
                          f"> 0, got shape {pts.shape}")
@@ -728,6 +741,18 @@ def particles(points, dx: float, material: Material,
     return Body(name=name, material=material, dx=dx, motion=_motion(motion),
                 points=pts, volumes=volumes, velocity=velocity,
                 shape="points")
+
+
+def _point_array(points) -> np.ndarray:
+    """Particle centres as an (n, dim) float array: an array as it is, a
+    sequence of points whose coordinates may carry units row by row."""
+    if isinstance(points, np.ndarray) and points.dtype.kind in "fiu":
+        return np.array(points, dtype=np.float64)
+    try:
+        return np.array(points, dtype=np.float64)
+    except (TypeError, ValueError):
+        return np.array([_lengths(p, f"points[{i}]")
+                         for i, p in enumerate(points)], dtype=np.float64)
 
 
 def _annulus_points(center, r_inner, r_outer, counts):
@@ -764,10 +789,9 @@ def ring(center: Sequence[float], r_inner: float, r_outer: float, dx: float,
     dx = _length(dx, "dx")
     _check_material(material)
     _check_name(name)
-    center = _lib.numbers(_to_si(center, "length", "center"), "center", (2, 3))
-    r_inner = _lib.number(_to_si(r_inner, "length", "r_inner"), "r_inner")
-    r_outer = _lib.number(_to_si(r_outer, "length", "r_outer (radius)"),
-                          "r_outer (radius)")
+    center = _lengths(center, "center", (2, 3))
+    r_inner = _length(r_inner, "r_inner")
+    r_outer = _length(r_outer, "r_outer (radius)")
     # the bounding block's lattice, from the library: its checks of dx and
     # of the radius (an empty or too small block, too many particles)
     counts = _block_lattice(

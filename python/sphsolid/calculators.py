@@ -26,6 +26,7 @@ import numpy as np
 
 from . import _lib
 from ._lib import lib
+from .units import time as _time
 
 __all__ = ["Calculator", "CLibrary"]
 
@@ -96,7 +97,7 @@ class Calculator(ABC):
         """Whole steps of dt to time ``t``, then the length of one
         shortened step landing on ``t`` (0: none), as the run takes them."""
         self.sync()
-        return _lib.steps_until(self.scene.handle, t)
+        return _lib.steps_until(self.scene.handle, _time(t, "t"))
 
     # -------------------------------------------------- evaluation (ASE)
     def get_accelerations(self) -> np.ndarray:
@@ -196,10 +197,7 @@ class CLibrary(Calculator):
                     "integrator")
 
     def set_dt(self, dt: float, allow_unstable: bool = False) -> None:
-        try:
-            value = float(dt)
-        except (TypeError, ValueError):
-            raise ValueError(f"dt must be a number [s], got {dt!r}") from None
+        value = _time(dt, "dt")          # 1e-7 or "0.1us"; the library judges
         self._check(lib.sph_set_dt(self._handle, value, int(allow_unstable)),
                     "dt")
 
@@ -249,5 +247,6 @@ class CLibrary(Calculator):
 
     def advance_until(self, t: float, progress: Progress = None,
                       interval: int = 10) -> None:
-        self._with_progress(lambda: lib.sph_run_until(self._handle, float(t)),
+        t = _time(t, "t")
+        self._with_progress(lambda: lib.sph_run_until(self._handle, t),
                             progress, interval)

@@ -160,6 +160,14 @@ class Dynamics:
         """
         if (steps is None) == (until is None):
             raise ValueError("give exactly one of steps= or until=")
+        current = self.scene.integrator
+        if current != self.integrator:
+            raise RuntimeError(
+                f"{type(self).__name__} drives the {self.integrator!r} "
+                f"integrator, but the scene now runs {current!r} (selected "
+                "by another Dynamics object on it, or by a checkpoint read): "
+                f"make a {dynamics_for(current).__name__}(scene) to run it, "
+                f"or a new {type(self).__name__}(scene) to switch back")
         calc = self.calc
         start = calc.step
         if steps is not None:

@@ -44,6 +44,7 @@ from ._lib import check as _check
 from ._lib import encode_name as _lib_encode
 from ._lib import steps_until as _steps_until
 from .calculators import Calculator, Progress
+from .units import time as _time
 
 __all__ = ["Lammps", "open_lammps", "find_plugin", "plugin_directory",
            "available", "preload_mpi", "mpi_bin_dir", "user_plugin_directory"]
@@ -201,14 +202,51 @@ def open_lammps(cmdargs: list | None = None, plugin=None):
     plugin : str or Path, optional
         The plugin file; default :func:`find_plugin`.
 
-    Raises OSError when there is no plugin (saying how to build one) and
-    RuntimeError when LAMMPS does not accept it.
+    An explicit ``plugin`` is the one loaded: LAMMPS's automatic loading
+    (``LAMMPS_PLUGIN_PATH``) is off for this instance, so a plugin that
+    fails to load is an error, not hidden by another one.
+
+    Raises OSError when there is no plugin (saying how to build one) or the
+    given one is not a file, ValueError for ``cmdargs`` that are not a list
+    of strings, and RuntimeError when LAMMPS does not accept the plugin.
     """
-    lammps = _import_lammps()
-    path = Path(plugin) if plugin is not None else find_plugin()
     if cmdargs is None:
         cmdargs = ["-log", "none", "-screen", "none", "-nocite"]
-    lmp = lammps(cmdargs=list(cmdargs))
+    if (isinstance(cmdargs, (str, bytes)) or not hasattr(cmdargs, "__iter__")
+            or not all(isinstance(a, str) for a in cmdargs)):
+        raise ValueError(f"cmdargs must be a list of strings, e.g. ['-log', "
+                         f"'none'], got {cmdargs!r}")
+    lammps = _import_lammps()
+    if plugin is None:
+        path = find_plugin()
+        lmp = lammps(cmdargs=list(cmdargs))
+    else:
+        path = Path(plugin)
+        if path.is_dir():
+            raise OSError(f"plugin {str(path)!r} is a directory, not a "
+                          f"plugin file ({PLUGIN_NAME})")
+        if not path.is_file():
+            raise OSError(f"plugin {str(path)!r}: no such file")
+        saved = os.environ.pop("LAMMPS_PLUGIN_PATH", None)
+        try:
+            lmp = lammps(cmdargs=list(cmdargs))
+        finally:
+            if saved is not None:
+                os.environ["LAMMPS_PLUGIN_PATH"] = saved
+        # LAMMPS only logs a plugin it cannot load, and styles loaded before
+        # in this process stay: check the file is a LAMMPS plugin first
+        try:
+            handle = ctypes.CDLL(str(path.resolve()))
+            init = hasattr(handle, "lammpsplugin_init")
+        except OSError as error:
+            lmp.close()
+            raise OSError(f"plugin {str(path)!r} cannot be loaded: "
+                          f"{error}") from None
+        if not init:
+            lmp.close()
+            raise OSError(f"plugin {str(path)!r} is not a LAMMPS plugin (it "
+                          f"has no lammpsplugin_init; the sphsolid plugin is "
+                          f"{PLUGIN_NAME})")
     lmp.command(f"plugin load {path}")
     # plugin load only logs a failure; check that the styles arrived
     if not lmp.has_style("pair", "sphsolid"):
@@ -470,20 +508,17 @@ class Lammps(Calculator):
         return lib.sph_stable_dt(self.scene.handle)
 
     def set_dt(self, dt: float, allow_unstable: bool = False) -> None:
-        value = float(dt)
-        if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"dt must be > 0 s, got {dt!r}")
-        if not allow_unstable and value > self.stable_dt():
-            raise ValueError(f"dt={value!r} s exceeds the stability limit "
-                             f"{self.stable_dt()!r} s; pass allow_unstable "
-                             "to force it")
+        value = _time(dt, "dt")          # 1e-7 or "0.1us"
+        # the library judges the step (> 0, within the stability limit of
+        # the synced state) and keeps it: checkpoints record it
+        if not allow_unstable:
+            self.sync()
+        _check(lib.sph_set_dt(self.scene.handle, value, int(allow_unstable)),
+               self.scene.handle, "dt")
         if value != self._dt:
             self._timestep(value)
             self._dt = value
             self._prepared = False
-            # the library's step too: checkpoints record it
-            _check(lib.sph_set_dt(self.scene.handle, value, 1),
-                   self.scene.handle, "set_dt")
 
     @property
     def dt(self) -> float:
@@ -564,7 +599,7 @@ class Lammps(Calculator):
 
     def advance_until(self, t: float, progress: Progress = None,
                       interval: int = 10) -> None:
-        t = float(t)
+        t = _time(t, "t")
         # the library's steps to t from its clock (which follows LAMMPS's)
         whole, last = _steps_until(self.scene.handle, t)
         if whole:

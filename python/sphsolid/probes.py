@@ -14,6 +14,7 @@ import numpy as np
 
 from . import _lib
 from ._lib import lib
+from .units import lengths as _lengths
 
 __all__ = ["Probes", "PAPER_PROBES", "value_names"]
 
@@ -84,7 +85,9 @@ class Probes:
         if self._samples:
             raise RuntimeError("cannot add a probe after samples were taken")
         dim = self.scene.dimension
-        coords = _lib.as_doubles(point, dim, f"probe {name!r} point")
+        coords = _lib.as_doubles(          # (0, "50mm") too
+            _lengths(point, f"probe {name!r} point", dim), dim,
+            f"probe {name!r} point")
         index = ctypes.c_int()
         _lib.check(lib.sph_add_probe(self.scene.handle, name.encode(), coords,
                                      ctypes.byref(index)),
@@ -118,7 +121,14 @@ class Probes:
 
     __call__ = record
 
-    def load(self, series, interval: int | None = None) -> None:
+    def record_final(self) -> None:
+        """Record the current state unless the last sample is of this step:
+        after a run, the series then ends at its end time."""
+        if not self._steps or self._steps[-1] != self.scene.step:
+            self.record()
+
+    def load(self, series, interval: int | None = None,
+             final: bool = False) -> None:
         """Take the samples of these probes recorded by the library into a
         trajectory file (:attr:`Trajectory.probes`, a ``ProbeSeries``),
         replacing any recorded here.
@@ -130,7 +140,8 @@ class Probes:
         steps run without returning to Python between samples.  With
         ``interval`` only the samples at multiples of it are taken (a
         trajectory also samples the state it is closed at): those an
-        observer attached with that interval records.
+        observer attached with that interval records; ``final`` keeps the
+        file's last sample too (the state the file was closed at).
         """
         if list(series.names) != self.names:
             raise ValueError(f"the file's probes {list(series.names)} are not"
@@ -138,8 +149,10 @@ class Probes:
         if list(series.columns) != self.values:
             raise ValueError(f"the file's probe columns {list(series.columns)}"
                              f" are not {self.values}")
+        last = len(series.steps) - 1
         keep = [k for k, step in enumerate(series.steps)
-                if interval is None or int(step) % interval == 0]
+                if interval is None or int(step) % interval == 0
+                or (final and k == last)]
         self._times = [float(series.times[k]) for k in keep]
         self._steps = [int(series.steps[k]) for k in keep]
         self._samples = [np.array(series.values[k]) for k in keep]

@@ -15,7 +15,8 @@ import numpy as np
 from . import _lib
 from ._lib import lib
 from .build import Body, Free
-from .units import check_scale
+from .units import check_scale, length as _length, lengths as _lengths
+from .units import quantity as _quantity
 
 __all__ = ["Scene", "DEFAULT_SMOOTHING_RATIO"]
 
@@ -31,12 +32,6 @@ class _Buffer:
         self.__array_interface__ = {
             "shape": shape, "typestr": "<f8", "version": 3,
             "data": (address, not writeable)}
-
-
-def _format_value(key, value):
-    """key=value with the value as the shortest exact decimal; the library
-    checks it (finite, in range)."""
-    return f"{key}={_lib.as_double(value, f'effect parameter {key}')!r}"
 
 
 class Scene:
@@ -162,8 +157,8 @@ class Scene:
         """Bounding box [m] and periodic axes (set it before adding bodies
         for them to be checked against it)."""
         dim = self.dimension
-        lo_d = list(_lib.as_doubles(lo, dim, "domain lo"))
-        hi_d = list(_lib.as_doubles(hi, dim, "domain hi"))
+        lo_d = list(_lengths(lo, "domain lo", dim))     # (0, "50mm") too
+        hi_d = list(_lengths(hi, "domain hi", dim))
         lo3 = (ctypes.c_double * 3)(*(lo_d + [0.0] * (3 - dim)))
         hi3 = (ctypes.c_double * 3)(*(hi_d + [0.0] * (3 - dim)))
         if periodic is None:
@@ -184,10 +179,12 @@ class Scene:
         Parameters are passed to the library as ``key=value`` words; an
         unknown effect name or key is a ValueError that names it.
         """
-        words = " ".join(_format_value(k, v) for k, v in parameters.items())
+        numbers = {k: _quantity(v, None, f"effect parameter {k}")
+                   for k, v in parameters.items()}       # "-9.81m/s2" too
+        words = " ".join(f"{k}={v!r}" for k, v in numbers.items())
         self._check(lib.sph_effect(self._handle, _lib.as_name(name, "effect"),
                                    words.encode()), "effect")
-        self._effects[name] = dict(parameters)
+        self._effects[name] = numbers
 
     def effect_off(self, name: str) -> None:
         """Switch an effect off."""
@@ -290,7 +287,7 @@ class Scene:
         needs to be one kernel support thick (``sph_support_layers``; 0
         until the first body sets the smoothing length)."""
         return int(lib.sph_support_layers(self._handle,
-                                          _lib.as_double(spacing, "spacing")))
+                                          _length(spacing, "spacing")))
 
     def _body_index(self, name: str) -> int:
         index = ctypes.c_int()
@@ -590,6 +587,12 @@ class Scene:
             from .calculators import CLibrary
             self.calc = CLibrary()
         return self._calc
+
+    @property
+    def integrator(self) -> str:
+        """The library integrator selected on this scene (by the last
+        Dynamics object made on it, or a checkpoint read)."""
+        return lib.sph_integrator_name(self._handle).decode()
 
     @property
     def has_calculator(self) -> bool:

@@ -44,10 +44,17 @@ time. Lengths, times, velocities, pressures and forces take unit strings
     snapshot_every = "0.025ms"   # or snapshot_interval = <steps>
     probe_interval = 10          # steps (default: every step within 0.25 us)
 
-Top-level keys: ``dimension`` (2 or 3, default 2), ``until`` (end time,
-required unless given on the command line), ``dt``, ``integrator``
-(``"improved_euler"``, the default, or ``"leapfrog"``), ``smoothing_ratio``,
-``kernel``, ``domain`` (``{lo = [...], hi = [...], periodic = [...]}``).
+Top-level keys: ``dimension`` (2 or 3, default 2), ``until`` (end time
+> 0, required unless given on the command line), ``dt``, ``integrator``
+(``"improved_euler"``, the default, or ``"leapfrog"``), ``preset`` (a
+named setting of :mod:`sphsolid.presets` filling in kernel, h/dx,
+integrator and step, artificial viscosity and platen inset where the file
+gives none), ``threads``, ``smoothing_ratio``, ``kernel``, ``domain``
+(``{lo = [...], hi = [...], periodic = [true/false, ...]}``), ``title``.
+
+``[output]``: ``file`` (a name in the output folder), ``snapshot_every``
+(a time > 0) or ``snapshot_interval`` (steps >= 1), not both,
+``probe_interval`` (steps >= 1), ``figures`` (true or false).
 
 Bodies: ``name``, ``shape`` and the builder's own arguments (``lo``/``hi``
 for ``block``; ``x``/``y`` for ``rectangle``; ``x``/``y``/``z`` for
@@ -76,14 +83,15 @@ from pathlib import Path
 from . import build
 from .material import Material
 from .metrics import probe_interval_for
-from .units import length, quantity, time, to_si
+from .units import length, lengths, quantity, time, to_si
 
 __all__ = ["load", "SceneFile", "run_file"]
 
-_TOP = {"dimension", "until", "dt", "integrator", "smoothing_ratio", "kernel", "domain",
-        "materials", "bodies", "effects", "probes", "output", "title"}
+_TOP = {"dimension", "until", "dt", "integrator", "preset", "threads",
+        "smoothing_ratio", "kernel", "domain", "materials", "bodies",
+        "effects", "probes", "output", "title"}
 _OUTPUT = {"file", "snapshot_every", "snapshot_interval", "probe_interval",
-           "probes_csv", "figures"}
+           "figures"}
 _SHAPES = {
     "block": {"lo", "hi", "dx"},
     "rectangle": {"x", "y", "dx"},
@@ -110,11 +118,49 @@ def _toml(path: Path) -> dict:
         import tomllib
     else:                                       # pragma: no cover
         import tomli as tomllib
+    if path.is_dir():
+        raise SceneFileError(f"scene file {str(path)!r} is a directory, not "
+                             "a TOML file")
+    if not path.is_file():
+        raise OSError(f"scene file {str(path)!r}: no such file")
+    data = path.read_bytes()
     try:
-        with open(path, "rb") as handle:
-            return tomllib.load(handle)
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        kind = ("UTF-16 text" if data[:2] in (b"\xff\xfe", b"\xfe\xff")
+                else "binary data")
+        raise SceneFileError(
+            f"{path}: not a UTF-8 text file (byte {error.start}: "
+            f"{data[error.start:error.start + 1]!r}; it looks like {kind}); "
+            "save the scene file as UTF-8 TOML") from None
+    if "\x00" in text:
+        raise SceneFileError(f"{path}: not a text file (a NUL byte at "
+                             f"{text.index(chr(0))}); a scene file is TOML")
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise SceneFileError(f"{path}: not valid TOML: {error}") from None
+
+
+def _whole(value, key: str, low: int) -> int:
+    """A whole number >= low (not a bool, a float or a string)."""
+    if isinstance(value, bool) or not isinstance(value, int) or value < low:
+        raise SceneFileError(f"{key} must be a whole number >= {low}, got "
+                             f"{value!r}")
+    return value
+
+
+def _flag(value, key: str) -> bool:
+    if not isinstance(value, bool):
+        raise SceneFileError(f"{key} must be true or false, got {value!r}")
+    return value
+
+
+def _name(value, key: str) -> str:
+    if not isinstance(value, str) or not value:
+        raise SceneFileError(f"{key} must be a non-empty string, got "
+                             f"{value!r}")
+    return value
 
 
 def _unknown(where: str, given, known) -> None:
@@ -126,28 +172,58 @@ def _unknown(where: str, given, known) -> None:
 
 class SceneFile:
     """A scene file read and built: ``scene``, ``probes`` (points),
-    ``until``, ``dt`` and the ``output`` settings."""
+    ``until``, ``dt``, ``integrator`` (and the preset's ``step``, a
+    fraction of its default step), ``threads`` and the ``output``
+    settings.
 
-    def __init__(self, path):
+    ``preset`` (a name of :mod:`sphsolid.presets`, else the file's
+    ``preset`` key) fills in what the file does not give: kernel, h/dx,
+    integrator and its step, artificial viscosity and the platens' inset;
+    ``integrator`` overrides the file's and the preset's.
+    """
+
+    def __init__(self, path, preset=None, integrator=None):
         self.path = Path(path)
-        if not self.path.is_file():
-            raise OSError(f"scene file {str(self.path)!r}: no such file")
         data = _toml(self.path)
         try:
-            self._build(data, str(self.path))
-        except SceneFileError:
-            raise
+            self._build(data, str(self.path), preset, integrator)
+        except SceneFileError as error:
+            message = str(error)
+            if message.startswith(str(self.path)):
+                raise
+            raise SceneFileError(f"{self.path}: {message}") from None
         except ValueError as error:       # a value's own check, named
             raise SceneFileError(f"{self.path}: {error}") from None
 
-    def _build(self, data: dict, name: str) -> None:
+    def _build(self, data: dict, name: str, preset=None,
+               integrator=None) -> None:
+        from ._lib import integrator_names
+        from .presets import preset as named_preset
         _unknown(name, data, _TOP)
-        self.title = data.get("title", self.path.stem)
+        self.title = _name(data.get("title", self.path.stem), "title")
         self.dimension = data.get("dimension", 2)
-        self.until = (time(data["until"], f"{name}: until")
-                      if "until" in data else None)
-        self.dt = time(data["dt"], f"{name}: dt") if "dt" in data else None
-        self.integrator = data.get("integrator", "improved_euler")
+        self.until = None
+        if "until" in data:
+            self.until = time(data["until"], "until")
+            if not (math.isfinite(self.until) and self.until > 0):
+                raise SceneFileError(f"until must be a finite time > 0, got "
+                                     f"{data['until']!r}")
+        self.dt = time(data["dt"], "dt") if "dt" in data else None
+        self.threads = (_whole(data["threads"], "threads", 1)
+                        if "threads" in data else None)
+        chosen = preset if preset is not None else data.get("preset")
+        self.preset = None if chosen is None else named_preset(chosen)
+        self.integrator = (integrator or data.get("integrator")
+                           or (self.preset.integrator if self.preset
+                               else "improved_euler"))
+        if self.integrator not in integrator_names():
+            raise SceneFileError(
+                f"integrator must be one of {', '.join(integrator_names())},"
+                f" got {self.integrator!r}")
+        # the preset's step applies to its own integrator, when dt is not
+        # given (as presets.dynamics)
+        self.step = (self.preset.step if self.preset is not None
+                     and self.integrator == self.preset.integrator else 1.0)
         self.materials = {
             key: self._material(value, f"{name}: [materials.{key}]")
             for key, value in data.get("materials", {}).items()}
@@ -163,31 +239,73 @@ class SceneFile:
                 raise SceneFileError(f"{name}: [effects] {effect} must be a "
                                      f"table of parameters, got {parameters!r}")
             self.effects[effect] = {
-                key: quantity(value, None, f"{name}: effects.{effect}.{key}")
+                key: quantity(value, None, f"effects.{effect}.{key}")
                 for key, value in parameters.items()}
+        if (self.preset is not None and self.preset.viscosity is not None
+                and "artificial_viscosity" not in self.effects):
+            self.effects["artificial_viscosity"] = dict(self.preset.viscosity)
         self.probe_points = {
-            probe: to_si(point, "length", f"{name}: probes.{probe}")
+            probe: lengths(point, f"probes.{probe}")
             for probe, point in data.get("probes", {}).items()}
-        output = dict(data.get("output", {}))
-        _unknown(f"{name}: [output]", output, _OUTPUT)
-        self.output = output
+        self.output = self._output(data.get("output", {}), name)
         domain = data.get("domain")
         kwargs = {}
         if domain is not None:
+            if not isinstance(domain, dict):
+                raise SceneFileError(f"domain must be a table {{lo = [..], "
+                                     f"hi = [..]}}, got {domain!r}")
             _unknown(f"{name}: domain", domain, {"lo", "hi", "periodic"})
-            kwargs["domain"] = (to_si(domain["lo"], "length", "domain.lo"),
-                                to_si(domain["hi"], "length", "domain.hi"))
+            kwargs["domain"] = (lengths(domain.get("lo"), "domain.lo"),
+                                lengths(domain.get("hi"), "domain.hi"))
             if "periodic" in domain:
-                kwargs["periodic"] = domain["periodic"]
+                periodic = domain["periodic"]
+                if not isinstance(periodic, list):
+                    raise SceneFileError(f"domain.periodic must be a list of "
+                                         f"true/false, got {periodic!r}")
+                kwargs["periodic"] = [
+                    _flag(p, f"domain.periodic[{i}]")
+                    for i, p in enumerate(periodic)]
+        ratio = data.get("smoothing_ratio")
+        kernel = data.get("kernel")
+        if self.preset is not None:
+            ratio = self.preset.smoothing_ratio if ratio is None else ratio
+            kernel = self.preset.kernel if kernel is None else kernel
         from .scene import Scene
         try:
             self.scene = Scene(self.dimension, self.bodies,
-                               effects=self.effects,
-                               smoothing_ratio=data.get("smoothing_ratio"),
-                               kernel=data.get("kernel", "cubic_spline"),
-                               **kwargs)
+                               effects=self.effects, smoothing_ratio=ratio,
+                               kernel=kernel or "cubic_spline", **kwargs)
         except ValueError as error:
             raise SceneFileError(f"{name}: {error}") from None
+
+    @staticmethod
+    def _output(output, name) -> dict:
+        """The [output] table checked: file (a name), snapshot_every (a
+        time > 0) or snapshot_interval (steps >= 1), probe_interval (steps
+        >= 1), figures (true/false)."""
+        if not isinstance(output, dict):
+            raise SceneFileError(f"[output] must be a table, got {output!r}")
+        output = dict(output)
+        _unknown(f"{name}: [output]", output, _OUTPUT)
+        if "file" in output:
+            _name(output["file"], "output.file")
+        if "snapshot_every" in output and "snapshot_interval" in output:
+            raise SceneFileError("[output] gives both snapshot_every and "
+                                 "snapshot_interval: keep one")
+        if "snapshot_every" in output:
+            every = time(output["snapshot_every"], "output.snapshot_every")
+            if not (math.isfinite(every) and every > 0):
+                raise SceneFileError(f"output.snapshot_every must be a "
+                                     f"finite time > 0, got "
+                                     f"{output['snapshot_every']!r}")
+            output["snapshot_every"] = every
+        if "snapshot_interval" in output:
+            _whole(output["snapshot_interval"], "output.snapshot_interval", 1)
+        if "probe_interval" in output:
+            _whole(output["probe_interval"], "output.probe_interval", 1)
+        if "figures" in output:
+            _flag(output["figures"], "output.figures")
+        return output
 
     def _material(self, spec, where) -> Material:
         if not isinstance(spec, dict):
@@ -230,7 +348,12 @@ class SceneFile:
         elif shape not in ("plate", "piston"):
             raise SceneFileError(f"{where}: needs a material")
         if "motion" in spec:
-            kwargs["motion"] = self._motion(spec["motion"], where)
+            try:
+                kwargs["motion"] = self._motion(spec["motion"], where)
+            except SceneFileError:
+                raise
+            except ValueError as error:
+                raise SceneFileError(f"{where}: {error}") from None
         if "velocity" in spec:
             kwargs["velocity"] = spec["velocity"]
         if "dx" in spec and shape in ("plate", "piston"):
@@ -253,6 +376,8 @@ class SceneFile:
                 for key in ("layers", "inset"):
                     if key in spec:
                         kwargs[key] = spec[key]
+                if "inset" not in kwargs and self.preset is not None:
+                    kwargs["inset"] = self.preset.inset
                 builder = build.plate if shape == "plate" else build.piston
                 return builder(found[0], **kwargs)
             if "dx" not in kwargs:
@@ -298,12 +423,14 @@ class SceneFile:
             f"{{omega = .., centre = [..]}}, got keys {sorted(keys)}")
 
 
-def load(path) -> SceneFile:
+def load(path, preset=None, integrator=None) -> SceneFile:
     """Read and build a scene file (see the module documentation)."""
-    return SceneFile(path)
+    return SceneFile(path, preset=preset, integrator=integrator)
 
 
 def run_file(path, out=None, until=None, progress=None, log=print,
+             threads=None, integrator=None, preset=None,
+             checkpoint_every=None, resume=None, dt=None,
              plan=None) -> dict:
     """Build and run a scene file; returns the paths written.
 
@@ -314,15 +441,27 @@ def run_file(path, out=None, until=None, progress=None, log=print,
 
     The HDF5 file (with its XDMF companion, written by the library on
     close) goes to ``out`` (default: the scene file's folder), with the
-    probe series as CSV and, when ``figures`` is true (the default), the
-    probe curves and a von Mises map of the final state as PNG.
+    probe series as CSV (ending at the end time) and, when ``figures`` is
+    true (the default), the probe curves and a von Mises map of the final
+    state as PNG.
+
+    ``threads`` (else the file's ``threads``) sets the OpenMP threads;
+    ``integrator`` and ``preset`` are as for :class:`SceneFile`; ``dt``
+    overrides the file's.
+    ``checkpoint_every`` (a time) writes ``<file>_checkpoint.h5`` at every
+    multiple of it; ``resume`` continues from such a checkpoint (written by
+    the same scene and integrator), its files holding the run from there.
     """
     from . import Probes
+    from .calculators import CLibrary
+    from .checkpoint import marks, resume as read_checkpoint
     from .dynamics import dynamics_for
     from .trajectory import Trajectory
 
-    spec = load(path)
-    integrator, dt = spec.integrator, spec.dt
+    spec = load(path, preset=preset, integrator=integrator)
+    integrator, step = spec.integrator, spec.step
+    given_dt = None if dt is None else time(dt, "dt")
+    dt = spec.dt if given_dt is None else given_dt
     if plan is not None:
         from .planner import Plan
         from .planner.scenes import scene_file
@@ -334,47 +473,69 @@ def run_file(path, out=None, until=None, progress=None, log=print,
             raise ValueError(f"{plan} plans the scene {loaded.scene!r}, not "
                              f"{Path(path).name!r}")
         spec.scene = loaded.build(scene_file(path).factory)
-        integrator, dt = loaded.setting.integrator, None
+        # the plan's integrator at its default step (a --dt still applies)
+        integrator, step = loaded.setting.integrator, 1.0
+        dt = given_dt
         if until is None and loaded.request.get("until"):
-            until = float(loaded.request["until"])
+            until = time(loaded.request["until"], f"{plan}: request.until")
         log(f"plan {plan}: {loaded.setting.label()}, dx = "
             f"{loaded.dx * 1e3:.4g} mm; predicted error "
             f"{loaded.predicted_error * 100:.2f} % (at most "
             f"{loaded.error_upper * 100:.2f} %)")
-    until = spec.until if until is None else until
+    until = spec.until if until is None else time(until, "until")
     if until is None:
         raise SceneFileError(f"{path}: no end time: give until = \"...\" in "
                              "the file or --until")
     scene = spec.scene
     out = Path(out) if out is not None else spec.path.parent
-    out.mkdir(parents=True, exist_ok=True)
     output = spec.output
+    h5 = out / output.get("file", f"{spec.path.stem}.h5")
+    checkpoint = h5.with_name(f"{h5.stem}_checkpoint.h5")
+    out.mkdir(parents=True, exist_ok=True)
+    threads = spec.threads if threads is None else threads
+    if threads is not None:
+        scene.calc = CLibrary(threads=threads)
+    if resume is not None:
+        resumed_dt = read_checkpoint(scene, resume, integrator)
+        dt = resumed_dt if dt is None else dt
     probes = Probes(scene, spec.probe_points) if spec.probe_points else None
-    dyn = dynamics_for(integrator)(scene, dt=dt, progress=progress)
+    kind = dynamics_for(integrator)
+    dyn = kind(scene, dt=dt, progress=progress)
+    if dt is None and step != 1.0:            # the preset's step
+        dyn = kind(scene, dt=dyn.dt * step, progress=progress)
     interval = output.get("snapshot_interval")
     if "snapshot_every" in output:
-        every = time(output["snapshot_every"], f"{path}: output.snapshot_every")
-        interval = max(1, int(round(every / dyn.dt)))
+        interval = max(1, int(round(output["snapshot_every"] / dyn.dt)))
     if interval is None:
         interval = max(1, math.ceil(until / dyn.dt / 10))   # ~10 frames
     probe_interval = int(output.get("probe_interval",
                                     probe_interval_for(dyn.dt)))
-    h5 = out / output.get("file", f"{spec.path.stem}.h5")
+    stops = marks(checkpoint_every, dyn.time, until)
     counts = ", ".join(f"{k} {v:,}" for k, v in scene.body_counts().items())
-    log(f"{spec.title}: {scene.dimension}D, {counts} particles, dt = "
-        f"{dyn.dt * 1e6:.4g} us, until {until * 1e3:g} ms")
+    log(f"{spec.title}: {scene.dimension}D, {counts} particles, "
+        f"{integrator}, dt = {dyn.dt * 1e6:.4g} us, until "
+        f"{until * 1e3:g} ms"
+        + (f" (from t = {dyn.time * 1e3:.6g} ms, {resume})" if resume
+           else ""))
     traj = Trajectory(h5, "w", scene, snapshot_interval=int(interval),
                       probe_interval=probe_interval if probes else 0)
     if probes is not None:
         dyn.attach(probes, interval=probe_interval)
     start = wallclock.perf_counter()
     try:
-        dyn.run(until=until)
+        for t in stops + [until]:
+            dyn.run(until=t)
+            if t in stops:
+                scene.write_checkpoint(checkpoint)
+        if probes is not None:
+            probes.record_final()        # the state at the end time
     finally:
         traj.close()                 # the final state and the .xmf
     wall = wallclock.perf_counter() - start
     log(f"{dyn.nsteps} steps to t = {dyn.time * 1e3:.6g} ms in {wall:.2f} s")
     written = {"h5": h5, "xdmf": traj.xdmf_path}
+    if stops:
+        written["checkpoint"] = checkpoint
     if probes is not None:
         written["csv"] = out / f"{h5.stem}_probes.csv"
         probes.write_csv(written["csv"])

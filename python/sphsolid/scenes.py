@@ -12,6 +12,7 @@ from .build import cylinder, layer_spacing, piston, plate, rectangle
 from .material import Material
 from .probes import PAPER_PROBES
 from .scene import Scene
+from .units import length as _length, quantity as _quantity, velocity as _velocity
 
 __all__ = ["paper_material", "uniaxial_piston", "uniaxial_cylinder",
            "gravity", "PAPER_PROBES", "CYLINDER_PROBES", "SPECIMEN_X",
@@ -126,7 +127,7 @@ def uniaxial_piston(dx: float = 1e-3, velocity: float = PISTON_SPEED,
     material = material or paper_material()
     specimen = rectangle(SPECIMEN_X, SPECIMEN_Y, dx, material, "specimen")
     scene = _walled(specimen, _effects(viscosity), layers,
-                    piston_speed=velocity, kernel=kernel,
+                    piston_speed=_velocity(velocity, "velocity"), kernel=kernel,
                     smoothing_ratio=smoothing_ratio, inset=inset)
     scene.preset = chosen
     return scene
@@ -169,12 +170,14 @@ def uniaxial_cylinder(dx: float = 2e-3, velocity: float = PISTON_SPEED,
     chosen, viscosity, kernel, smoothing_ratio, inset = _setting(
         preset, viscosity, kernel, smoothing_ratio, inset)
     material = material or paper_material()
+    diameter = _length(diameter, "diameter")
     specimen = cylinder(diameter / 2, length, dx, material, name="specimen")
     scene = Scene(3, [specimen], effects=_effects(viscosity), kernel=kernel,
                   smoothing_ratio=smoothing_ratio)
     scene.add(plate(under=specimen, layers=layers, inset=inset))
     scene.add(piston(over=specimen, layers=layers,
-                     velocity=(0.0, -velocity, 0.0), inset=inset))
+                     velocity=(0.0, -_velocity(velocity, "velocity"), 0.0),
+                     inset=inset))
     scene.preset = chosen
     return scene
 
@@ -205,10 +208,11 @@ def gravity(dx: float = 1e-3, g: float = 9.81,
         preset, viscosity, kernel, smoothing_ratio, inset)
     material = material or paper_material()
     specimen = rectangle(SPECIMEN_X, SPECIMEN_Y, dx, material, "specimen")
-    effects = {"gravity": {"gx": 0.0, "gy": -float(g)}}
+    effects = {"gravity": {"gx": 0.0,
+                           "gy": -_quantity(g, "acceleration", "g")}}
     effects.update(_effects(viscosity))
     if damping is not None:
-        effects["damping"] = {"rate": float(damping)}
+        effects["damping"] = {"rate": _quantity(damping, "rate", "damping")}
     scene = _walled(specimen, effects, layers, kernel=kernel,
                     smoothing_ratio=smoothing_ratio, inset=inset)
     scene.preset = chosen

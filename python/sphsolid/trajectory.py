@@ -23,6 +23,7 @@ import numpy as np
 
 from . import _lib
 from ._lib import lib
+from .units import time as _time
 
 __all__ = ["Trajectory", "Frame", "ProbeSeries", "write_xdmf"]
 
@@ -333,8 +334,10 @@ class Trajectory:
             yield self.frame(i)
 
     def nearest(self, time: float) -> Frame:
-        """The frame closest to ``time`` [s]."""
-        return self.frame(int(np.argmin(np.abs(self.times - time))))
+        """The frame closest to ``time`` [s] (or a string such as
+        ``"0.2ms"``)."""
+        t = _time(time, "time")
+        return self.frame(int(np.argmin(np.abs(self.times - t))))
 
     @property
     def probes(self) -> ProbeSeries | None:
@@ -367,9 +370,10 @@ class Trajectory:
         lines = [f"{self.path}: libsphsolid output "
                  f"({_attr(self._file['h5md/creator'].attrs.get('version', b'?'))})",
                  f"  dimension {p.get('dimension')}, kernel {p.get('kernel')},"
+                 f" integrator {_attr(p.get('integrator', 'unknown'))},"
                  f" h = {float(np.ravel(p['smoothing_length'])[0]) * 1e3:.4g}"
                  f" mm, dt = {float(np.ravel(p['dt'])[0]) * 1e6:.4g} us",
-                 f"  effects: {p.get('effects') or 'none'}"]
+                 f"  effects: {_effect_list(p.get('effects'))}"]
         bodies = self._file["parameters/bodies"]
         total = 0
         for name in self.body_names:
@@ -397,7 +401,10 @@ class Trajectory:
         return "\n".join(lines)
 
 
-_FORMAT = 2      # the libsphsolid file format this module reads
+def file_format() -> int:
+    """The output file format the library writes, which this module reads
+    (``sph_output_format_version``)."""
+    return int(lib.sph_output_format_version())
 
 
 def _format_problem(f) -> str:
@@ -407,12 +414,14 @@ def _format_problem(f) -> str:
     if version is None:
         if "h5md" in f or "checkpoint" in f:
             return ("is in libsphsolid file format 1 (written before the "
-                    f"format was versioned); this version reads format "
-                    f"{_FORMAT}: read it with the version that wrote it")
+                    f"format was versioned); this module reads format "
+                    f"{file_format()}: load its frames into a scene with "
+                    "the library (sph_read_frame) or read it with the "
+                    "version that wrote it")
         return "is not a libsphsolid file (no sphsolid_format attribute)"
-    if int(np.ravel(version)[0]) != _FORMAT:
+    if int(np.ravel(version)[0]) != file_format():
         return (f"has libsphsolid file format {int(np.ravel(version)[0])}; "
-                f"this version reads format {_FORMAT}")
+                f"this version reads format {file_format()}")
     content = _attr(f.attrs.get("sphsolid_content", b""))
     if content != "output":
         return f"is a libsphsolid {content or '(unknown)'} file, not an output file"
@@ -438,6 +447,13 @@ def _attr(value):
     if isinstance(value, np.ndarray) and value.dtype.kind == "S":
         return [v.decode() for v in value]
     return value
+
+
+def _effect_list(value) -> str:
+    """The file's effects attribute ("name k=v; name k=v; ") as "name
+    k=v; name k=v" ("none" without effects)."""
+    parts = [part.strip() for part in _attr(value or "").split(";")]
+    return "; ".join(part for part in parts if part) or "none"
 
 
 def write_xdmf(h5_path) -> Path:

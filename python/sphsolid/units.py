@@ -16,8 +16,8 @@ from __future__ import annotations
 import re
 import warnings
 
-__all__ = ["quantity", "length", "time", "velocity", "to_si", "UNITS",
-           "ScaleWarning", "check_scale"]
+__all__ = ["quantity", "quantities", "length", "lengths", "time",
+           "velocity", "to_si", "UNITS", "ScaleWarning", "check_scale"]
 
 _LENGTH = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6,
            "nm": 1e-9, "km": 1e3}
@@ -40,7 +40,10 @@ UNITS.update({u: ("acceleration", 1.0) for u in ("m/s2", "m/s^2")})
 UNITS.update({u: ("rate", 1.0) for u in ("1/s", "Hz")})
 UNITS.update({u: ("angular velocity", 1.0) for u in ("rad/s",)})
 
-_PATTERN = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
+# a number as float() reads it (inf and nan included: the value's own
+# check names them), then an optional unit
+_PATTERN = re.compile(r"\s*([-+]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+                      r"|(?i:inf(?:inity)?|nan)))\s*(\S*)\s*")
 
 
 def quantity(value, kind: str | None = None, name: str = "value") -> float:
@@ -82,6 +85,36 @@ def quantity(value, kind: str | None = None, name: str = "value") -> float:
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a number or a quantity such as "
                          f"'1mm', got {value!r}") from None
+
+
+def quantities(values, kind: str | None = None, name: str = "value",
+               n=None) -> tuple:
+    """A sequence of quantities (numbers or strings with units) in SI
+    units, as a tuple of floats; ``n``: the number of entries (or a tuple
+    of the allowed numbers)."""
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
+        raise ValueError(f"{name} must be a sequence of numbers or "
+                         f"quantities such as '1mm', got {values!r}")
+    out = tuple(quantity(v, kind, f"{name}[{i}]")
+                for i, v in enumerate(values))
+    check_entries(out, values, name, n)
+    return out
+
+
+def check_entries(converted, values, name: str, n) -> None:
+    """A ValueError naming ``name`` unless ``converted`` has ``n`` entries
+    (an int, a tuple of the allowed numbers, or None: any)."""
+    allowed = (n,) if isinstance(n, int) else n
+    if allowed is not None and len(converted) not in allowed:
+        want = " or ".join(str(k) for k in allowed)
+        raise ValueError(f"{name} must have {want} entries, got "
+                         f"{len(converted)}: {values!r}")
+
+
+def lengths(values, name: str = "lengths", n=None) -> tuple:
+    """Metres from a sequence such as ``(0, "50mm")`` (see
+    :func:`quantities`)."""
+    return quantities(values, "length", name, n)
 
 
 def length(value, name: str = "length") -> float:

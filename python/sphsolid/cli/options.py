@@ -10,34 +10,51 @@ import argparse
 import math
 from pathlib import Path
 
-__all__ = ["quantity", "positive", "finite", "whole", "fraction",
-           "positive_list", "add_scene_options", "add_plan_options"]
+__all__ = ["quantity", "positive", "positive_length", "positive_time",
+           "finite", "whole", "fraction", "length_list", "time_list",
+           "add_scene_options", "add_plan_options"]
 
 
-def quantity(text: str) -> float:
-    """'2mm' -> 0.002, '0.3ms' -> 3e-4, '1e-3' -> 0.001 (sphsolid.units)."""
+def quantity(text: str, kind: str | None = None) -> float:
+    """'2mm' -> 0.002, '0.3ms' -> 3e-4, '1e-3' -> 0.001 (sphsolid.units);
+    ``kind`` ("length", "time"): a unit of another kind is refused."""
     from ..units import quantity as to_si
     try:
-        return to_si(text, None, "value")
+        return to_si(text, kind, "value")
     except ValueError as error:
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
-def positive(text: str) -> float:
-    """A quantity that must be finite and > 0 (a spacing, a time)."""
-    value = quantity(text)
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"{text!r}: must be finite and > 0")
-    return value
-
-
-def finite(low: float, what: str):
-    """A plain number, finite and >= low (``what`` says the rule)."""
+def _positive(kind: str | None):
     def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r}: not a number") from None
+        value = quantity(text, kind)
+        if not (math.isfinite(value) and value > 0):
+            raise argparse.ArgumentTypeError(
+                f"{text!r}: must be finite and > 0")
+        return value
+    parse.__name__ = kind or "quantity"      # argparse's name of the type
+    return parse
+
+
+#: A quantity that must be finite and > 0: of any kind, a length (a
+#: spacing) or a time.
+positive = _positive(None)
+positive_length = _positive("length")
+positive_time = _positive("time")
+
+
+def finite(low: float, what: str, kind: str | None = None):
+    """A number, finite and >= low (``what`` says the rule); with
+    ``kind`` ("velocity", "time", ...) a unit of that kind too."""
+    def parse(text: str) -> float:
+        if kind is not None:
+            value = quantity(text, kind)
+        else:
+            try:
+                value = float(text)
+            except ValueError:
+                raise argparse.ArgumentTypeError(
+                    f"{text!r}: not a number") from None
         if not (math.isfinite(value) and value >= low):
             raise argparse.ArgumentTypeError(f"{text!r}: {what}")
         return value
@@ -71,9 +88,15 @@ def fraction(text: str) -> float:
             "(3%)") from None
 
 
-def positive_list(text: str) -> list[float]:
+def length_list(text: str) -> list[float]:
     """'1mm,2mm' -> [0.001, 0.002], each finite and > 0."""
-    return [positive(part) for part in text.split(",") if part.strip()]
+    return [positive_length(part) for part in text.split(",")
+            if part.strip()]
+
+
+def time_list(text: str) -> list[float]:
+    """'0.1ms,0.2ms' -> [1e-4, 2e-4], each finite and > 0."""
+    return [positive_time(part) for part in text.split(",") if part.strip()]
 
 
 def inset(text: str):
@@ -100,7 +123,7 @@ def _step_rule() -> str:
                      for name, info in registry.items())
 
 
-def _preset_help() -> str:
+def _preset_help(default: str) -> str:
     from ..presets import PRESETS
     listed = "; ".join(
         f"{p.name}: {p.integrator}"
@@ -108,26 +131,40 @@ def _preset_help() -> str:
         + f", {p.kernel} at h = {p.smoothing_ratio:g} dx"
         for p in PRESETS.values())
     return (f"named setting (kernel, h/dx, integrator, viscosity, platen "
-            f"inset, step): {listed} (docs/validation.md); default paper "
-            f"(Das & Cleary's scheme); the options below override it")
+            f"inset, step): {listed} (docs/validation.md); default "
+            f"{default}; the other options override it")
 
 
-def add_integrator_options(parser) -> None:
+def add_integrator_options(parser, preset_default: str = "paper (Das & "
+                           "Cleary's scheme)") -> None:
     """--preset, --integrator and --dt (``sphsolid piston``, ``gravity``,
     ``run``)."""
     from .._lib import integrator_names
     from ..presets import PRESETS
     rule = _step_rule()
-    parser.add_argument("--dt", type=positive, default=None,
+    parser.add_argument("--dt", type=positive_time, default=None,
                         help="time step (default: the preset's fraction of "
                              "the integrator's default step"
                              + (f", {rule}" if rule else "") + ")")
     parser.add_argument("--preset", choices=tuple(PRESETS), default=None,
-                        help=_preset_help())
+                        help=_preset_help(preset_default))
     parser.add_argument("--integrator", default=None,
                         choices=integrator_names(),
                         help="time integrator of the library (default: the "
                              "preset's)")
+
+
+def add_checkpoint_options(parser) -> None:
+    """--checkpoint-every and --resume (``sphsolid piston``, ``gravity``,
+    ``run``)."""
+    parser.add_argument("--checkpoint-every", type=positive_time,
+                        default=None, metavar="TIME",
+                        help="write NAME_checkpoint.h5 beside the output "
+                        "every TIME of simulated time (the last one kept)")
+    parser.add_argument("--resume", type=Path, default=None, metavar="FILE",
+                        help="continue from a checkpoint of the same scene "
+                        "and integrator (C backend); the outputs hold the "
+                        "run from there")
 
 
 def add_scene_options(parser, dx: float | None, until: float,
@@ -135,9 +172,9 @@ def add_scene_options(parser, dx: float | None, until: float,
     """The options of the project scenes (``sphsolid piston``, ``gravity``);
     ``dx`` None: the command says its default in its own help."""
     if dx is not None:
-        parser.add_argument("--dx", type=positive, default=dx,
+        parser.add_argument("--dx", type=positive_length, default=dx,
                             help=f"particle spacing (default {dx * 1e3:g}mm)")
-    parser.add_argument("--until", type=positive, default=None,
+    parser.add_argument("--until", type=positive_time, default=None,
                         help=f"end time (default {until * 1e3:g}ms, or the "
                              "plan's)")
     parser.add_argument("--out", type=Path, default=Path("."),
@@ -148,10 +185,11 @@ def add_scene_options(parser, dx: float | None, until: float,
                         help="OpenMP threads (default: OpenMP's)")
     from .._lib import kernel_names
     add_integrator_options(parser)
+    add_checkpoint_options(parser)
     parser.add_argument("--kernel", default=None, choices=kernel_names(),
                         help="smoothing kernel (default: the preset's)")
-    parser.add_argument("--h-over-dx", type=finite(0.0, "must be finite "
-                        "and > 0"), default=None, dest="smoothing_ratio",
+    parser.add_argument("--h-over-dx", type=finite(-math.inf, "must be "
+                        "finite"), default=None, dest="smoothing_ratio",
                         metavar="RATIO",
                         help="smoothing length over spacing (default: the "
                              "preset's; paper: 1.2)")
@@ -160,7 +198,7 @@ def add_scene_options(parser, dx: float | None, until: float,
                              " closer to the specimen, or 'static' (the "
                              "inset that makes the quasi-static stiffness "
                              "exact); default: the preset's (paper: 0)")
-    parser.add_argument("--times", type=positive_list, default=None,
+    parser.add_argument("--times", type=time_list, default=None,
                         help="comma-separated times of the von Mises maps "
                              f"(default {frames} evenly to --until)")
     parser.add_argument("--probe-interval", type=whole(1), default=None,

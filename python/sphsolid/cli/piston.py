@@ -2,7 +2,7 @@
 or the laboratory cylinder in 3D)."""
 from __future__ import annotations
 
-from .options import add_scene_options, finite, positive
+from .options import add_scene_options, finite, positive_length
 
 help = "the paper's uniaxial piston test"
 
@@ -12,13 +12,15 @@ _FRAMES = 4
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument("--dx", type=positive, default=None,
+    parser.add_argument("--dx", type=positive_length, default=None,
                         help="particle spacing (default 1mm; 2mm with "
                              "--dim 3)")
     add_scene_options(parser, None, _UNTIL, _FRAMES)
     parser.add_argument("--speed", type=finite(0.0, "must be finite and "
-                        ">= 0 m/s (the piston moves down)"), default=1.5e-3,
-                        help="piston speed [m/s] (default 1.5e-3)")
+                        ">= 0 m/s (the piston moves down)", "velocity"),
+                        default=1.5e-3,
+                        help="piston speed [m/s, or with a unit: 1.5mm/s] "
+                        "(default 1.5e-3)")
     parser.add_argument("--dim", type=int, choices=(2, 3), default=2,
                         help="2: the paper's plane-strain specimen (default);"
                              " 3: the laboratory cylinder D = 54 mm, "

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .options import finite, fraction, positive, positive_list, whole
+from .options import finite, fraction, length_list, positive_time, whole
 
 help = ("cheapest settings for a requested error (calibration runs, error "
         "and cost models); writes plan.json")
@@ -18,7 +18,7 @@ def add_arguments(parser) -> None:
                         "--probe), or --deck")
     parser.add_argument("--error", type=fraction, required=True,
                         help="requested error, e.g. 3%% or 0.03")
-    parser.add_argument("--until", type=positive, default=None,
+    parser.add_argument("--until", type=positive_time, default=None,
                         help="end time (default: the scene's)")
     parser.add_argument("--norm", choices=("max", "rms"), default="max",
                         help="max: largest deviation over the reference's "
@@ -27,9 +27,9 @@ def add_arguments(parser) -> None:
                         help="threads of the planned run (and the "
                         "calibration)")
     parser.add_argument("--max-seconds", type=finite(0.0, "must be finite "
-                        "and >= 0 s"), default=None,
+                        "and >= 0 s", "time"), default=None,
                         help="wall-time budget of the planned run [s]")
-    parser.add_argument("--ladder", type=positive_list, default=None,
+    parser.add_argument("--ladder", type=length_list, default=None,
                         help="calibration spacings, e.g. 4mm,3mm,2mm")
     parser.add_argument("--out", type=Path, default=Path("plan.json"))
     parser.add_argument("--no-cache", action="store_true",

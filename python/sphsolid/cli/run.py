@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .options import quantity
+from .options import (add_checkpoint_options, add_integrator_options,
+                      positive_time, whole)
 
 help = "build and run a scene file (TOML)"
 description = ("Build and run the scene a TOML file describes "
@@ -16,8 +17,15 @@ def add_arguments(parser) -> None:
     parser.add_argument("scene", type=Path)
     parser.add_argument("--out", type=Path, default=None,
                         help="output folder (default: the scene file's)")
-    parser.add_argument("--until", type=quantity, default=None,
+    parser.add_argument("--until", type=positive_time, default=None,
                         help="end time, overriding the file's")
+    parser.add_argument("--threads", type=whole(1), default=None,
+                        help="OpenMP threads (default: the file's threads, "
+                        "else OpenMP's)")
+    add_integrator_options(parser, preset_default=(
+        "the file's preset key, else none: the file and the library's "
+        "defaults"))
+    add_checkpoint_options(parser)
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction,
                         default=None)
     parser.add_argument("--plan", type=Path, default=None,
@@ -30,5 +38,7 @@ def run(args) -> int:
     from ..scenefile import run_file
     run_file(args.scene, out=args.out, until=args.until,
              progress=args.progress, log=lambda m: print(m, flush=True),
-             plan=args.plan)
+             threads=args.threads, integrator=args.integrator,
+             preset=args.preset, checkpoint_every=args.checkpoint_every,
+             resume=args.resume, dt=args.dt, plan=args.plan)
     return 0

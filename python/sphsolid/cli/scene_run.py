@@ -44,7 +44,10 @@ def resolve(args, name: str, dx: float, until: float,
             raise ValueError(f"{args.plan} plans the {loaded.scene!r} "
                              f"scene, not {name!r}")
         dx = loaded.dx
-        until = float(loaded.request.get("until") or until)
+        requested = loaded.request.get("until")
+        if requested is not None:
+            from ..units import time
+            until = time(requested, f"{args.plan}: request.until")
         integrator = loaded.setting.integrator
     else:
         integrator = args.integrator or chosen.integrator
@@ -94,23 +97,25 @@ def planned_scene(args, run: Resolved, factory):
     return scene
 
 
-def _dynamics(args, scene, run: Resolved):
-    """The run's Dynamics: --dt, else the preset's step when the preset's
-    integrator runs, else the integrator's default."""
+def _dynamics(args, scene, run: Resolved, dt=None):
+    """The run's Dynamics: --dt (else ``dt``: a checkpoint's), else the
+    preset's step when the preset's integrator runs, else the
+    integrator's default."""
     from ..dynamics import dynamics_for
     from ..presets import dynamics as preset_dynamics
+    dt = args.dt if args.dt is not None else dt
     chosen = getattr(scene, "preset", None)
-    if (args.dt is None and chosen is not None
+    if (dt is None and chosen is not None
             and chosen.integrator == run.integrator):
         return preset_dynamics(scene, chosen, progress=args.progress)
-    return dynamics_for(run.integrator)(scene, dt=args.dt,
-                                        progress=args.progress)
+    return dynamics_for(run.integrator)(scene, dt=dt, progress=args.progress)
 
 
 def run_scene(args, scene, run: Resolved) -> int:
     """Run the scene to ``run.until``, write its HDF5 file (C backend),
     probe CSV and figures into ``--out``; 130 when interrupted."""
     from .. import Probes, scenes
+    from ..checkpoint import marks, resume
     from ..figures import probe_curves, von_mises_map
     from ..metrics import probe_interval_for
     from ..trajectory import Frame, Trajectory
@@ -125,7 +130,13 @@ def run_scene(args, scene, run: Resolved) -> int:
         scene.calc = CLibrary(threads=args.threads)
     probes = Probes(scene, scenes.PAPER_PROBES if scene.dimension == 2
                     else scenes.CYLINDER_PROBES)
-    dyn = _dynamics(args, scene, run)
+    resumed_dt = None
+    if args.resume is not None:
+        if args.backend != "c":
+            raise ValueError("--resume: a checkpoint is read into the C "
+                             "library's state (--backend c)")
+        resumed_dt = resume(scene, args.resume, run.integrator)
+    dyn = _dynamics(args, scene, run, resumed_dt)
     probe_interval = (args.probe_interval if args.probe_interval is not None
                       else probe_interval_for(dyn.dt))
     late = [t for t in (args.times or []) if t > until]
@@ -135,6 +146,8 @@ def run_scene(args, scene, run: Resolved) -> int:
     times = args.times or [until * (i + 1) / run.frames
                            for i in range(run.frames)]
     times = sorted(t for t in times if 0 < t <= until)
+    stops = marks(args.checkpoint_every, dyn.time, until)
+    checkpoint = args.out / f"{name}_checkpoint.h5"
     counts = scene.body_counts()
     print(f"{name}: dx = {dx * 1e3:g} mm, "
           + ", ".join(f"{k} {v}" for k, v in counts.items())
@@ -153,7 +166,7 @@ def run_scene(args, scene, run: Resolved) -> int:
     start, cpu_start = wallclock.perf_counter(), wallclock.process_time()
     interrupted = False
     try:
-        for t in times + [until]:
+        for t in sorted(set(times) | set(stops) | {until}):
             if t > dyn.time:
                 dyn.run(until=t)
                 if t in times:
@@ -161,6 +174,10 @@ def run_scene(args, scene, run: Resolved) -> int:
                         traj.write()
                     else:
                         frames.append(Frame.from_scene(scene, len(frames)))
+                if t in stops:
+                    scene.write_checkpoint(checkpoint)
+        if traj is None:
+            probes.record_final()      # the state at the end time
     except KeyboardInterrupt as stop:
         interrupted = True
         print(f"\n{stop}", file=sys.stderr)
@@ -177,7 +194,7 @@ def run_scene(args, scene, run: Resolved) -> int:
         with Trajectory(h5) as reader:
             series = reader.probes
             if series is not None:
-                probes.load(series, interval=probe_interval)
+                probes.load(series, interval=probe_interval, final=True)
     print(f"{dyn.nsteps} steps to t = {dyn.time * 1e3:.6g} ms in {wall:.2f} s"
           f" ({len(scene) * dyn.nsteps / max(wall, 1e-9) / 1e6:.3g} M "
           "particle-steps/s)")
@@ -205,6 +222,8 @@ def run_scene(args, scene, run: Resolved) -> int:
     else:
         probes.write_csv(csv)
     outputs = ([h5, traj.xdmf_path] if traj is not None else []) + [csv]
+    if stops:
+        outputs.append(checkpoint)
     if len(probes.times):
         outputs.append(args.out / f"{name}_probes.png")
         probe_curves(
