@@ -127,6 +127,24 @@ def test_a_record_with_bad_values_names_the_key(tmp_path):
 
 
 # ------------------------------------------------- the record's effect
+UNTIL = 20e-6
+TIMES = np.linspace(0.0, UNTIL, 201)
+
+
+def _fake_strip_run(dx, setting, ran=None):
+    """A calibration run of the strip whose probe series converge at order
+    1 (30 dx of relative error), sized like the strip at dx."""
+    if ran is not None:
+        ran.append(setting)
+    spec = planner.project_scenes()["strip"]
+    series = {n: 1e6 * (1 + 30 * dx * np.sin(2e5 * TIMES))
+              for n in spec.probes}
+    n, steps = int(0.8 / dx), int(UNTIL / (0.1 * dx / 3000.0))
+    return planner.LadderRun(setting, dx, n, steps, UNTIL / steps, 1.0,
+                             UNTIL, TIMES, series, cpu=n * steps * 1e-8,
+                             threads=1)
+
+
 def _model(**kw):
     return ErrorModel(order=1.0, coefficient=10.0, safety=1.25, floor=0.0,
                       residual=0.0, levels=[], differences=[], finest=1e-3,
@@ -156,19 +174,11 @@ def test_the_planner_calibrates_only_what_the_record_verifies(monkeypatch):
                                                "bias": 0.05}}}})
     monkeypatch.setattr(planner.search, "candidate_settings",
                         lambda *a, **k: ([kept, unverified, biased], []))
-    until = 20e-6
-    times = np.linspace(0.0, until, 201)
+    until = UNTIL
     ran = []
-
-    def fake_run(factory, dx, setting, until_, probes, quantity, threads):
-        ran.append(setting)
-        series = {n: 1e6 * (1 + 30 * dx * np.sin(2e5 * times))
-                  for n in spec.probes}
-        n, steps = int(0.8 / dx), int(until / (0.1 * dx / 3000.0))
-        return planner.LadderRun(setting, dx, n, steps, until / steps, 1.0,
-                                 until, times, series, cpu=n * steps * 1e-8,
-                                 threads=1)
-    monkeypatch.setattr(planner.search, "ladder_run", fake_run)
+    monkeypatch.setattr(planner.search, "ladder_run",
+                        lambda factory, dx, setting, *args:
+                        _fake_strip_run(dx, setting, ran))
     plan = planner.plan(spec.factory, error=0.03, until=until,
                         probes=spec.probes, quantity=spec.quantity,
                         norm="max", threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
@@ -311,20 +321,13 @@ def test_finer_levels_of_earlier_plans_enter_the_fit(monkeypatch, tmp_path):
     # calibrated is part of every later fit of that setting
     spec = planner.project_scenes()["strip"]
     setting = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
-    until = 20e-6
-    times = np.linspace(0.0, until, 201)
-
-    def fake_run(factory, dx, setting_, until_, probes, quantity, threads):
-        series = {n: 1e6 * (1 + 30 * dx * np.sin(2e5 * times))
-                  for n in spec.probes}
-        n, steps = int(0.8 / dx), int(until / (0.1 * dx / 3000.0))
-        return planner.LadderRun(setting_, dx, n, steps, until / steps, 1.0,
-                                 until, times, series, cpu=n * steps * 1e-8,
-                                 threads=1)
-    monkeypatch.setattr(planner.search, "ladder_run", fake_run)
+    until = UNTIL
+    monkeypatch.setattr(planner.search, "ladder_run",
+                        lambda factory, dx, setting_, *args:
+                        _fake_strip_run(dx, setting_))
     cache = RunCache("strip-test", tmp_path)
     key = (0.5e-3, setting, until, spec.quantity, 1)
-    cache[key] = fake_run(None, 0.5e-3, setting, until, None, None, 1)
+    cache[key] = _fake_strip_run(0.5e-3, setting)
     plan = planner.plan(spec.factory, error=0.03, until=until,
                         probes=spec.probes, quantity=spec.quantity,
                         norm="max", threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
