@@ -20,6 +20,23 @@ def _layers(smoothing_ratio: float) -> int:
     return int(math.ceil(2 * smoothing_ratio * 1.01))
 
 
+def _between_platens(body, smoothing_ratio: float, kernel: str,
+                     speed: float | None, inset, **scene_options):
+    """``body`` on a fixed plate under a piston moving down at ``speed``
+    (default the paper's), both ``ceil(2 h/dx)`` layers thick, in a 2D
+    scene with the planner's h/dx and kernel."""
+    from .. import build, scenes
+    from ..scene import Scene
+    layers = _layers(smoothing_ratio)
+    v = scenes.PISTON_SPEED if speed is None else speed
+    return Scene(2, [body, build.plate(under=body, layers=layers,
+                                       inset=inset),
+                     build.piston(over=body, layers=layers,
+                                  velocity=(0.0, -v), inset=inset)],
+                 smoothing_ratio=smoothing_ratio, kernel=kernel,
+                 **scene_options)
+
+
 def piston_factory(dx: float, smoothing_ratio: float = 1.2,
                    kernel: str = "cubic_spline",
                    speed: float | None = None, inset: float | str = 0.0,
@@ -30,17 +47,10 @@ def piston_factory(dx: float, smoothing_ratio: float = 1.2,
     piston ``ceil(2 h/dx)`` layers thick. ``material`` replaces the
     paper's rock."""
     from .. import build, scenes
-    from ..scene import Scene
     rock = scenes.paper_material() if material is None else material
     specimen = build.rectangle(scenes.SPECIMEN_X, scenes.SPECIMEN_Y, dx, rock,
                                "specimen")
-    layers = _layers(smoothing_ratio)
-    v = scenes.PISTON_SPEED if speed is None else speed
-    return Scene(2, [specimen, build.plate(under=specimen, layers=layers,
-                                           inset=inset),
-                     build.piston(over=specimen, layers=layers,
-                                  velocity=(0.0, -v), inset=inset)],
-                 smoothing_ratio=smoothing_ratio, kernel=kernel)
+    return _between_platens(specimen, smoothing_ratio, kernel, speed, inset)
 
 
 def nearly_incompressible_material():
@@ -88,21 +98,16 @@ def strip_factory(dx: float, smoothing_ratio: float = 1.2,
     wide) on a fixed plate, hit by the piston at t = 0: a plane P-wave with
     the exact stress jump -rho0 c_p v behind a front at y = H - c_p t."""
     from .. import build, scenes
-    from ..scene import Scene
     rock = scenes.paper_material()
     width = STRIP_WIDTH_DX * dx
     strip = build.rectangle((-width / 2, width / 2), (0.0, STRIP_HEIGHT), dx,
                             rock, name="strip")
     layers = _layers(smoothing_ratio)
-    v = scenes.PISTON_SPEED if speed is None else speed
-    return Scene(2, [strip, build.plate(under=strip, layers=layers,
-                                        inset=inset),
-                     build.piston(over=strip, layers=layers,
-                                  velocity=(0.0, -v), inset=inset)],
-                 domain=((-width / 2, -layers * dx - 0.01),
-                         (width / 2, STRIP_HEIGHT + layers * dx + 0.01)),
-                 periodic=(True, False), smoothing_ratio=smoothing_ratio,
-                 kernel=kernel)
+    return _between_platens(
+        strip, smoothing_ratio, kernel, speed, inset,
+        domain=((-width / 2, -layers * dx - 0.01),
+                (width / 2, STRIP_HEIGHT + layers * dx + 0.01)),
+        periodic=(True, False))
 
 
 #: Probe points of the strip [m] (on the axis, a quarter, half and three
