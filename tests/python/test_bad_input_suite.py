@@ -155,9 +155,16 @@ def _far_apart_3d():
 
 def _trajectory_of_old_format(tmp_path):
     path = tmp_path / "old.h5"
-    with h5py.File(path, "w") as f:            # format 1: no version
+    with h5py.File(path, "w") as f:            # format 1 (no version), cut short
         f.create_group("h5md")
         f.create_dataset("particles/all/position/value", data=np.zeros((1, 2, 2)))
+    sphsolid.Trajectory(path)
+
+
+def _trajectory_of_old_checkpoint(tmp_path):
+    path = tmp_path / "old.h5"
+    with h5py.File(path, "w") as f:            # a format-1 checkpoint
+        f.create_group("checkpoint")
     sphsolid.Trajectory(path)
 
 
@@ -246,7 +253,10 @@ PYTHON_CASES = [
     (_builder_that_cannot_fit, MemoryError, r"radius 0.07 m .*dx=1e-06 m.*are available"),
     (_scene_that_cannot_fit, MemoryError, r"block 'specimen' \(dx=3e-06 m\).*need about .* are available"),
     (_far_apart_3d, ValueError, r"body 'b': particle 0 at x=1.1e\+07 m lies 1.1e\+10 spacings"),
-    (_trajectory_of_old_format, OSError, r"old.h5' is in libsphsolid file format 1"),
+    (_trajectory_of_old_format, OSError,
+     r"old.h5' is a libsphsolid output of file format 1 without /parameters"),
+    (_trajectory_of_old_checkpoint, OSError,
+     r"old.h5' is a checkpoint in libsphsolid file format 1 .*not an output"),
     (_trajectory_of_newer_format, OSError, r"new.h5' has libsphsolid file format 7"),
     (_trajectory_of_a_checkpoint, OSError, r"is a libsphsolid checkpoint file, not an output file"),
     (_damaged_trajectory_frame, OSError, r"run.h5' is damaged: /particles/all/position/value fails its checksum"),
