@@ -17,7 +17,7 @@ import math
 import time as wallclock
 from pathlib import Path
 
-from .options import positive, whole
+from .options import add_allow_large_option, positive, whole
 
 __all__ = ["add_arguments", "run"]
 
@@ -55,6 +55,7 @@ def add_arguments(parser, name: str) -> None:
                         help="OpenMP threads (default: OpenMP's)")
     parser.add_argument("--out", type=Path, default=Path("."),
                         help="output directory (default: current)")
+    add_allow_large_option(parser)
 
 
 def run(args, name: str) -> int:

@@ -167,6 +167,15 @@ def add_checkpoint_options(parser) -> None:
                         "run from there")
 
 
+def add_allow_large_option(parser) -> None:
+    """--allow-large of the commands that build a scene."""
+    parser.add_argument("--allow-large", action="store_true",
+                        help="build and run a scene that needs more than "
+                        "half of the available memory (up to all of it; "
+                        "refused otherwise, naming the particle count and "
+                        "bytes)")
+
+
 def add_scene_options(parser, dx: float | None, until: float,
                       frames: int) -> None:
     """The options of the project scenes (``sphsolid piston``, ``gravity``);
@@ -186,6 +195,7 @@ def add_scene_options(parser, dx: float | None, until: float,
     from .._lib import kernel_names
     add_integrator_options(parser)
     add_checkpoint_options(parser)
+    add_allow_large_option(parser)
     parser.add_argument("--kernel", default=None, choices=kernel_names(),
                         help="smoothing kernel (default: the preset's)")
     parser.add_argument("--h-over-dx", type=finite(-math.inf, "must be "
