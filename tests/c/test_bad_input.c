@@ -457,6 +457,29 @@ static void output_negative_interval(void **state)
     sph_destroy(sim);
 }
 
+/* A probe interval with no probe to sample is refused before the file is
+ * created, naming the interval and the missing probes. */
+static void output_probe_interval_without_probes(void **state)
+{
+    (void)state;
+    needs_hdf5();
+    sph_sim *sim = block();
+    remove("test_bad_input_noprobe.h5");
+    refused(sim, sph_output_open(sim, "test_bad_input_noprobe.h5", 1, 5), SPH_ERR_ARGUMENT,
+            "probe interval 5, but there are no probes");
+    assert_null(sim->out);
+    FILE *f = fopen("test_bad_input_noprobe.h5", "rb");
+    assert_null(f);
+    if (f)
+        fclose(f);
+    /* without a probe interval the same scene opens */
+    check(sim, sph_output_open(sim, "test_bad_input_noprobe.h5", 1, 0));
+    check(sim, sph_output_close(sim));
+    sph_destroy(sim);
+    remove("test_bad_input_noprobe.h5");
+    remove("test_bad_input_noprobe.xmf");
+}
+
 static void output_in_missing_directory(void **state)
 {
     (void)state;
@@ -558,6 +581,7 @@ int main(void)
         cmocka_unit_test(probe_outside_during_output),
         cmocka_unit_test(probe_non_finite_point),
         cmocka_unit_test(output_negative_interval),
+        cmocka_unit_test(output_probe_interval_without_probes),
         cmocka_unit_test(output_in_missing_directory),
         cmocka_unit_test(checkpoint_in_missing_directory),
         cmocka_unit_test(checkpoint_empty_path),

@@ -161,6 +161,10 @@ def _trajectory_of_old_format(tmp_path):
     sphsolid.Trajectory(path)
 
 
+def _trajectory_probes_without_probes(tmp_path):
+    sphsolid.Trajectory(tmp_path / "run.h5", "w", small_scene(), probe_interval=5)
+
+
 def _trajectory_of_old_checkpoint(tmp_path):
     path = tmp_path / "old.h5"
     with h5py.File(path, "w") as f:            # a format-1 checkpoint
@@ -255,6 +259,8 @@ PYTHON_CASES = [
     (_far_apart_3d, ValueError, r"body 'b': particle 0 at x=1.1e\+07 m lies 1.1e\+10 spacings"),
     (_trajectory_of_old_format, OSError,
      r"old.h5' is a libsphsolid output of file format 1 without /parameters"),
+    (_trajectory_probes_without_probes, ValueError,
+     r"probe interval 5, but there are no probes to sample"),
     (_trajectory_of_old_checkpoint, OSError,
      r"old.h5' is a checkpoint in libsphsolid file format 1 .*not an output"),
     (_trajectory_of_newer_format, OSError, r"new.h5' has libsphsolid file format 7"),
