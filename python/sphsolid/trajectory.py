@@ -214,6 +214,9 @@ class Trajectory:
     # ------------------------------------------------------------ reading
     def _open_read(self):
         import h5py
+        if self.path.is_dir():
+            raise OSError(f"Trajectory: cannot read {str(self.path)!r}: it "
+                          "is a directory, not an HDF5 file")
         if not self.path.is_file():
             raise OSError(f"Trajectory: cannot read {str(self.path)!r}: no "
                           "such file")
@@ -488,6 +491,9 @@ def write_xdmf(h5_path) -> Path:
     (``S_xx``, ``S_yy``, ...); the data stay in the HDF5 file.
     """
     h5_path = Path(os.fspath(h5_path))
+    if h5_path.is_dir():
+        raise OSError(f"write_xdmf: {str(h5_path)!r} is a directory, not an "
+                      "HDF5 output file")
     handle = _lib.new_handle(2)          # only carries the error message
     try:
         _lib.check(lib.sph_write_xdmf(handle, _lib.encode_path(h5_path)),

@@ -167,6 +167,20 @@ def add_checkpoint_options(parser) -> None:
                         "run from there")
 
 
+def output_folder(path: Path, option: str = "--out") -> Path:
+    """Make the output folder (and its parents), or refuse naming the
+    option: a file in its place, a folder that cannot be made."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{option} {path}: is a file, not a folder")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise ValueError(f"{option} {path}: cannot make the folder "
+                         f"({error.strerror})") from None
+    return path
+
+
 def add_allow_large_option(parser) -> None:
     """--allow-large of the commands that build a scene."""
     parser.add_argument("--allow-large", action="store_true",
