@@ -428,3 +428,61 @@ def test_a_dominated_candidate_is_not_calibrated(monkeypatch):
     assert set(ran) == {fast}
     by = {c.setting: c for c in plan.candidates}
     assert "dominated by" in by[slow].note
+
+
+# ------------------------------------- refinement ordered by the record
+def _record_with_errors(finest_errors):
+    """A record verifying each setting in the max norm, with the given
+    error at the finest level of two fitted scenes."""
+    settings = {}
+    for setting, (a, b) in finest_errors.items():
+        settings[record_module.family(setting)] = {
+            "max": {"ratio": 0.5, "bias": 0.0},
+            "scenes": {"a": {"max": {"errors": [3 * a, a]}},
+                       "b": {"max": {"errors": [3 * b, b]}},
+                       "held": {"max": {"errors": [1e-9]}}}}
+    return record_module.Record({"format": 1, "fitted": ["a", "b"],
+                                 "held_out": ["held"],
+                                 "settings": settings})
+
+
+def test_promise_is_the_mean_log_distance_to_the_best_fitted_error():
+    best = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
+    other = planner.Setting.make(1.5, "cubic_spline", "leapfrog")
+    record = _record_with_errors({best: (0.01, 0.02), other: (0.04, 0.02)})
+    assert record.promise(best, "max") == pytest.approx(0.0)
+    # 4x worse on a, as good on b; the held-out scene never counts
+    assert record.promise(other, "max") == pytest.approx(math.log(4) / 2)
+    assert record.promise(best, "rms") is None
+
+
+def test_settings_without_an_order_are_refined_in_the_records_order(
+        monkeypatch):
+    spec = planner.project_scenes()["strip"]
+    a = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
+    b = planner.Setting.make(1.5, "cubic_spline", "leapfrog")
+    c = planner.Setting.make(1.2, "wendland_c2", "leapfrog")
+    # c came closest to the best setting on the fitted scenes, then a
+    record = _record_with_errors({a: (0.02, 0.02), b: (0.08, 0.08),
+                                  c: (0.01, 0.01)})
+    monkeypatch.setattr(planner.search, "candidate_settings",
+                        lambda *a_, **k: ([a, b, c], []))
+    ran = []
+
+    def noisy_run(factory, dx, setting, *args):
+        # errors that refinement does not reduce: no order on any ladder
+        ran.append((setting, dx))
+        times = np.linspace(0.0, 20e-6, 201)
+        rng = np.random.default_rng(int(dx * 1e7))
+        series = {n: 1e6 * (1 + 0.2 * rng.standard_normal(times.size))
+                  for n in spec.probes}
+        return planner.LadderRun(setting, dx, 100, 100, 2e-7, 1.0, 20e-6,
+                                 times, series, cpu=0.1, threads=1)
+    monkeypatch.setattr(planner.search, "ladder_run", noisy_run)
+    ladder = (2e-3, 1.4e-3, 1e-3)
+    planner.plan(spec.factory, error=0.03, until=20e-6, probes=spec.probes,
+                 quantity=spec.quantity, threads=1, ladder=ladder,
+                 timing_checks=0, refinements=1, refine_best=2,
+                 record=record)
+    refined = [s for s, dx in ran if dx < ladder[-1] * (1 - 1e-6)]
+    assert refined == [c, a]

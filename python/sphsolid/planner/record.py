@@ -116,6 +116,39 @@ class Record:
                 return other.label()
         return None
 
+    def promise(self, setting, norm: str) -> float | None:
+        """How close a setting came to the best setting of the record at
+        the finest level of each fitted scene that verified it: the mean
+        over those scenes of log(its error / the smallest error of any
+        setting there), 0 for the best; None when no fitted scene
+        verified it. Orders the refinement of settings whose own ladder
+        determines no order (a prior from the record, not a prediction)."""
+        fitted = set(self.data.get("fitted", []))
+        logs = []
+        for scene, entry in self._scene_errors(norm, family(setting)):
+            best = self._best_finest(norm).get(scene)
+            if scene in fitted and best:
+                logs.append(math.log(entry / best))
+        return sum(logs) / len(logs) if logs else None
+
+    def _scene_errors(self, norm: str, key: str):
+        scenes = (self.settings.get(key) or {}).get("scenes") or {}
+        for scene, by_norm in scenes.items():
+            errors = ((by_norm or {}).get(norm) or {}).get("errors") or []
+            finest = errors[-1] if errors else None
+            if isinstance(finest, (int, float)) and finest > 0:
+                yield scene, float(finest)
+
+    def _best_finest(self, norm: str) -> dict:
+        cache = self.__dict__.setdefault("_best", {})
+        if norm not in cache:
+            best = {}
+            for key in self.settings:
+                for scene, error in self._scene_errors(norm, key):
+                    best[scene] = min(best.get(scene, math.inf), error)
+            cache[norm] = best
+        return cache[norm]
+
     def families(self) -> list[str]:
         return sorted(self.settings)
 
