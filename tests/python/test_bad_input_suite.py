@@ -192,9 +192,17 @@ def _damaged_trajectory_frame(tmp_path):
     with sphsolid.Trajectory(path, "w", scene) as traj:
         dyn.run(2)
         traj.write()
+    # a byte inside the stored chunk of the last frame's positions (the
+    # same value may also be stored in earlier frames, elsewhere)
+    import h5py
+    with h5py.File(path, "r") as f:
+        value = f["/particles/all/position/value"]
+        chunk = value.id.get_chunk_info_by_coord((value.shape[0] - 1, 0, 0))
     marker = scene.positions[37, 1].tobytes()
     data = bytearray(path.read_bytes())
-    at = data.rfind(marker)
+    at = data.find(marker, chunk.byte_offset,
+                   chunk.byte_offset + chunk.size)
+    assert at >= 0
     data[at + 6] ^= 0x5F
     path.write_bytes(bytes(data))
     with sphsolid.Trajectory(path) as traj:
