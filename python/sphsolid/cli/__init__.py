@@ -9,6 +9,7 @@ file inspection.
     sphsolid gravity [--dx 2mm] [--until 20ms] [--damping 2000] [--out DIR]
     sphsolid ucs [--dx 2mm] [--seed 1] [--out DIR]       (fracture tests,
     sphsolid brazilian [--dx 1mm] [--seed 1] [--out DIR]  docs/fracture.md)
+    sphsolid tensile [--dx 2mm] [--seed 1] [--out DIR]
     sphsolid run SCENE.toml [--out DIR] [--until 1ms]   (a scene file)
                  [--threads N] [--dt 0.2us] [--preset P] [--integrator I]
                  [--checkpoint-every 0.1ms] [--resume FILE] [--plan FILE]
@@ -38,12 +39,12 @@ import re
 import sys
 
 from . import (brazilian, build_plugin, gravity, info, piston, plan, run,
-               study, ucs, xdmf)
+               study, tensile, ucs, xdmf)
 
 __all__ = ["main", "build_parser", "COMMANDS", "Parser"]
 
-COMMANDS = (piston, gravity, ucs, brazilian, run, info, xdmf, build_plugin,
-            study, plan)
+COMMANDS = (piston, gravity, ucs, brazilian, tensile, run, info, xdmf,
+            build_plugin, study, plan)
 
 
 def command_name(module) -> str:
