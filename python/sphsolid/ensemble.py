@@ -70,15 +70,16 @@ def run_member(config: dict, member: int, out: Path | None = None) -> dict:
     scene = test_scene(config["test"], config["dx_m"], config["seed"],
                        member, **config.get("scene_options", {}))
     scene.calc = CLibrary(threads=1)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     run = fracture.load_to_failure(
         scene, max_strain=config["max_strain"], drop=config["drop"],
         samples_per_strain=config["samples_per_strain"])
     wall = time.perf_counter() - start
+    cpu = time.process_time() - cpu
     summary = run.summary()
     summary.update(test=config["test"], dx_m=config["dx_m"],
                    seed=config["seed"], member=member,
-                   steps=int(scene.step), wall_s=wall,
+                   steps=int(scene.step), wall_s=wall, cpu_s=cpu,
                    particles=int(sum(scene.body_counts().values())))
     if out is not None:
         where = _member_dir(Path(out), member)
@@ -274,6 +275,7 @@ def ensemble(test: str, members: int, out, dx: float | None = None,
                    bootstrap={"resamples": BOOTSTRAP_RESAMPLES,
                               "seed": BOOTSTRAP_SEED},
                    member_wall_s=[m["wall_s"] for m in ordered],
+                   member_cpu_s=[m["cpu_s"] for m in ordered],
                    member_steps=[m["steps"] for m in ordered],
                    others={name: summarise([m[k] for m in ordered], name, u)
                            for name, (k, u) in QUANTITIES.items()

@@ -184,11 +184,22 @@ def test_scene(test: str, dx: float, seed: int = 1, member: int = 0,
                **options) -> Scene:
     """The scene of test ``test`` (a key of :data:`TESTS`): :func:`ucs`,
     :func:`brazilian_disc` or :func:`tensile_bar` with the flaw draw
-    (``seed``, ``member``) and the builder's keyword ``options``."""
+    (``seed``, ``member``) and the builder's keyword ``options``;
+    ``weibull_k`` and ``weibull_m`` among them give the material
+    :func:`fracture_material` with those flaws (plain numbers, so an
+    ensemble records its options as JSON)."""
     makers = {"ucs": ucs, "brazilian": brazilian_disc,
               "tensile": tensile_bar}
     if test not in makers:
         raise ValueError(f"test {test!r}: not one of {', '.join(makers)}")
+    options = dict(options)
+    weibull = {key: options.pop(key) for key in ("weibull_k", "weibull_m")
+               if key in options}
+    if weibull:
+        if "material" in options:
+            raise ValueError("test_scene: give material or weibull_k/"
+                             "weibull_m, not both")
+        options["material"] = fracture_material(**weibull)
     return makers[test](dx, seed=seed, member=member, **options)
 
 

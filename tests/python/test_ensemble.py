@@ -29,6 +29,7 @@ def _member_files(out, member):
     where = out / f"member_{member:04d}"
     summary = json.loads((where / "summary.json").read_text())
     summary.pop("wall_s")
+    summary.pop("cpu_s")
     return (where / "load.csv").read_bytes(), summary
 
 
