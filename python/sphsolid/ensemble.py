@@ -43,6 +43,7 @@ __all__ = ["ensemble", "run_member", "bootstrap_mean_interval", "summarise",
 QUANTITIES = {"strength": ("strength_Pa", "Pa"),
               "strain_at_peak": ("strain_at_peak", "1"),
               "fragments": ("fragments", "1"),
+              "onset_stress": ("damage_onset_stress_Pa", "Pa"),
               "peak_load": ("peak_load_N", "N/m")}
 #: Seed of the bootstrap's random numbers (the interval is reproducible).
 BOOTSTRAP_SEED = 20240530
@@ -269,6 +270,10 @@ def ensemble(test: str, members: int, out, dx: float | None = None,
             bar.close()
     ordered = [results[i] for i in range(members)]
     key, unit = QUANTITIES[quantity]
+    missing = [i for i, m in enumerate(ordered) if m.get(key) is None]
+    if missing:
+        raise ValueError(f"quantity {quantity}: members {missing} have no "
+                         f"{key} (no damage before the run stopped?)")
     summary = summarise([m[key] for m in ordered], quantity, unit)
     summary.update(test=test, dx_m=config["dx_m"], seed=seed,
                    confidence=0.95,
@@ -279,7 +284,8 @@ def ensemble(test: str, members: int, out, dx: float | None = None,
                    member_steps=[m["steps"] for m in ordered],
                    others={name: summarise([m[k] for m in ordered], name, u)
                            for name, (k, u) in QUANTITIES.items()
-                           if name != quantity})
+                           if name != quantity
+                           and all(m.get(k) is not None for m in ordered)})
     _write_atomic(out / "summary.json", json.dumps(summary, indent=2))
     if figure:
         histogram(out / "histogram.png", summary)
