@@ -4,6 +4,8 @@ effect, and a confident strength planned and achieved.
     python -m validation.ensembles --size  [--seeds 30] [--dx 4mm]
     python -m validation.ensembles --rate  [--seeds 16] [--dx 4mm]
     python -m validation.ensembles --plan  [--error 5%] [--reference 20]
+    python -m validation.ensembles --coverage [--repeats 2000]
+    python -m validation.ensembles --doc     (docs/ensembles.md's tables)
     (common: [--jobs 1] [--runs DIR] [--out docs/ensembles])
 
 Each runs its ensembles with sphsolid.ensemble into ``--runs`` (default
@@ -21,6 +23,13 @@ scales as V^(-1/m)).
 --rate: the 20 x 80 mm bar (m = 9) at strain rates 1, 10, 100 and
 1000 /s; the fitted exponent of strength against rate, to compare with
 Grady & Kipp's 3/(m + 3).
+
+--coverage: how often the 95 % interval of the mean of n values (n = 10,
+30; normal and exponential draws) contains the true mean, for the
+ensembles' bootstrap-t interval and for the plain percentile interval.
+
+--doc: writes the tables of the saved results (OUT/*.json) and the cost
+of every ensemble in ``--runs`` between the markers of docs/ensembles.md.
 
 --plan: ``sphsolid plan ucs --quantity strength --error E``, the planned
 ensemble run, and reference ensembles at the plan's ladder spacings, at
@@ -314,6 +323,94 @@ def plan_table(data: dict) -> str:
     return "\n".join(lines)
 
 
+def _percentile_interval(x, rng, resamples=1000, confidence=0.95):
+    means = x[rng.integers(0, x.size, size=(resamples, x.size))].mean(1)
+    alpha = (1.0 - confidence) / 2
+    return np.quantile(means, [alpha, 1.0 - alpha])
+
+
+def coverage_study(args) -> dict:
+    rng = np.random.Generator(np.random.PCG64(11))
+    rows = []
+    for n in (10, 30):
+        for name, draw in (("normal", lambda: rng.normal(3.0, 2.0, n)),
+                           ("exponential", lambda: rng.exponential(3.0, n))):
+            hits = {"bootstrap_t": 0, "percentile": 0}
+            for r in range(args.repeats):
+                x = draw()
+                low, high = bootstrap_mean_interval(x, 0.95, resamples=1000,
+                                                    seed=r)
+                hits["bootstrap_t"] += low <= 3.0 <= high
+                low, high = _percentile_interval(x, rng)
+                hits["percentile"] += low <= 3.0 <= high
+            rows.append({"n": n, "distribution": name,
+                         **{k: v / args.repeats for k, v in hits.items()}})
+    return {"repeats": args.repeats, "confidence": 0.95,
+            "binomial_sd": math.sqrt(0.95 * 0.05 / args.repeats),
+            "rows": rows}
+
+
+def coverage_table(data: dict) -> str:
+    lines = ["| n | distribution | bootstrap-t (sphsolid.ensemble) | "
+             "percentile |", "|---|---|---|---|"]
+    for r in data["rows"]:
+        lines.append(f"| {r['n']} | {r['distribution']} | "
+                     f"{r['bootstrap_t']:.3f} | {r['percentile']:.3f} |")
+    lines.append("")
+    lines.append(f"Share of {data['repeats']} samples whose 95 % interval "
+                 f"contains the mean (binomial standard deviation "
+                 f"{data['binomial_sd']:.4f}).")
+    return "\n".join(lines)
+
+
+def cost_table(runs: Path) -> str:
+    """CPU seconds per member of every ensemble under ``runs``."""
+    rows = []
+    for path in sorted(runs.glob("**/summary.json")):
+        if path.parent.name.startswith("member_"):
+            continue
+        s = json.loads(path.read_text())
+        config = json.loads((path.parent / "ensemble.json").read_text())
+        cpu = float(np.mean(s["member_cpu_s"]))
+        steps = float(np.mean(s["member_steps"]))
+        rate = config["scene_options"].get("strain_rate", 1.0)
+        size = ("x" + f"{config['scene_options']['length'] / 0.08:.2f}"
+                if "length" in config["scene_options"] else "")
+        rows.append((config["test"], s["dx_m"], rate, size, s["members"],
+                     steps, cpu))
+    rows.sort(key=lambda r: (r[0], -r[1], r[2], r[3]))
+    lines = ["| test | dx [mm] | strain rate [1/s] | size | members | steps "
+             "per member | CPU s per member | 10 members | 30 members | "
+             "100 members |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for test, dx, rate, size, members, steps, cpu in rows:
+        lines.append(f"| {test} | {dx * 1e3:g} | {rate:g} | {size or '1'} | "
+                     f"{members} | {steps:.0f} | {cpu:.3g} | {10 * cpu:.3g} | "
+                     f"{30 * cpu:.3g} | {100 * cpu:.3g} |")
+    lines.append("")
+    lines.append("The last three columns are N times the measured CPU "
+                 "seconds per member (s); the ucs rows at 8, 6 and 4 mm "
+                 "are the planner's pilot ensembles.")
+    return "\n".join(lines)
+
+
+def write_doc(args) -> None:
+    doc = ROOT / "docs" / "ensembles.md"
+    text = doc.read_text()
+    tables = {"cost": cost_table(args.runs)}
+    for name, make in (("size", size_table), ("rate", rate_table),
+                       ("plan", plan_table), ("coverage", coverage_table)):
+        path = args.out / f"{name}.json"
+        if path.exists():
+            tables[name] = make(json.loads(path.read_text()))
+    for name, table in tables.items():
+        begin, end = f"<!-- {name}:begin -->", f"<!-- {name}:end -->"
+        head, rest = text.split(begin)
+        _, tail = rest.split(end)
+        text = f"{head}{begin}\n{table}\n{end}{tail}"
+    doc.write_text(text)
+    print(f"wrote {doc}: {', '.join(tables)}")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(
         prog="python -m validation.ensembles",
@@ -322,6 +419,9 @@ def main(argv=None) -> int:
     what.add_argument("--size", action="store_true")
     what.add_argument("--rate", action="store_true")
     what.add_argument("--plan", action="store_true")
+    what.add_argument("--coverage", action="store_true")
+    what.add_argument("--doc", action="store_true")
+    parser.add_argument("--repeats", type=int, default=2000)
     parser.add_argument("--seeds", type=int, default=None,
                         help="members per ensemble (default 30 for --size, "
                         "16 for --rate)")
@@ -339,6 +439,9 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "ensembles")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
+    if args.doc:
+        write_doc(args)
+        return 0
     if args.size:
         args.seeds = args.seeds or 30
         data = size_study(args)
@@ -349,6 +452,9 @@ def main(argv=None) -> int:
         data = rate_study(args)
         name, table = "rate", rate_table(data)
         rate_figure(data, args.out / "rate.png")
+    elif args.coverage:
+        data = coverage_study(args)
+        name, table = "coverage", coverage_table(data)
     else:
         data = plan_study(args)
         name, table = "plan", plan_table(data)
