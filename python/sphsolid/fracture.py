@@ -163,6 +163,12 @@ def tensile_bar(dx: float = 2e-3, material: Material | None = None,
     jump rho c_p v, which at 100/s, v = 4 m/s, is 24 MPa: more than the
     bar's strength).
     """
+    for name, value in (("strain_rate", strain_rate), ("width", width),
+                        ("length", length)):
+        if not (isinstance(value, float | int) and math.isfinite(value)
+                and value > 0):
+            raise ValueError(f"tensile_bar: {name}={value!r} must be "
+                             "finite and > 0")
     material = material or fracture_material()
     specimen = rectangle((-width / 2, width / 2), (0.0, length), dx,
                          material, "specimen")

@@ -148,5 +148,9 @@ def test_bad_fracture_arguments_are_named(tmp_path):
     scene = fracture.ucs(4e-3)
     with pytest.raises(ValueError, match="drop"):
         fracture.load_to_failure(scene, drop=1.5)
+    with pytest.raises(ValueError, match="strain_rate=-1"):
+        fracture.tensile_bar(5e-3, strain_rate=-1.0)
+    with pytest.raises(ValueError, match="member=2.5"):
+        fracture.tensile_bar(5e-3, member=2.5)
     with pytest.raises(SystemExit):
         main(["ucs", "--max-strain", "2", "--out", str(tmp_path)])

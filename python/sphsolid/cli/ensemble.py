@@ -15,7 +15,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .fracture import _strain
-from .options import positive_length, whole
+from .options import positive, positive_length, whole
 
 help = "an ensemble of flaw draws of a fracture test: mean and 95% interval"
 
@@ -45,7 +45,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--max-strain", type=_strain, default=None,
                         help="stop a member at this nominal strain if its "
                              "load has not dropped (default: the test's)")
-    parser.add_argument("--strain-rate", type=float, default=None,
+    parser.add_argument("--strain-rate", type=positive, default=None,
                         help="strain rate [1/s] of ucs and tensile "
                              "(default: the test's, 1/s)")
     parser.add_argument("--out", type=Path, required=True,
