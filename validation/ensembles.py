@@ -113,6 +113,19 @@ def size_study(args) -> dict:
             "rows": rows}
 
 
+def weakest_link_onset(k: float, m: float, volume: float) -> float:
+    """The mean stress [Pa] at which the weakest flaw of a volume under
+    uniform uniaxial stress (plane strain) activates: the weakest strain
+    is Weibull with scale (k V)^(-1/m), mean Gamma(1 + 1/m) (k V)^(-1/m),
+    and the largest principal strain is sigma (1 - nu^2) / E."""
+    from sphsolid.fracture import fracture_material
+    mat = fracture_material()
+    E = 9.0 * mat.K * mat.mu / (3.0 * mat.K + mat.mu)
+    nu = (3.0 * mat.K - 2.0 * mat.mu) / (2.0 * (3.0 * mat.K + mat.mu))
+    strain = math.gamma(1.0 + 1.0 / m) * (k * volume) ** (-1.0 / m)
+    return E / (1.0 - nu * nu) * strain
+
+
 def size_table(data: dict) -> str:
     lines = ["| m | quantity | V2/V1 | small: mean [MPa] (95 % CI) | "
              "large: mean [MPa] (95 % CI) | measured ratio small/large "
@@ -124,6 +137,10 @@ def size_table(data: dict) -> str:
                 f"{p[ci][1] / 1e6:.2f})")
     for r in data["rows"]:
         s, g = r["small"], r["large"]
+        s["weakest_link_onset"] = weakest_link_onset(r["k"], r["m"],
+                                                     s["volume_m3"])
+        g["weakest_link_onset"] = weakest_link_onset(r["k"], r["m"],
+                                                     g["volume_m3"])
         for label, what, mean, ci in (
                 ("peak (strength)", "ratio", "mean", "ci95"),
                 ("damage onset", "onset_ratio", "onset_mean", "onset_ci95")):
@@ -132,6 +149,14 @@ def size_table(data: dict) -> str:
                 f"{mpa(s, mean, ci)} | {mpa(g, mean, ci)} | {r[what]:.3f} "
                 f"({r[what + '_ci95'][0]:.3f}-{r[what + '_ci95'][1]:.3f}) | "
                 f"{r['weakest_link']:.3f} |")
+    lines.append("")
+    lines.append("Weakest-link onset under uniform stress, E/(1 - nu^2) "
+                 "Gamma(1 + 1/m) (k V)^(-1/m): "
+                 + "; ".join(f"m = {r['m']:g}: small "
+                             f"{r['small']['weakest_link_onset'] / 1e6:.2f}"
+                             f" MPa, large "
+                             f"{r['large']['weakest_link_onset'] / 1e6:.2f}"
+                             " MPa" for r in data["rows"]) + ".")
     return "\n".join(lines)
 
 
@@ -255,6 +280,8 @@ def plan_study(args) -> dict:
     achieved = sphsolid.ensemble("ucs", plan.seeds, args.runs / "plan_run",
                                  dx=plan.dx, jobs=args.jobs, progress=True,
                                  figure=False)
+    sphsolid.ensemble.histogram(args.out / "plan_histogram.png",
+                                achieved.summary)
     # references: the ladder (pilot members) and finer levels
     levels = [(lv["dx"], lv["mean"], lv["std"], lv["members"])
               for lv in plan.ladder]
