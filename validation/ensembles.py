@@ -5,6 +5,7 @@ effect, and a confident strength planned and achieved.
     python -m validation.ensembles --rate  [--seeds 16] [--dx 4mm]
     python -m validation.ensembles --plan  [--error 5%] [--reference 20]
     python -m validation.ensembles --coverage [--repeats 2000]
+    python -m validation.ensembles --anatomy (where the bars start to fail)
     python -m validation.ensembles --doc     (docs/ensembles.md's tables)
     (common: [--jobs 1] [--runs DIR] [--out docs/ensembles])
 
@@ -390,6 +391,54 @@ def coverage_table(data: dict) -> str:
     return "\n".join(lines)
 
 
+def anatomy_study(args) -> dict:
+    """Member 0 of the size study's bars (m = 9): where the first damage
+    appears, at what share of the peak load, and how many particles are
+    damaged (D > 0) and failed (D = 1) at the peak."""
+    from sphsolid import fracture
+    rows = []
+    for name, scale in (("small", 1.0), ("large", math.sqrt(8.0))):
+        width, length = 0.020 * scale, 0.080 * scale
+        scene = fracture.test_scene(
+            "tensile", args.dx, weibull_k=weibull_k(9.0), weibull_m=9.0,
+            width=width, length=length, strain_rate=1.0)
+        scene.calc = sphsolid.CLibrary(threads=1)
+        bar = scene.body_slice("specimen")
+        seen = {}
+
+        def on_sample(scene, t, load, peak):
+            damage = scene.damage[bar]
+            if "onset" not in seen and damage.max() > 0:
+                where = scene.positions[bar][np.argmax(damage)]
+                seen["onset"] = (load, float(where[0] / width),
+                                 float(where[1] / length))
+            if load >= peak:
+                seen["peak"] = (int((damage > 0).sum()),
+                                int((damage >= 1.0).sum()))
+        run = fracture.load_to_failure(scene, max_strain=0.01,
+                                       on_sample=on_sample)
+        load, x, y = seen["onset"]
+        rows.append({"bar": name, "particles": int(bar.stop - bar.start),
+                     "onset_share_of_peak": load / run.peak_load_N,
+                     "onset_x_over_width": x, "onset_y_over_length": y,
+                     "damaged_at_peak": seen["peak"][0],
+                     "failed_at_peak": seen["peak"][1]})
+    return {"dx_m": args.dx, "m": 9.0, "member": 0, "rows": rows}
+
+
+def anatomy_table(data: dict) -> str:
+    lines = ["| bar | particles | first damage at (x/W, y/L) | load there / "
+             "peak | damaged at the peak | failed at the peak |",
+             "|---|---|---|---|---|---|"]
+    for r in data["rows"]:
+        lines.append(f"| {r['bar']} | {r['particles']} | "
+                     f"({r['onset_x_over_width']:.2f}, "
+                     f"{r['onset_y_over_length']:.2f}) | "
+                     f"{r['onset_share_of_peak']:.2f} | "
+                     f"{r['damaged_at_peak']} | {r['failed_at_peak']} |")
+    return "\n".join(lines)
+
+
 def cost_table(runs: Path) -> str:
     """CPU seconds per member of every ensemble under ``runs``."""
     rows = []
@@ -424,7 +473,8 @@ def write_doc(args) -> None:
     doc = ROOT / "docs" / "ensembles.md"
     text = doc.read_text()
     tables = {"cost": cost_table(args.runs)}
-    for name, make in (("size", size_table), ("rate", rate_table),
+    for name, make in (("size", size_table), ("anatomy", anatomy_table),
+                       ("rate", rate_table),
                        ("plan", plan_table), ("coverage", coverage_table)):
         path = args.out / f"{name}.json"
         if path.exists():
@@ -448,6 +498,7 @@ def main(argv=None) -> int:
     what.add_argument("--plan", action="store_true")
     what.add_argument("--coverage", action="store_true")
     what.add_argument("--doc", action="store_true")
+    what.add_argument("--anatomy", action="store_true")
     parser.add_argument("--repeats", type=int, default=2000)
     parser.add_argument("--seeds", type=int, default=None,
                         help="members per ensemble (default 30 for --size, "
@@ -479,6 +530,9 @@ def main(argv=None) -> int:
         data = rate_study(args)
         name, table = "rate", rate_table(data)
         rate_figure(data, args.out / "rate.png")
+    elif args.anatomy:
+        data = anatomy_study(args)
+        name, table = "anatomy", anatomy_table(data)
     elif args.coverage:
         data = coverage_study(args)
         name, table = "coverage", coverage_table(data)
