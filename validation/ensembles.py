@@ -473,12 +473,13 @@ def write_doc(args) -> None:
     doc = ROOT / "docs" / "ensembles.md"
     text = doc.read_text()
     tables = {"cost": cost_table(args.runs)}
-    for name, make in (("size", size_table), ("anatomy", anatomy_table),
-                       ("rate", rate_table),
-                       ("plan", plan_table), ("coverage", coverage_table)):
-        path = args.out / f"{name}.json"
-        if path.exists():
-            tables[name] = make(json.loads(path.read_text()))
+    makers = {"size": size_table, "anatomy": anatomy_table,
+              "rate": rate_table, "plan": plan_table,
+              "coverage": coverage_table}
+    for path in sorted(args.out.glob("*.json")):
+        make = makers.get(path.stem.split("_")[0])
+        if make is not None and f"<!-- {path.stem}:begin -->" in text:
+            tables[path.stem] = make(json.loads(path.read_text()))
     for name, table in tables.items():
         begin, end = f"<!-- {name}:begin -->", f"<!-- {name}:end -->"
         head, rest = text.split(begin)
@@ -528,8 +529,9 @@ def main(argv=None) -> int:
     elif args.rate:
         args.seeds = args.seeds or 16
         data = rate_study(args)
-        name, table = "rate", rate_table(data)
-        rate_figure(data, args.out / "rate.png")
+        name = "rate" if args.dx == 4e-3 else f"rate_{args.dx * 1e3:g}mm"
+        table = rate_table(data)
+        rate_figure(data, args.out / f"{name}.png")
     elif args.anatomy:
         data = anatomy_study(args)
         name, table = "anatomy", anatomy_table(data)

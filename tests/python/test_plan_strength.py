@@ -111,4 +111,5 @@ def test_a_ladder_within_its_noise_is_reported_unresolved(fake, monkeypatch,
     monkeypatch.setitem(globals(), "REL_STD", 0.3)
     plan = plan_strength("ucs", 0.5, work=tmp_path)
     assert not plan.ladder_resolved
+    assert plan.model["order"] <= 1.0
     assert "not resolved" in plan.summary()

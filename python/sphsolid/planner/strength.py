@@ -23,8 +23,10 @@ standard deviation).  :func:`plan_strength`
 
 Differences of means that are not larger than their own noise (t_c times
 the standard error of the difference) do not resolve a discretisation
-error: the plan says so (``ladder_resolved``) and the prediction then
-rests on noise.
+error: the plan says so (``ladder_resolved``), fits them with an order of
+at most 1 (the wave planner's FORMAL_ORDER: a steep order fitted to noise
+would promise a vanishing error), and the prediction then rests on
+noise.
 """
 from __future__ import annotations
 
@@ -36,7 +38,7 @@ from statistics import NormalDist
 
 import numpy as np
 
-from .error_model import fit_error_model
+from .error_model import FORMAL_ORDER, fit_error_model
 
 __all__ = ["plan_strength", "StrengthPlan", "student_quantile", "LADDERS"]
 
@@ -189,10 +191,13 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
     noise = tq * np.sqrt(stds[:-1] ** 2 / counts[:-1]
                          + stds[1:] ** 2 / counts[1:]) / reference
     resolved = bool(np.all(diffs > noise))
-    # a difference of exactly zero carries no order: take it at its noise
+    # a difference of exactly zero carries no order; a ladder within its
+    # noise carries none either: its order is taken at most FORMAL_ORDER,
+    # as the wave planner predicts
     model = fit_error_model(ladder, np.maximum(diffs, 1e-12),
                             max_refinement=max_refinement,
-                            spread=float(np.ptp(means)) / reference)
+                            spread=float(np.ptp(means)) / reference,
+                            max_order=None if resolved else FORMAL_ORDER)
     s_rel = finest["std"] / reference
     # CPU seconds per member: a power law in dx over the ladder
     slope, intercept = np.polyfit(np.log(ladder),
@@ -235,7 +240,12 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
             statistical_error=None, feasible=False,
             reason=(f"the discretisation error alone is {floor:.3g} at dx "
                     f"= {smallest * 1e3:.3g} mm (the finest the ladder "
-                    f"allows), or the time exceeds max_seconds"),
+                    "allows)" + ("" if max_seconds is None else
+                                 f", or the time exceeds max_seconds="
+                                 f"{max_seconds:g}")
+                    + ("" if resolved else "; the ladder's differences are "
+                       "within their noise: more --pilot members or "
+                       "another --ladder may resolve them")),
             **common)
     seconds, dx, n, e_d, e_s = best
     return StrengthPlan(dx=dx, seeds=n, predicted_seconds=seconds,
