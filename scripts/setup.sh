@@ -24,7 +24,8 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 echo "setup: building the C library (build/)"
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=OFF >/dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=OFF \
+    -DSPHSOLID_EXAMPLES=ON -DSPHSOLID_BENCH=ON >/dev/null
 cmake --build build -j"$(nproc)" >/dev/null
 
 if [ ! -x .venv/bin/python ]; then

@@ -52,7 +52,8 @@ LD_LIBRARY_PATH="$PWD/build/install-test/prefix/lib" build/install-test/consumer
 build/install-test/consumer/consumer_static
 export PKG_CONFIG_PATH="$PWD/build/install-test/prefix/lib/pkgconfig"
 cc tests/install/consumer.c $(pkg-config --cflags --libs sphsolid) -o build/install-test/consumer_pc
-LD_LIBRARY_PATH="$PWD/build/install-test/prefix/lib" build/install-test/consumer_pc
+# runs as built: the .pc's Libs carry an rpath to the installed library
+env -u LD_LIBRARY_PATH build/install-test/consumer_pc
 # the static library through pkg-config --static (HDF5 from Requires.private)
 pkg-config --static --libs sphsolid | grep -q -- "-lhdf5" \
     || { echo "pkg-config --static --libs sphsolid lists no HDF5" >&2; exit 1; }
@@ -70,7 +71,8 @@ fi
 
 echo "== C library without OpenMP and HDF5 (-Werror)"
 cmake -S . -B build-plain -DSPHSOLID_OPENMP=OFF -DSPHSOLID_HDF5=OFF -DSPHSOLID_WERROR=ON \
-    -DCMAKE_C_FLAGS=-DSPHSOLID_NO_CLONES -DSPHSOLID_LAMMPS_PLUGIN=OFF -DSPHSOLID_BENCH=OFF >/dev/null
+    -DCMAKE_C_FLAGS=-DSPHSOLID_NO_CLONES -DSPHSOLID_LAMMPS_PLUGIN=OFF -DSPHSOLID_BENCH=OFF \
+    -DSPHSOLID_EXAMPLES=ON >/dev/null
 cmake --build build-plain -j"$(nproc)" >/dev/null
 ctest --test-dir build-plain --output-on-failure
 

@@ -18,7 +18,7 @@ import math
 import time as wallclock
 from pathlib import Path
 
-from .options import positive, whole
+from .options import add_allow_large_option, output_folder, positive, whole
 
 __all__ = ["add_arguments", "run"]
 
@@ -58,6 +58,7 @@ def add_arguments(parser, name: str) -> None:
                         help="OpenMP threads (default: OpenMP's)")
     parser.add_argument("--out", type=Path, default=Path("."),
                         help="output directory (default: current)")
+    add_allow_large_option(parser)
 
 
 def build_scene(name: str, dx: float, seed: int, member: int = 0):
@@ -73,7 +74,7 @@ def run(args, name: str) -> int:
     from ..calculators import CLibrary
     from ..trajectory import Trajectory
 
-    args.out.mkdir(parents=True, exist_ok=True)
+    output_folder(args.out)
     scene = fracture.test_scene(name, args.dx, seed=args.seed)
     if args.threads is not None:
         scene.calc = CLibrary(threads=args.threads)
