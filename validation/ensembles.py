@@ -165,25 +165,34 @@ def size_figure(data: dict, path: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(5.5, 4))
-    for i, r in enumerate(data["rows"]):
-        v = [r["small"]["volume_m3"], r["large"]["volume_m3"]]
-        mean = np.array([r["small"]["mean"], r["large"]["mean"]]) / 1e6
-        low = mean - np.array([r["small"]["ci95"][0],
-                               r["large"]["ci95"][0]]) / 1e6
-        high = np.array([r["small"]["ci95"][1],
-                         r["large"]["ci95"][1]]) / 1e6 - mean
-        ax.errorbar(v, mean, yerr=[low, high], marker="o", capsize=3,
-                    color=f"C{i}", label=f"measured, m = {r['m']:g}")
-        ax.plot(v, [mean[0], mean[0] / r["weakest_link"]], "--",
-                color=f"C{i}", label=f"weakest link V^(-1/{r['m']:g})")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("specimen volume [m^3 per m depth]")
-    ax.set_ylabel("mean tensile strength [MPa]")
-    ax.set_title(f"size effect, tensile bars, dx = {data['dx_m'] * 1e3:g} mm"
-                 f", {data['seeds']} seeds each")
-    ax.legend(fontsize=7)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharex=True)
+    for ax, (mean_key, ci_key, what) in zip(axes, (
+            ("mean", "ci95", "peak (strength)"),
+            ("onset_mean", "onset_ci95", "damage onset"))):
+        for i, r in enumerate(data["rows"]):
+            bars = (r["small"], r["large"])
+            v = [b["volume_m3"] for b in bars]
+            mean = np.array([b[mean_key] for b in bars]) / 1e6
+            low = mean - np.array([b[ci_key][0] for b in bars]) / 1e6
+            high = np.array([b[ci_key][1] for b in bars]) / 1e6 - mean
+            ax.errorbar(v, mean, yerr=[low, high], marker="o", capsize=3,
+                        color=f"C{i}", label=f"measured, m = {r['m']:g}")
+            if mean_key == "mean":
+                ax.plot(v, [mean[0], mean[0] / r["weakest_link"]], "--",
+                        color=f"C{i}",
+                        label=f"weakest link V^(-1/{r['m']:g})")
+            else:
+                ax.plot(v, [weakest_link_onset(r["k"], r["m"], x) / 1e6
+                            for x in v], "--", color=f"C{i}",
+                        label="uniform-stress weakest link")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("specimen volume [m^3 per m depth]")
+        ax.set_ylabel(f"mean {what} stress [MPa]")
+        ax.set_title(what)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"size effect, tensile bars, dx = {data['dx_m'] * 1e3:g} "
+                 f"mm, {data['seeds']} seeds each")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
