@@ -28,7 +28,11 @@ static double flaw_density_volume(const sph_sim *sim, size_t a)
     return m->weibull_k * sim->mass[a] / m->rho0;
 }
 
-static uint64_t seed_of(const sph_sim *sim) { return (uint64_t)sim->fx.damage_seed; }
+/* The key of the run's flaw stream: hash(seed, member) (damage.h). */
+static uint64_t stream_of(const sph_sim *sim)
+{
+    return damage_stream((uint64_t)sim->fx.damage_seed, (uint64_t)sim->fx.damage_member);
+}
 
 /* Draws the flaws of particle a: their number and the weakest strain. */
 static void draw_flaws(sph_sim *sim, size_t a)
@@ -39,7 +43,7 @@ static void draw_flaws(sph_sim *sim, size_t a)
         return;
     }
     const material *m = &sim->materials[sim->material_of[a]];
-    const uint64_t seed = seed_of(sim);
+    const uint64_t seed = stream_of(sim);
     const int below = damage_flaws_below(seed, a, 2000000, sim->fx.damage_flaws);
     sim->flaw_count[a] = below > 0 ? below : 1;
     sim->flaw_strain[a] =
@@ -115,7 +119,7 @@ int damage_active_flaws(const sph_sim *sim, size_t a)
     if (!(eps >= sim->flaw_strain[a]))
         return 0;
     const double u = flaw_density_volume(sim, a) * pow(eps, m->weibull_m);
-    return damage_flaws_below(seed_of(sim), a, sim->flaw_count[a], u);
+    return damage_flaws_below(stream_of(sim), a, sim->flaw_count[a], u);
 }
 
 /* One particle: activation by the current strain, growth over dt. */
@@ -271,7 +275,7 @@ sph_status sph_flaws_active_at(sph_sim *sim, double strain, double *count)
         if (sim->flaw_count[a] == 0 || strain < sim->flaw_strain[a])
             continue;
         const material *m = &sim->materials[sim->material_of[a]];
-        total += damage_flaws_below(seed_of(sim), a, sim->flaw_count[a],
+        total += damage_flaws_below(stream_of(sim), a, sim->flaw_count[a],
                                     flaw_density_volume(sim, a) * pow(strain, m->weibull_m));
     }
     *count = total;

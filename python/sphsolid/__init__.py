@@ -51,6 +51,34 @@ class _PlanEntry:
 plan = _PlanEntry()
 
 
+class _EnsembleEntry:
+    """``sphsolid.ensemble(test, members, out, ...)`` runs an ensemble of
+    flaw draws (:func:`sphsolid.ensemble.ensemble`); the module's other
+    names (``bootstrap_mean_interval``, ``run_member``, ...) are reachable
+    through it."""
+
+    def __init__(self, module):
+        self._module = module
+        self.__wrapped__ = module.ensemble
+        self.__doc__ = module.ensemble.__doc__
+
+    def __call__(self, *args, **kwargs):
+        return self._module.ensemble(*args, **kwargs)
+
+    def __getattr__(self, name):
+        return getattr(self._module, name)
+
+    def __dir__(self):
+        return dir(self._module)
+
+    def __repr__(self):
+        return "<sphsolid.ensemble: flaw ensembles (sphsolid.ensemble.ensemble)>"
+
+
+from . import ensemble as _ensemble_module  # noqa: E402
+
+ensemble = _EnsembleEntry(_ensemble_module)
+
 
 def _package_version() -> str:
     """The installed package's version (scikit-build-core takes it from
@@ -68,7 +96,7 @@ __version__ = _package_version()
 __all__ = ["Material", "Scene", "allowing_large", "Body", "Free", "Fixed", "Velocity", "Force",
            "Pressure", "Rotation", "block", "rectangle", "box", "prism", "cylinder",
            "particles", "plate", "piston", "disc", "ring", "Calculator", "CLibrary", "Dynamics", "ImprovedEuler",
-           "Leapfrog", "Probes", "PAPER_PROBES", "Trajectory", "scenes", "plan", "planner",
+           "Leapfrog", "Probes", "PAPER_PROBES", "Trajectory", "scenes", "plan", "planner", "ensemble",
            "effect_names", "effect_registry", "kernel_names", "kernel_values",
            "version",
            "library_path", "SimulationError", "StoppedError",

@@ -1,13 +1,16 @@
-"""Brittle fracture scenes: the compression test and the Brazilian disc to
-failure, with the library's ``damage`` effect (docs/fracture.md).
+"""Brittle fracture scenes: the compression test, the Brazilian disc and
+the tensile bar to failure, with the library's ``damage`` effect
+(docs/fracture.md).
 
 :func:`ucs` is the paper's specimen (86 mm x 140 mm, plane strain) between a
 fixed plate and a piston, loaded past its peak; :func:`brazilian_disc` a
-disc between flat platens, loaded until it splits. :func:`load_to_failure`
-runs either and returns the load history and the strength.
+disc between flat platens, loaded until it splits; :func:`tensile_bar` a
+bar pulled apart by its bonded end platens. :func:`load_to_failure` runs
+any of them and returns the load history and the strength.
 
-A strength is one sample of the flaw draw (the ``seed``): compare ensembles
-over seeds, not single runs.
+A strength is one sample of the flaw draw (the ``seed`` and the ensemble
+``member``): compare ensembles over members (sphsolid.ensemble), not single
+runs.
 """
 from __future__ import annotations
 
@@ -17,13 +20,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _lib
-from .build import disc, piston, plate, rectangle
+from .build import Velocity, disc, piston, plate, rectangle
 from .dynamics import ImprovedEuler
 from .material import Material
 from .scene import Scene
 
-__all__ = ["ucs", "brazilian_disc", "load_to_failure", "FailureRun",
-           "fracture_material", "UCS_STRAIN_RATE", "DISC_SPEED"]
+__all__ = ["ucs", "brazilian_disc", "tensile_bar", "load_to_failure",
+           "FailureRun", "fracture_material", "UCS_STRAIN_RATE", "DISC_SPEED",
+           "TENSILE_STRAIN_RATE", "TESTS", "test_scene"]
 
 #: Axial strain rate of the compression test [1/s]: the load rises over
 #: ~50 wave transits of the specimen (0.14 m / 2300 m/s = 61 us) before the
@@ -31,6 +35,9 @@ __all__ = ["ucs", "brazilian_disc", "load_to_failure", "FailureRun",
 UCS_STRAIN_RATE = 1.0
 #: Piston speed of the Brazilian disc [m/s] (the plate below is fixed).
 DISC_SPEED = 0.02
+#: Strain rate of the tensile bar [1/s] (each end moves at half of
+#: rate x length).
+TENSILE_STRAIN_RATE = 1.0
 #: The artificial viscosity of the wave scenes (alpha 1).
 _VISCOSITY = {"alpha": 1.0, "beta": 0.0}
 
@@ -48,8 +55,9 @@ def fracture_material(weibull_k: float = 1e28, weibull_m: float = 9.0,
                     weibull_k=weibull_k, weibull_m=weibull_m)
 
 
-def _damage_effects(seed: int, flaws: float, viscosity) -> dict:
-    effects = {"damage": {"seed": seed, "flaws": flaws}}
+def _damage_effects(seed: int, flaws: float, viscosity,
+                    member: int = 0) -> dict:
+    effects = {"damage": {"seed": seed, "flaws": flaws, "member": member}}
     if viscosity:
         effects["artificial_viscosity"] = dict(viscosity)
     return effects
@@ -66,7 +74,8 @@ def _fracture_watchdog(scene: Scene) -> None:
 def ucs(dx: float = 2e-3, material: Material | None = None,
         strain_rate: float = UCS_STRAIN_RATE, seed: int = 1,
         flaws: float = 10.0, viscosity=_VISCOSITY,
-        width: float = 0.086, height: float = 0.140) -> Scene:
+        width: float = 0.086, height: float = 0.140,
+        member: int = 0) -> Scene:
     """The uniaxial compression test to failure (2D plane strain).
 
     The specimen ``width`` x ``height`` [m] (the paper's 86 mm x 140 mm)
@@ -81,8 +90,9 @@ def ucs(dx: float = 2e-3, material: Material | None = None,
         Must have Weibull flaws; default :func:`fracture_material`.
     strain_rate : float
         Nominal axial strain rate [1/s].
-    seed, flaws :
-        The damage effect's parameters (the flaw draw).
+    seed, flaws, member :
+        The damage effect's parameters (the flaw draw; ``member`` is the
+        ensemble member, drawn from hash(seed, member)).
     viscosity : dict or None
         Artificial viscosity (alpha, beta); None: off.
 
@@ -93,7 +103,7 @@ def ucs(dx: float = 2e-3, material: Material | None = None,
     specimen = rectangle((-width / 2, width / 2), (0.0, height), dx,
                          material, "specimen")
     scene = Scene(2, [specimen],
-                  effects=_damage_effects(seed, flaws, viscosity))
+                  effects=_damage_effects(seed, flaws, viscosity, member))
     layers = scene.support_layers(dx)
     scene.add(plate(under=specimen, layers=layers))
     scene.add(piston(over=specimen, layers=layers,
@@ -108,7 +118,8 @@ def ucs(dx: float = 2e-3, material: Material | None = None,
 def brazilian_disc(dx: float = 1e-3, diameter: float = 0.05,
                    material: Material | None = None,
                    speed: float = DISC_SPEED, seed: int = 1,
-                   flaws: float = 10.0, viscosity=_VISCOSITY) -> Scene:
+                   flaws: float = 10.0, viscosity=_VISCOSITY,
+                   member: int = 0) -> Scene:
     """The Brazilian (indirect tensile) test: a disc of ``diameter`` [m]
     (2D plane strain, 1 m deep) between a fixed flat plate and a flat
     piston moving down at ``speed`` [m/s], with the ``damage`` effect on.
@@ -119,7 +130,7 @@ def brazilian_disc(dx: float = 1e-3, diameter: float = 0.05,
     material = material or fracture_material()
     specimen = disc((0.0, 0.0), diameter / 2, dx, material, "specimen")
     scene = Scene(2, [specimen],
-                  effects=_damage_effects(seed, flaws, viscosity))
+                  effects=_damage_effects(seed, flaws, viscosity, member))
     layers = scene.support_layers(dx)
     scene.add(plate(under=specimen, layers=layers))
     scene.add(piston(over=specimen, layers=layers, velocity=(0.0, -speed)))
@@ -130,6 +141,85 @@ def brazilian_disc(dx: float = 1e-3, diameter: float = 0.05,
     return scene
 
 
+def tensile_bar(dx: float = 2e-3, material: Material | None = None,
+                strain_rate: float = TENSILE_STRAIN_RATE, seed: int = 1,
+                flaws: float = 10.0, viscosity=_VISCOSITY,
+                width: float = 0.020, length: float = 0.080,
+                member: int = 0) -> Scene:
+    """The tensile bar (Benz & Asphaug 1994's test of the model), 2D plane
+    strain: a ``width`` x ``length`` [m] bar (1 m deep) bonded to a plate
+    below and a piston above that move apart at ``strain_rate * length / 2``
+    [m/s] each, with the ``damage`` effect on.
+
+    The strength is the peak tensile load over the cross-section
+    ``width * 1 m``; the platens are one kernel support thick and bonded
+    (SPH's own interaction carries the tension into them). Parameters as
+    for :func:`ucs`.
+
+    The bar starts stretching everywhere at once, as Benz & Asphaug
+    (1994) start theirs: its particles get the velocity
+    ``strain_rate * (y - length / 2)``, the platens' at its ends, so no
+    wave runs in from the ends (a platen started alone sends a stress
+    jump rho c_p v, which at 100/s, v = 4 m/s, is 24 MPa: more than the
+    bar's strength).
+    """
+    for name, value in (("strain_rate", strain_rate), ("width", width),
+                        ("length", length)):
+        if not (isinstance(value, float | int) and math.isfinite(value)
+                and value > 0):
+            raise ValueError(f"tensile_bar: {name}={value!r} must be "
+                             "finite and > 0")
+    material = material or fracture_material()
+    specimen = rectangle((-width / 2, width / 2), (0.0, length), dx,
+                         material, "specimen")
+    scene = Scene(2, [specimen],
+                  effects=_damage_effects(seed, flaws, viscosity, member))
+    layers = scene.support_layers(dx)
+    half = 0.5 * strain_rate * length
+    scene.add(plate(under=specimen, layers=layers,
+                    motion=Velocity((0.0, -half))))
+    scene.add(piston(over=specimen, layers=layers, velocity=(0.0, half)))
+    bar = scene.body_slice("specimen")
+    scene.freeze()
+    scene.velocities[bar, 1] = strain_rate * (
+        scene.positions[bar, 1] - 0.5 * length)
+    _fracture_watchdog(scene)
+    scene.failure = {"kind": "tensile", "piston": "piston", "length": length,
+                     "speed": strain_rate * length, "area": width * 1.0,
+                     "diameter": None}
+    return scene
+
+
+#: The tests to failure by name (``sphsolid ucs|brazilian|tensile``, the
+#: ensembles): default dx [m], strain at which a run stops if the load has
+#: not dropped, load samples per unit strain.
+TESTS = {"ucs": (2e-3, 0.008, 2e4), "brazilian": (1e-3, 0.02, 1e4),
+         "tensile": (2e-3, 0.01, 2e4)}
+
+
+def test_scene(test: str, dx: float, seed: int = 1, member: int = 0,
+               **options) -> Scene:
+    """The scene of test ``test`` (a key of :data:`TESTS`): :func:`ucs`,
+    :func:`brazilian_disc` or :func:`tensile_bar` with the flaw draw
+    (``seed``, ``member``) and the builder's keyword ``options``;
+    ``weibull_k`` and ``weibull_m`` among them give the material
+    :func:`fracture_material` with those flaws (plain numbers, so an
+    ensemble records its options as JSON)."""
+    makers = {"ucs": ucs, "brazilian": brazilian_disc,
+              "tensile": tensile_bar}
+    if test not in makers:
+        raise ValueError(f"test {test!r}: not one of {', '.join(makers)}")
+    options = dict(options)
+    weibull = {key: options.pop(key) for key in ("weibull_k", "weibull_m")
+               if key in options}
+    if weibull:
+        if "material" in options:
+            raise ValueError("test_scene: give material or weibull_k/"
+                             "weibull_m, not both")
+        options["material"] = fracture_material(**weibull)
+    return makers[test](dx, seed=seed, member=member, **options)
+
+
 @dataclass
 class FailureRun:
     """The load history of a test to failure.
@@ -137,15 +227,20 @@ class FailureRun:
     Attributes
     ----------
     time, load, strain : ndarray
-        Time [s], the piston's load [N; N/m in 2D, compression positive]
-        and the nominal strain (piston travel / length).
+        Time [s], the piston's load [N; N/m in 2D, compression positive,
+        tension positive for the tensile bar] and the nominal strain
+        (platen travel / length).
     peak_load_N : float
         Largest load [N/m in 2D].
     strength_Pa : float
-        UCS = peak load / area, or 2P/(pi D t) for the disc (t = 1 m).
+        UCS (or the tensile bar's strength) = peak load / area, or
+        2P/(pi D t) for the disc (t = 1 m).
     strain_at_peak : float
     damage_onset_s : float or None
         First sample time with some D > 0.
+    damage_onset_stress_Pa : float or None
+        The load at that sample as a stress (as ``strength_Pa``): where
+        the weakest flaw of the specimen activates.
     fragments : int
         Connected regions with D < 1 at the end.
     post_peak_ratio : float
@@ -162,6 +257,7 @@ class FailureRun:
     fragments: int
     post_peak_ratio: float
     peak_time: float = 0.0
+    damage_onset_stress_Pa: float | None = None
     frames: list = field(default_factory=list)
 
     def summary(self) -> dict:
@@ -171,6 +267,7 @@ class FailureRun:
                 "strain_at_peak": self.strain_at_peak,
                 "fragments": self.fragments,
                 "damage_onset_s": self.damage_onset_s,
+                "damage_onset_stress_Pa": self.damage_onset_stress_Pa,
                 "post_peak_ratio": self.post_peak_ratio,
                 "peak_time_s": self.peak_time}
 
@@ -178,7 +275,8 @@ class FailureRun:
 def load_to_failure(scene: Scene, max_strain: float = 0.02,
                     drop: float = 0.5, samples_per_strain: float = 2e4,
                     dynamics=None, on_sample=None) -> FailureRun:
-    """Load a scene of :func:`ucs` or :func:`brazilian_disc` until the load
+    """Load a scene of :func:`ucs`, :func:`brazilian_disc` or
+    :func:`tensile_bar` until the load
     falls below ``drop`` times its peak (or the strain reaches
     ``max_strain``), sampling the piston's load.
 
@@ -189,7 +287,8 @@ def load_to_failure(scene: Scene, max_strain: float = 0.02,
     info = getattr(scene, "failure", None)
     if info is None:
         raise ValueError("load_to_failure: the scene was not built by "
-                         "sphsolid.scenes.ucs or brazilian_disc")
+                         "sphsolid.scenes.ucs, brazilian_disc or "
+                         "tensile_bar")
     if not 0.0 < drop < 1.0:
         raise ValueError(f"drop must be in (0, 1), got {drop!r}")
     if not max_strain > 0.0:
@@ -199,18 +298,21 @@ def load_to_failure(scene: Scene, max_strain: float = 0.02,
     interval = 1.0 / (samples_per_strain * speed / length)   # [s]
     steps = max(1, int(round(interval / dyn.dt)))
     times, loads, strains = [], [], []
-    onset = None
+    onset = onset_load = None
     peak, t0 = 0.0, dyn.time
+    # the piston's reaction is pushed up (> 0) in compression, pulled
+    # down in tension
+    sign = -1.0 if info["kind"] == "tensile" else 1.0
     while True:
         dyn.run(steps=steps)
         t = dyn.time
-        load = float(scene.reaction(info["piston"])[1])  # pushed up: > 0
+        load = sign * float(scene.reaction(info["piston"])[1])
         strain = speed * (t - t0) / length
         times.append(t)
         loads.append(load)
         strains.append(strain)
         if onset is None and float(scene.damage.max()) > 0.0:
-            onset = t
+            onset, onset_load = t, load
         peak = max(peak, load)
         if on_sample is not None:
             on_sample(scene, t, load, peak)
@@ -222,10 +324,11 @@ def load_to_failure(scene: Scene, max_strain: float = 0.02,
     strain = np.asarray(strains)
     k = int(np.argmax(load))
     peak = float(load[k])
-    if info["kind"] == "ucs":
-        strength = peak / info["area"]
-    else:
-        strength = 2.0 * peak / (math.pi * info["diameter"] * 1.0)
+    def stress(load):
+        if info["kind"] in ("ucs", "tensile"):
+            return load / info["area"]
+        return 2.0 * load / (math.pi * info["diameter"] * 1.0)
+    strength = stress(peak)
     fragments = scene.fragments
     return FailureRun(time=time, load=load, strain=strain,
                       peak_load_N=peak, strength_Pa=strength,
@@ -234,4 +337,6 @@ def load_to_failure(scene: Scene, max_strain: float = 0.02,
                       fragments=int(fragments.max() + 1)
                       if fragments.size else 0,
                       post_peak_ratio=float(load[-1] / peak) if peak else 0.0,
-                      peak_time=float(time[k]))
+                      peak_time=float(time[k]),
+                      damage_onset_stress_Pa=(None if onset_load is None
+                                              else stress(onset_load)))

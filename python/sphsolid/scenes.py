@@ -220,6 +220,6 @@ def gravity(dx: float = 1e-3, g: float = 9.81,
 
 
 # Brittle fracture scenes (the damage effect), in their own module.
-from .fracture import brazilian_disc, ucs  # noqa: E402
+from .fracture import brazilian_disc, tensile_bar, ucs  # noqa: E402
 
-__all__ += ["ucs", "brazilian_disc"]
+__all__ += ["ucs", "brazilian_disc", "tensile_bar"]

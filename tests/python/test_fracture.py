@@ -121,11 +121,36 @@ def test_sphsolid_ucs_writes_summary_and_files(tmp_path):
     assert frames and frames[-1].damage is not None
 
 
+def test_sphsolid_tensile_pulls_the_bar_apart(tmp_path):
+    """The tensile bar: the load (the piston's reaction, pulled down) is a
+    tension that rises until damage sets in, then drops below half its
+    peak; strength = peak load / width; the bar breaks in two or more."""
+    import numpy as np
+    from sphsolid.cli import main
+    assert main(["tensile", "--dx", "5mm", "--threads", "1",
+                 "--out", str(tmp_path)]) == 0
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["strength_Pa"] == pytest.approx(
+        summary["peak_load_N"] / 0.020)
+    t, strain, load = np.loadtxt(tmp_path / "tensile_load.csv",
+                                 delimiter=",", skiprows=1).T
+    k = int(np.argmax(load))
+    assert np.all(np.diff(load[:k + 1][t[:k + 1]
+                                       < summary["damage_onset_s"]]) > 0)
+    assert summary["damage_onset_s"] < t[k] and load[-1] < 0.5 * load[k]
+    assert strain[k] == summary["strain_at_peak"]
+    assert summary["fragments"] >= 2
+
+
 def test_bad_fracture_arguments_are_named(tmp_path):
     from sphsolid import fracture
     from sphsolid.cli import main
     scene = fracture.ucs(4e-3)
     with pytest.raises(ValueError, match="drop"):
         fracture.load_to_failure(scene, drop=1.5)
+    with pytest.raises(ValueError, match="strain_rate=-1"):
+        fracture.tensile_bar(5e-3, strain_rate=-1.0)
+    with pytest.raises(ValueError, match="member=2.5"):
+        fracture.tensile_bar(5e-3, member=2.5)
     with pytest.raises(SystemExit):
         main(["ucs", "--max-strain", "2", "--out", str(tmp_path)])

@@ -9,6 +9,9 @@ file inspection.
     sphsolid gravity [--dx 2mm] [--until 20ms] [--damping 2000] [--out DIR]
     sphsolid ucs [--dx 2mm] [--seed 1] [--out DIR]       (fracture tests,
     sphsolid brazilian [--dx 1mm] [--seed 1] [--out DIR]  docs/fracture.md)
+    sphsolid tensile [--dx 2mm] [--seed 1] [--out DIR]
+    sphsolid ensemble ucs|brazilian|tensile --seeds N [--dx D] [--jobs J]
+                      [--seed BASE] --out DIR     (docs/ensembles.md)
     sphsolid run SCENE.toml [--out DIR] [--until 1ms]   (a scene file)
                  [--threads N] [--dt 0.2us] [--preset P] [--integrator I]
                  [--checkpoint-every 0.1ms] [--resume FILE] [--plan FILE]
@@ -37,13 +40,13 @@ import argparse
 import re
 import sys
 
-from . import (brazilian, build_plugin, gravity, info, piston, plan, run,
-               study, ucs, xdmf)
+from . import (brazilian, build_plugin, ensemble, gravity, info, piston,
+               plan, run, study, tensile, ucs, xdmf)
 
 __all__ = ["main", "build_parser", "COMMANDS", "Parser"]
 
-COMMANDS = (piston, gravity, ucs, brazilian, run, info, xdmf, build_plugin,
-            study, plan)
+COMMANDS = (piston, gravity, ucs, brazilian, tensile, ensemble, run, info,
+            xdmf, build_plugin, study, plan)
 
 
 def command_name(module) -> str:

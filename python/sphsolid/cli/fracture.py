@@ -1,8 +1,9 @@
-"""What ``sphsolid ucs`` and ``sphsolid brazilian`` share: the fracture
-tests to failure (docs/fracture.md).
+"""What ``sphsolid ucs``, ``sphsolid brazilian`` and ``sphsolid tensile``
+share: the fracture tests to failure (docs/fracture.md).
 
     sphsolid ucs       [--dx 2mm] [--seed 1] [--max-strain 0.8%] [--out DIR]
     sphsolid brazilian [--dx 1mm] [--seed 1] [--max-strain 2%] [--out DIR]
+    sphsolid tensile   [--dx 2mm] [--seed 1] [--max-strain 1%] [--out DIR]
 
 Each writes DIR/NAME.h5 (+ .xmf: snapshots with the damage and fragment
 fields), DIR/NAME_load.csv (time, strain, load), DIR/NAME_damage.png (the
@@ -39,8 +40,10 @@ def _strain(text: str) -> float:
 
 
 def add_arguments(parser, name: str) -> None:
-    """The options of ``sphsolid ucs`` (name "ucs") or ``brazilian``."""
-    dx, max_strain = (2e-3, 0.008) if name == "ucs" else (1e-3, 0.02)
+    """The options of ``sphsolid ucs`` (name "ucs"), ``brazilian`` or
+    ``tensile``."""
+    from ..fracture import TESTS
+    dx, max_strain, _ = TESTS[name]
     parser.add_argument("--dx", type=positive, default=dx,
                         help=f"particle spacing (default {dx * 1e3:g}mm)")
     parser.add_argument("--seed", type=int, default=1,
@@ -58,16 +61,21 @@ def add_arguments(parser, name: str) -> None:
     add_allow_large_option(parser)
 
 
+def build_scene(name: str, dx: float, seed: int, member: int = 0):
+    """The scene of test ``name`` (ucs, brazilian, tensile)."""
+    from .. import fracture
+    make = {"ucs": fracture.ucs, "brazilian": fracture.brazilian_disc,
+            "tensile": fracture.tensile_bar}[name]
+    return make(dx, seed=seed, member=member)
+
+
 def run(args, name: str) -> int:
     from .. import fracture
     from ..calculators import CLibrary
     from ..trajectory import Trajectory
 
     output_folder(args.out)
-    if name == "ucs":
-        scene = fracture.ucs(args.dx, seed=args.seed)
-    else:
-        scene = fracture.brazilian_disc(args.dx, seed=args.seed)
+    scene = fracture.test_scene(name, args.dx, seed=args.seed)
     if args.threads is not None:
         scene.calc = CLibrary(threads=args.threads)
     info = scene.failure
@@ -78,7 +86,7 @@ def run(args, name: str) -> int:
     h5 = args.out / f"{name}.h5"
     specimen = scene.body_slice("specimen")
     state = {"peak": None, "samples": 0}
-    samples = 2e4 if name == "ucs" else 1e4   # load samples per unit strain
+    samples = fracture.TESTS[name][2]   # load samples per unit strain
     every = max(1, int(args.max_strain * samples / _SNAPSHOTS))
 
     with Trajectory(h5, "w", scene) as traj:
@@ -104,12 +112,13 @@ def run(args, name: str) -> int:
     with open(csv, "w") as f:
         f.write("time_s,strain,load_N_per_m\n")
         for t, e, load in zip(run.time, run.strain, run.load):
-            f.write(f"{t!r},{e!r},{load!r}\n")
+            f.write(f"{float(t)!r},{float(e)!r},{float(load)!r}\n")
     png = args.out / f"{name}_damage.png"
     _damage_figure(png, state["peak"], (scene.time,
                    scene.positions[specimen], scene.damage[specimen]),
                    f"{name}, dx = {args.dx * 1e3:g} mm, seed {args.seed}")
-    label = "UCS" if name == "ucs" else "2P/(pi D t)"
+    label = {"ucs": "UCS", "brazilian": "2P/(pi D t)",
+             "tensile": "tensile strength"}[name]
     onset = run.damage_onset_s
     print(f"{scene.step} steps in {wall:.1f} s; peak load "
           f"{run.peak_load_N:.4g} N/m at strain {run.strain_at_peak:.4g}; "

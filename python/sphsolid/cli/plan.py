@@ -1,6 +1,12 @@
 """``sphsolid plan``: the cheapest settings for a requested error, on a
 project scene or a LAMMPS deck (calibration runs, error and cost models);
-writes plan.json."""
+writes plan.json.
+
+    sphsolid plan ucs|brazilian --quantity strength --error 2% \
+                  [--confidence 0.95] [--pilot 10] [--jobs J] --out plan.json
+
+plans a confident strength instead: dx and the number of flaw draws
+together (sphsolid.planner.strength, docs/ensembles.md)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -15,7 +21,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("scene", nargs="?",
                         help="a project scene (piston, gravity, strip, "
                         "piston_nu045), a scene file (SCENE.toml, with "
-                        "--probe), or --deck")
+                        "--probe), or --deck; with --quantity strength: "
+                        "ucs or brazilian")
     parser.add_argument("--error", type=fraction, required=True,
                         help="requested error, e.g. 3%% or 0.03")
     parser.add_argument("--until", type=positive_time, default=None,
@@ -32,6 +39,20 @@ def add_arguments(parser) -> None:
     parser.add_argument("--ladder", type=length_list, default=None,
                         help="calibration spacings, e.g. 4mm,3mm,2mm")
     parser.add_argument("--out", type=Path, default=Path("plan.json"))
+    strength = parser.add_argument_group(
+        "a confident strength (ucs, brazilian; docs/ensembles.md)")
+    strength.add_argument("--quantity", choices=("strength",), default=None,
+                          help="plan the mean strength of an ensemble of "
+                          "flaw draws: dx and the number of seeds")
+    strength.add_argument("--confidence", type=_confidence, default=0.95,
+                          help="confidence of the interval of the mean "
+                          "(default 0.95)")
+    strength.add_argument("--pilot", type=whole(3), default=10,
+                          help="members of each ladder level's pilot "
+                          "ensemble (default 10)")
+    strength.add_argument("--jobs", type=whole(1), default=1,
+                          help="processes running the pilot members "
+                          "(default 1)")
     parser.add_argument("--no-cache", action="store_true",
                         help="calibrate anew and keep no runs on disk (by "
                         "default calibration runs are kept in "
@@ -52,6 +73,14 @@ def add_arguments(parser) -> None:
     deck.add_argument("--set", action="append", default=[],
                       metavar="NAME=V1,V2",
                       help="another deck variable to choose from (repeat)")
+
+
+def _confidence(text: str) -> float:
+    value = fraction(text)
+    if not 0 < value < 1:
+        import argparse
+        raise argparse.ArgumentTypeError(f"{text!r}: must be in (0, 1)")
+    return value
 
 
 def writable(path: Path, option: str = "--out") -> None:
@@ -76,6 +105,8 @@ def run(args) -> int:
     from ..planner.cache import RunCache
     log = lambda message: print(message, flush=True)  # noqa: E731
     writable(args.out)
+    if args.quantity == "strength" or args.scene in ("ucs", "brazilian"):
+        return _plan_strength(args, log)
     if args.deck is not None:
         from ..planner.deck import plan_deck
         result = plan_deck(args.deck, error=args.error, until=args.until,
@@ -112,6 +143,29 @@ def run(args) -> int:
             scene=(args.scene if args.scene in projects
                    else Path(args.scene).name),
             log=log, cache=cache)
+    print()
+    print(result.summary())
+    result.save(args.out)
+    print(f"wrote {args.out}")
+    return 0 if result.feasible else 3
+
+
+def _plan_strength(args, log) -> int:
+    import tempfile
+
+    from ..planner.strength import LADDERS, plan_strength
+    if args.scene not in LADDERS or args.quantity != "strength":
+        raise ValueError(f"sphsolid plan {args.scene}: the strength is "
+                         f"planned with --quantity strength for "
+                         f"{' or '.join(LADDERS)}, got scene "
+                         f"{args.scene!r} and --quantity {args.quantity}")
+    with tempfile.TemporaryDirectory() as scratch:
+        result = plan_strength(args.scene, args.error,
+                               confidence=args.confidence,
+                               ladder=args.ladder, pilot=args.pilot,
+                               jobs=args.jobs, max_seconds=args.max_seconds,
+                               work=scratch if args.no_cache else None,
+                               log=log)
     print()
     print(result.summary())
     result.save(args.out)

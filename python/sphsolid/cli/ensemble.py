@@ -1,0 +1,80 @@
+"""``sphsolid ensemble``: a fracture test over flaw draws, its strength
+with error bars (docs/ensembles.md; the runs are sphsolid.ensemble's).
+
+    sphsolid ensemble {ucs,brazilian,tensile} --seeds N [--dx D] [--jobs J]
+                      [--seed BASE] [--quantity strength] --out DIR
+
+Runs members 0 .. N-1 (member i's flaws drawn from hash(BASE, i)) in J
+processes with a progress bar; a rerun into DIR keeps the finished
+members.  Writes DIR/member_XXXX/{load.csv,summary.json},
+DIR/summary.json (quantity, members, mean, std, ci95_low, ci95_high in SI
+units, the members' values) and DIR/histogram.png.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from .fracture import _strain
+from .options import positive, positive_length, whole
+
+help = "an ensemble of flaw draws of a fracture test: mean and 95% interval"
+
+
+def add_arguments(parser) -> None:
+    from ..ensemble import QUANTITIES
+    from ..fracture import TESTS
+    parser.add_argument("test", choices=sorted(TESTS),
+                        help="the fracture test (as sphsolid ucs, brazilian, "
+                             "tensile)")
+    parser.add_argument("--seeds", type=whole(2), required=True,
+                        help="members of the ensemble (flaw draws), >= 2")
+    parser.add_argument("--dx", type=positive_length, default=None,
+                        help="particle spacing (default: the test's, 2mm "
+                             "or 1mm for brazilian)")
+    parser.add_argument("--jobs", type=whole(1), default=1,
+                        help="processes running members at once (default 1; "
+                             "each member runs on one thread)")
+    parser.add_argument("--seed", type=whole(0), default=1,
+                        help="base seed: member i draws from hash(seed, i) "
+                             "(default 1; member 0 is the single run "
+                             "'sphsolid TEST --seed SEED')")
+    parser.add_argument("--quantity", choices=sorted(QUANTITIES),
+                        default="strength",
+                        help="the quantity summarised (default strength: "
+                             "UCS, 2P/(pi D t) or the bar's strength)")
+    parser.add_argument("--max-strain", type=_strain, default=None,
+                        help="stop a member at this nominal strain if its "
+                             "load has not dropped (default: the test's)")
+    parser.add_argument("--strain-rate", type=positive, default=None,
+                        help="strain rate [1/s] of ucs and tensile "
+                             "(default: the test's, 1/s)")
+    parser.add_argument("--out", type=Path, required=True,
+                        help="output directory (a rerun resumes it)")
+
+
+def run(args) -> int:
+    import sphsolid
+
+    options = {}
+    if args.strain_rate is not None:
+        if args.test == "brazilian":
+            raise SystemExit("sphsolid ensemble: --strain-rate applies to "
+                             "ucs and tensile, not brazilian")
+        options["strain_rate"] = args.strain_rate
+    result = sphsolid.ensemble(args.test, args.seeds, args.out, dx=args.dx,
+                               jobs=args.jobs, seed=args.seed,
+                               quantity=args.quantity,
+                               max_strain=args.max_strain,
+                               progress=True, scene_options=options)
+    s = result.summary
+    scale, unit = (1e-6, "MPa") if s["unit"] == "Pa" else (1.0, s["unit"])
+    kept = s["members"] - len(result.ran)
+    print(f"{args.test}: {s['members']} members ({kept} kept from an earlier "
+          f"run), dx = {s['dx_m'] * 1e3:g} mm, seed {args.seed}")
+    print(f"{s['quantity']}: mean {s['mean'] * scale:.5g} {unit}, std "
+          f"{s['std'] * scale:.4g} {unit}, 95% interval of the mean "
+          f"[{s['ci95_low'] * scale:.5g}, {s['ci95_high'] * scale:.5g}] "
+          f"{unit}")
+    for name in ("summary.json", "histogram.png"):
+        print(f"wrote {args.out / name}")
+    return 0

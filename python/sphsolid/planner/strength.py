@@ -1,0 +1,253 @@
+"""The price of a confident strength: dx and the number of flaw draws
+chosen together (``sphsolid plan ucs|brazilian --quantity strength``,
+docs/ensembles.md).
+
+A strength from an ensemble of N draws at spacing dx misses the converged
+mean by a discretisation error E_d(dx) plus a statistical error, the
+half-width of the interval of the mean, t_c s / sqrt(N) (s the members'
+standard deviation).  :func:`plan_strength`
+
+1. runs a pilot ensemble (``pilot`` members, sphsolid.ensemble) at each
+   spacing of a coarse ladder, keeping the runs on disk (a second plan of
+   the same test reuses them);
+2. fits the discretisation error to the differences of the ensemble means
+   between consecutive levels, as the wave planner fits its probe series
+   (:func:`~sphsolid.planner.error_model.fit_error_model`: E_d(dx) =
+   C dx^q with Eça & Hoekstra's safety factor), relative to the finest
+   mean;
+3. takes the relative scatter s / mean of the finest level and the CPU
+   seconds per member against dx (a power law over the ladder);
+4. over spacings from the coarsest level down to ``max_refinement`` times
+   below the finest, picks the (dx, N) of least predicted CPU time with
+   E_d(dx) + t_c s_rel / sqrt(N) <= error.
+
+Differences of means that are not larger than their own noise (t_c times
+the standard error of the difference) do not resolve a discretisation
+error: the plan says so (``ladder_resolved``), fits them with an order of
+at most 1 (the wave planner's FORMAL_ORDER: a steep order fitted to noise
+would promise a vanishing error), and the prediction then rests on
+noise.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from statistics import NormalDist
+
+import numpy as np
+
+from .error_model import FORMAL_ORDER, fit_error_model
+
+__all__ = ["plan_strength", "StrengthPlan", "student_quantile", "LADDERS"]
+
+#: The coarse ladders of the two tests [m] (their default spacings are
+#: 2 mm and 1 mm).
+LADDERS = {"ucs": (8e-3, 6e-3, 4e-3), "brazilian": (4e-3, 3e-3, 2e-3)}
+#: Fewest members a plan asks for: the bootstrap-t interval keeps its
+#: coverage from about 10 members on (sphsolid.ensemble).
+MIN_MEMBERS = 10
+
+
+def student_quantile(p: float, dof: int) -> float:
+    """Student's t quantile by the Cornish-Fisher expansion in 1/dof
+    (Abramowitz & Stegun 26.7.5; 4 terms: within 0.3 % of the exact value
+    for dof >= 5 at p = 0.975)."""
+    if dof < 1:
+        raise ValueError(f"dof={dof!r} must be >= 1")
+    z = NormalDist().inv_cdf(p)
+    g1 = (z ** 3 + z) / 4
+    g2 = (5 * z ** 5 + 16 * z ** 3 + 3 * z) / 96
+    g3 = (3 * z ** 7 + 19 * z ** 5 + 17 * z ** 3 - 15 * z) / 384
+    g4 = (79 * z ** 9 + 776 * z ** 7 + 1482 * z ** 5 - 1920 * z ** 3
+          - 945 * z) / 92160
+    n = float(dof)
+    return z + g1 / n + g2 / n ** 2 + g3 / n ** 3 + g4 / n ** 4
+
+
+@dataclass
+class StrengthPlan:
+    """A plan for a confident strength (plan.json's contents)."""
+
+    scene: str
+    error: float
+    confidence: float
+    dx: float | None
+    seeds: int | None
+    predicted_seconds: float | None
+    predicted_error: float | None
+    discretisation_error: float | None
+    statistical_error: float | None
+    feasible: bool
+    ladder: list = field(default_factory=list)
+    model: dict = field(default_factory=dict)
+    cost: dict = field(default_factory=dict)
+    reason: str = ""
+    ladder_resolved: bool = False
+    ladder_seconds: float = 0.0
+
+    def to_dict(self) -> dict:
+        return {"kind": "strength", "scene": self.scene,
+                "quantity": "strength", "error": self.error,
+                "confidence": self.confidence,
+                "settings": {"dx": self.dx}, "seeds": self.seeds,
+                "predicted_seconds": self.predicted_seconds,
+                "predicted_error": self.predicted_error,
+                "discretisation_error": self.discretisation_error,
+                "statistical_error": self.statistical_error,
+                "feasible": self.feasible, "reason": self.reason,
+                "ladder_resolved": self.ladder_resolved,
+                "ladder_seconds": self.ladder_seconds,
+                "ladder": self.ladder, "error_model": self.model,
+                "cost_model": self.cost,
+                "command": (f"sphsolid ensemble {self.scene} --dx "
+                            f"{self.dx * 1e3:.4g}mm --seeds {self.seeds} "
+                            "--out DIR" if self.feasible else None)}
+
+    def save(self, path) -> None:
+        Path(path).write_text(json.dumps(self.to_dict(), indent=2))
+
+    def summary(self) -> str:
+        lines = [f"strength of {self.scene} within "
+                 f"{self.error:.3g} at confidence {self.confidence:g}:"]
+        for level in self.ladder:
+            lines.append(
+                f"  ladder dx = {level['dx'] * 1e3:g} mm: mean "
+                f"{level['mean'] / 1e6:.4g} MPa, std "
+                f"{level['std'] / 1e6:.3g} MPa over {level['members']} "
+                f"members, {level['cpu_s']:.3g} CPU s per member")
+        if not self.feasible:
+            lines.append(f"  no plan: {self.reason}")
+            return "\n".join(lines)
+        lines.append(
+            f"  dx = {self.dx * 1e3:.4g} mm, {self.seeds} seeds: predicted "
+            f"error {self.predicted_error:.3g} (discretisation "
+            f"{self.discretisation_error:.3g} + statistical "
+            f"{self.statistical_error:.3g}), {self.predicted_seconds:.4g} "
+            "CPU s")
+        if not self.ladder_resolved:
+            lines.append("  (the ladder's differences of means are within "
+                         "their noise: the discretisation error is not "
+                         "resolved)")
+        return "\n".join(lines)
+
+
+def _work_dir(scene: str, root) -> Path:
+    from .cache import _digest, _library_digest, cache_root
+    from .._lib import version
+    base = Path(root) if root is not None else cache_root()
+    scope = f"strength|{scene}|{version()}|{_library_digest()}"
+    return base / "strength" / _digest(scope)
+
+
+def plan_strength(scene: str, error: float, confidence: float = 0.95,
+                  ladder=None, pilot: int = 10, seed: int = 1,
+                  jobs: int = 1, max_refinement: float = 2.0,
+                  max_seconds: float | None = None, work=None,
+                  log=None) -> StrengthPlan:
+    """Plans the strength of test ``scene`` (ucs, brazilian) within the
+    relative ``error`` at ``confidence``: the spacing and the number of
+    seeds of least predicted CPU time (module text).  ``work``: where the
+    pilot ensembles are kept (default under the planner's cache)."""
+    from ..ensemble import ensemble
+    if scene not in LADDERS:
+        raise ValueError(f"scene {scene!r}: the strength is planned for "
+                         f"{', '.join(LADDERS)}")
+    if not (isinstance(error, float | int) and 0 < error < 1):
+        raise ValueError(f"error={error!r} must be in (0, 1)")
+    if not 0 < confidence < 1:
+        raise ValueError(f"confidence={confidence!r} must be in (0, 1)")
+    if isinstance(pilot, bool) or not isinstance(pilot, int) or pilot < 3:
+        raise ValueError(f"pilot={pilot!r} must be an integer >= 3")
+    ladder = sorted((float(d) for d in (ladder or LADDERS[scene])),
+                    reverse=True)
+    if len(ladder) < 3 or len(set(ladder)) != len(ladder):
+        raise ValueError(f"ladder={ladder!r}: needs 3 or more distinct "
+                         "spacings")
+    folder = _work_dir(scene, work)
+    levels = []
+    for dx in ladder:
+        if log:
+            log(f"pilot ensemble: {scene}, dx = {dx * 1e3:g} mm, "
+                f"{pilot} members")
+        result = ensemble(scene, pilot, folder / f"dx_{dx * 1e3:g}mm",
+                          dx=dx, jobs=jobs, seed=seed, figure=False)
+        s = result.summary
+        cpu = float(np.mean(s["member_cpu_s"]))
+        levels.append({"dx": dx, "members": s["members"], "mean": s["mean"],
+                       "std": s["std"], "ci95_low": s["ci95_low"],
+                       "ci95_high": s["ci95_high"], "cpu_s": cpu,
+                       "ran": len(result.ran)})
+    ladder_seconds = sum(level["cpu_s"] * level["members"]
+                         for level in levels)
+    means = np.array([level["mean"] for level in levels])
+    stds = np.array([level["std"] for level in levels])
+    counts = np.array([level["members"] for level in levels])
+    finest = levels[-1]
+    reference = abs(finest["mean"])
+    diffs = np.abs(np.diff(means)) / reference
+    tq = student_quantile(0.5 + confidence / 2, pilot - 1)
+    noise = tq * np.sqrt(stds[:-1] ** 2 / counts[:-1]
+                         + stds[1:] ** 2 / counts[1:]) / reference
+    resolved = bool(np.all(diffs > noise))
+    # a difference of exactly zero carries no order; a ladder within its
+    # noise carries none either: its order is taken at most FORMAL_ORDER,
+    # as the wave planner predicts
+    model = fit_error_model(ladder, np.maximum(diffs, 1e-12),
+                            max_refinement=max_refinement,
+                            spread=float(np.ptp(means)) / reference,
+                            max_order=None if resolved else FORMAL_ORDER)
+    s_rel = finest["std"] / reference
+    # CPU seconds per member: a power law in dx over the ladder
+    slope, intercept = np.polyfit(np.log(ladder),
+                                  np.log([lv["cpu_s"] for lv in levels]), 1)
+
+    def cost(dx: float) -> float:
+        return float(math.exp(intercept + slope * math.log(dx)))
+
+    best = None
+    smallest = ladder[-1] / max_refinement
+    for dx in np.geomspace(ladder[0], smallest, 60):
+        e_d = model.upper(float(dx))
+        room = error - e_d
+        if room <= 0:
+            continue
+        n = MIN_MEMBERS
+        while True:
+            e_s = student_quantile(0.5 + confidence / 2, n - 1) * s_rel \
+                / math.sqrt(n)
+            if e_s <= room or n > 100000:
+                break
+            n = max(n + 1, int(n * (e_s / room) ** 2))
+        if e_s > room:
+            continue
+        seconds = n * cost(float(dx))
+        if max_seconds is not None and seconds > max_seconds:
+            continue
+        if best is None or seconds < best[0]:
+            best = (seconds, float(dx), n, e_d, e_s)
+    common = dict(scene=scene, error=float(error), confidence=confidence,
+                  ladder=levels, model=model.to_dict(),
+                  cost={"cpu_s_per_member": "exp(a) dx^b", "a": intercept,
+                        "b": slope},
+                  ladder_resolved=resolved, ladder_seconds=ladder_seconds)
+    if best is None:
+        floor = model.upper(smallest)
+        return StrengthPlan(
+            dx=None, seeds=None, predicted_seconds=None,
+            predicted_error=None, discretisation_error=None,
+            statistical_error=None, feasible=False,
+            reason=(f"the discretisation error alone is {floor:.3g} at dx "
+                    f"= {smallest * 1e3:.3g} mm (the finest the ladder "
+                    "allows)" + ("" if max_seconds is None else
+                                 f", or the time exceeds max_seconds="
+                                 f"{max_seconds:g}")
+                    + ("" if resolved else "; the ladder's differences are "
+                       "within their noise: more --pilot members or "
+                       "another --ladder may resolve them")),
+            **common)
+    seconds, dx, n, e_d, e_s = best
+    return StrengthPlan(dx=dx, seeds=n, predicted_seconds=seconds,
+                        predicted_error=e_d + e_s, discretisation_error=e_d,
+                        statistical_error=e_s, feasible=True, **common)

@@ -1,0 +1,155 @@
+"""Ensembles of flaw draws (sphsolid.ensemble, ``sphsolid ensemble``):
+the bootstrap interval's coverage, bitwise members alone / in the pool /
+after a resume, the summary's keys, bad input.
+
+The runs are tensile bars at dx = 5 mm (64 specimen particles, a fraction
+of a second each)."""
+from __future__ import annotations
+
+import json
+import shutil
+
+import numpy as np
+import pytest
+
+import sphsolid
+from sphsolid.cli import main as cli_main
+from sphsolid.ensemble import bootstrap_mean_interval, run_member
+
+DX = 5e-3
+MEMBERS = 3
+
+
+def _ensemble(out, members=MEMBERS, jobs=1, **kw):
+    return sphsolid.ensemble("tensile", members, out, dx=DX, jobs=jobs,
+                             seed=4, figure=False, **kw)
+
+
+def _member_files(out, member):
+    where = out / f"member_{member:04d}"
+    summary = json.loads((where / "summary.json").read_text())
+    summary.pop("wall_s")
+    summary.pop("cpu_s")
+    return (where / "load.csv").read_bytes(), summary
+
+
+@pytest.fixture(scope="module")
+def fresh(tmp_path_factory):
+    out = tmp_path_factory.mktemp("fresh")
+    return out, _ensemble(out)
+
+
+def test_bootstrap_interval_covers_the_mean_at_its_rate():
+    """Over 600 samples of 12 values of a normal and of an exponential
+    distribution, the 95 % interval of the mean contains the true mean in
+    95 % of them, within three binomial standard deviations (0.027)."""
+    rng = np.random.Generator(np.random.PCG64(7))
+    repeats, n, mu = 600, 12, 3.0
+    tolerance = 3.0 * np.sqrt(0.95 * 0.05 / repeats)
+    for draw in (lambda: rng.normal(mu, 2.0, n),
+                 lambda: rng.exponential(mu, n)):
+        hits = 0
+        for r in range(repeats):
+            low, high = bootstrap_mean_interval(draw(), 0.95, resamples=1000,
+                                                seed=r)
+            hits += low <= mu <= high
+        rate = hits / repeats
+        assert abs(rate - 0.95) < tolerance, rate
+    # and its width is that of the normal interval of the mean
+    x = rng.normal(mu, 2.0, 400)
+    low, high = bootstrap_mean_interval(x, 0.95)
+    assert (high - low) == pytest.approx(2 * 1.96 * x.std(ddof=1) / 20,
+                                         rel=0.1)
+
+
+def test_summary_has_the_keys_and_its_statistics(fresh):
+    out, result = fresh
+    summary = json.loads((out / "summary.json").read_text())
+    for key in ("quantity", "members", "mean", "std", "ci95_low",
+                "ci95_high", "values"):
+        assert key in summary, key
+    assert summary["quantity"] == "strength" and summary["unit"] == "Pa"
+    assert summary["members"] == MEMBERS
+    values = [json.loads((out / f"member_{i:04d}" / "summary.json")
+                         .read_text())["strength_Pa"] for i in range(MEMBERS)]
+    assert summary["values"] == values
+    assert summary["mean"] == pytest.approx(np.mean(values), rel=1e-12)
+    assert summary["std"] == pytest.approx(np.std(values, ddof=1), rel=1e-12)
+    assert summary["ci95_low"] < summary["mean"] < summary["ci95_high"]
+    assert len(set(values)) == MEMBERS       # the members are other draws
+    assert result.ran == list(range(MEMBERS))
+
+
+def test_member_i_is_the_run_of_the_damage_member_i(fresh):
+    """Member i's flaws are the damage effect's member i: member 0 is the
+    single run of the seed (sphsolid.fracture with that seed, no member),
+    member 2 that with member=2."""
+    from sphsolid import fracture
+    out, _ = fresh
+    for member, options in ((0, {}), (2, {"member": 2})):
+        scene = fracture.tensile_bar(DX, seed=4, **options)
+        scene.calc = sphsolid.CLibrary(threads=1)
+        run = fracture.load_to_failure(scene, max_strain=0.01)
+        _, summary = _member_files(out, member)
+        assert run.strength_Pa == summary["strength_Pa"], member
+
+
+def test_resume_keeps_finished_members_and_reruns_the_rest(fresh, tmp_path):
+    """A killed ensemble (member 1 without its summary, a half-written
+    temporary file) continues: members 0 and 2 are kept, member 1 runs
+    again, and every member is bitwise that of a fresh run."""
+    out, _ = fresh
+    partial = tmp_path / "partial"
+    first = _ensemble(partial, members=2)      # stopped after two members
+    assert first.ran == [0, 1]
+    (partial / "member_0001" / "summary.json").unlink()
+    (partial / "member_0001" / "summary.json.tmp").write_text("{")
+    (partial / "member_0001" / "load.csv").write_text("time_s,stra")
+    resumed = _ensemble(partial)
+    assert resumed.ran == [1, 2]
+    for i in range(MEMBERS):
+        assert _member_files(partial, i) == _member_files(out, i), i
+    again = _ensemble(partial)
+    assert again.ran == []
+    assert again.summary["values"] == resumed.summary["values"]
+
+
+def test_a_member_in_the_pool_is_bitwise_the_member_alone(fresh, tmp_path):
+    out, _ = fresh
+    pool = tmp_path / "pool"
+    result = _ensemble(pool, jobs=2)
+    assert sorted(result.ran) == list(range(MEMBERS))
+    alone = tmp_path / "alone"
+    config = json.loads((pool / "ensemble.json").read_text())
+    run_member(config, 2, alone)
+    assert _member_files(pool, 2) == _member_files(alone, 2)
+    assert _member_files(pool, 1) == _member_files(out, 1)
+
+
+def test_an_ensemble_directory_refuses_another_ensemble(fresh, tmp_path):
+    out, _ = fresh
+    other = tmp_path / "other"
+    shutil.copytree(out, other)
+    with pytest.raises(ValueError, match="seed=4.*seed=5"):
+        sphsolid.ensemble("tensile", MEMBERS, other, dx=DX, seed=5,
+                          figure=False)
+    with pytest.raises(ValueError, match="members=1"):
+        sphsolid.ensemble("tensile", 1, tmp_path / "one", dx=DX)
+    with pytest.raises(ValueError, match="'bend'"):
+        sphsolid.ensemble("bend", 3, tmp_path / "bend")
+    with pytest.raises(ValueError, match="jobs=0"):
+        sphsolid.ensemble("ucs", 3, tmp_path / "jobs", jobs=0)
+    with pytest.raises(ValueError, match="2 values, got 1"):
+        bootstrap_mean_interval([1.0])
+
+
+def test_cli_writes_summary_and_histogram(tmp_path, capsys):
+    out = tmp_path / "cli"
+    assert cli_main(["ensemble", "tensile", "--seeds", "2", "--dx", "5mm",
+                     "--seed", "4", "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["members"] == 2 and (out / "histogram.png").stat().st_size
+    assert "95% interval of the mean" in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        cli_main(["ensemble", "tensile", "--seeds", "1", "--out", str(out)])
+    assert "'1': must be >= 2" in capsys.readouterr().err
