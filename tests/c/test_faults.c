@@ -398,10 +398,12 @@ static void killed_during_output_leaves_readable_frames(void **state)
  * chunk half old, half new, whose checksum then fails. */
 #if H5_VERSION_GE(1, 12, 0)
 typedef H5O_info2_t object_info;
-#define VISIT(file, op, data) H5Ovisit3(file, H5_INDEX_NAME, H5_ITER_NATIVE, op, data, H5O_INFO_BASIC)
+#define VISIT(file, op, data) \
+    H5Ovisit3(file, H5_INDEX_NAME, H5_ITER_NATIVE, op, data, H5O_INFO_BASIC)
 #else
 typedef H5O_info_t object_info;
-#define VISIT(file, op, data) H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_NATIVE, op, data, H5O_INFO_BASIC)
+#define VISIT(file, op, data) \
+    H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_NATIVE, op, data, H5O_INFO_BASIC)
 #endif
 
 static int chunk_crosses_page(hid_t obj, const char *name, const object_info *info, void *data)
