@@ -39,6 +39,7 @@
 #define SPHSOLID_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -883,6 +884,35 @@ SPH_API sph_status sph_derived_fields(sph_sim *sim, size_t n, const double *rho,
  * sph_energy() sums (`energy`: n doubles). */
 SPH_API sph_status sph_energy_fields(sph_sim *sim, size_t n, const double *mass, const double *rho,
                                      const double *S, const int *material, double *energy);
+
+/* Effect damage on n external particles (a code that owns its particles:
+ * the LAMMPS plugin), with the handle's seed, flaws parameter, materials
+ * and smoothing length.  A particle's flaws are drawn from (seed, id[a],
+ * flaw index): id is its global index, the one the handle's own particles
+ * use (0, 1, ... in the order they were added), so a code that numbers
+ * its particles from 1 passes number - 1 to get the same flaws, on any
+ * number of processes.  mass[a] / rho0 is its volume at rest.
+ *  - sph_damage_flaws: the number of flaws of each particle and its
+ *    weakest activation strain (0 and inf where flawed[a] is 0, as the
+ *    handle's prescribed bodies, or the material has no flaws; flawed may
+ *    be NULL: all may be damaged);
+ *  - sph_damage_grow: the damage stage after a step of dt: activation by
+ *    each particle's largest principal strain at (rho, S), growth of
+ *    damage[a] (D in [0, 1]); *changed is 1 if any D grew (rates
+ *    evaluated before are stale then);
+ *  - sph_damage_active: the flaws active at the current state (n doubles).
+ * SPH_ERR_STATE while the effect is off. */
+SPH_API sph_status sph_damage_flaws(sph_sim *sim, size_t n, const uint64_t *id, const double *mass,
+                                    const int *material, const unsigned char *flawed,
+                                    int *flaw_count, double *flaw_strain);
+SPH_API sph_status sph_damage_grow(sph_sim *sim, size_t n, double dt, const uint64_t *id,
+                                   const double *mass, const int *material, const double *rho,
+                                   const double *S, const int *flaw_count,
+                                   const double *flaw_strain, double *damage, int *changed);
+SPH_API sph_status sph_damage_active(sph_sim *sim, size_t n, const uint64_t *id, const double *mass,
+                                     const int *material, const double *rho, const double *S,
+                                     const int *flaw_count, const double *flaw_strain,
+                                     double *active);
 
 /* Probe interpolation split for distributed particles: add the
  * contributions of particles [0, n_local) to `sums`

@@ -273,6 +273,82 @@ static void damage_field_is_bitwise_the_same_on_1_and_2_threads(void **state)
     sph_destroy(two);
 }
 
+/* The calls on external particles (sph_damage_flaws, _grow, _active),
+ * given the handle's own particles with id = index, are the handle's
+ * damage stage bitwise: the same flaws, the same D after a step, the
+ * same active flaws; other ids draw other flaws. */
+static void external_particles_damage_as_the_handle_does(void **state)
+{
+    (void)state;
+    sph_sim *sim = tension_block(1);
+    check(sim, sph_run(sim, 20));
+    const size_t n = 1600;
+    uint64_t *id = malloc(n * sizeof *id);
+    int *material = calloc(n, sizeof *material), *count = malloc(n * sizeof *count);
+    double *strain = malloc(n * sizeof *strain), *active = malloc(n * sizeof *active);
+    assert_true(id && material && count && strain && active);
+    for (size_t a = 0; a < n; ++a)
+        id[a] = a;
+    const double *mass = field_ptr(sim, SPH_FIELD_MASS);
+    check(sim, sph_damage_flaws(sim, n, id, mass, material, NULL, count, strain));
+    double *flaws = copy_field(sim, SPH_FIELD_FLAWS, n);
+    double *weakest = copy_field(sim, SPH_FIELD_FLAW_STRAIN, n);
+    for (size_t a = 0; a < n; ++a) {
+        assert_true((double)count[a] == flaws[a]);
+        assert_memory_equal(&strain[a], &weakest[a], sizeof(double));
+    }
+    double *D = copy_field(sim, SPH_FIELD_DAMAGE, n);
+    check(sim, sph_run(sim, 1));
+    const double *rho = field_ptr(sim, SPH_FIELD_DENSITY);
+    const double *S = field_ptr(sim, SPH_FIELD_DEVIATORIC_STRESS);
+    int changed = 0;
+    check(sim, sph_damage_grow(sim, n, sph_dt(sim), id, mass, material, rho, S, count, strain, D,
+                               &changed));
+    const double *D_handle = field_ptr(sim, SPH_FIELD_DAMAGE);
+    double *active_handle = copy_field(sim, SPH_FIELD_ACTIVE_FLAWS, n);
+    check(sim, sph_damage_active(sim, n, id, mass, material, rho, S, count, strain, active));
+    int grown = 0;
+    for (size_t a = 0; a < n; ++a) {
+        assert_memory_equal(&D[a], &D_handle[a], sizeof(double));
+        assert_true(active[a] == active_handle[a]);
+        grown += D[a] > 0.0;
+    }
+    assert_true(changed && grown > 0 && grown < (int)n); /* a step that damages */
+    /* ids one higher: another draw; flawed = 0: no flaws */
+    unsigned char *flawed = calloc(n, 1);
+    assert_non_null(flawed);
+    for (size_t a = 0; a < n; ++a)
+        id[a] = a + 1;
+    check(sim, sph_damage_flaws(sim, n, id, mass, material, NULL, count, strain));
+    int same = 0;
+    for (size_t a = 0; a < n; ++a)
+        same += strain[a] == weakest[a];
+    assert_true(same < 5);
+    check(sim, sph_damage_flaws(sim, n, id, mass, material, flawed, count, strain));
+    for (size_t a = 0; a < n; ++a)
+        assert_true(count[a] == 0 && isinf(strain[a]));
+    /* bad input names the value; off: a state error */
+    material[7] = 3;
+    assert_int_equal(sph_damage_flaws(sim, n, id, mass, material, NULL, count, strain),
+                     SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "material[7]=3"));
+    check(sim, sph_effect_off(sim, "damage"));
+    assert_int_equal(
+        sph_damage_grow(sim, n, 1e-7, id, mass, material, rho, S, count, strain, D, &changed),
+        SPH_ERR_STATE);
+    free(flawed);
+    free(active_handle);
+    free(D);
+    free(weakest);
+    free(flaws);
+    free(active);
+    free(strain);
+    free(count);
+    free(material);
+    free(id);
+    sph_destroy(sim);
+}
+
 /* The paper scene (coarse), its probe series after `steps`. */
 static void paper_probes(int damage, int toggle, double *out, int steps, size_t *bytes)
 {
@@ -448,6 +524,7 @@ int main(void)
         cmocka_unit_test(damage_is_capped_by_the_active_share_of_flaws),
         cmocka_unit_test(damage_onset_in_uniaxial_compression_at_E_eps_min_over_nu),
         cmocka_unit_test(damage_field_is_bitwise_the_same_on_1_and_2_threads),
+        cmocka_unit_test(external_particles_damage_as_the_handle_does),
         cmocka_unit_test(damage_without_active_flaws_leaves_the_paper_series_bitwise),
         cmocka_unit_test(damaged_stress_keeps_compression_and_scales_the_deviator),
         cmocka_unit_test(largest_principal_strain_of_a_rotated_tensor),
