@@ -15,6 +15,7 @@
 
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -22,20 +23,29 @@ using namespace LAMMPS_NS;
 ComputeSPHSolidAtom::ComputeSPHSolidAtom(LAMMPS *lmp, int narg, char **arg) :
     Compute(lmp, narg, arg), nmax(0), pair(nullptr), values(nullptr), columns(nullptr)
 {
-  if (narg != 3)
+  // sphsolid/<quantity>/atom, or sphsolid/atom <quantity>
+  const std::string name = style;
+  const bool by_name = name == "sphsolid/atom";
+  if (by_name && narg != 4)
+    error->all(FLERR,
+               "compute sphsolid/atom takes one quantity: density, pressure, vonmises, stress, "
+               "energy, damage, flaws, flaw_strain or active_flaws");
+  if (!by_name && narg != 3)
     error->all(FLERR, "compute {} takes no arguments after the style name, got '{}'", style,
                arg[3]);
-  const std::string name = style;
-  if (name == "sphsolid/density/atom")
-    quantity = DENSITY;
-  else if (name == "sphsolid/pressure/atom")
-    quantity = PRESSURE;
-  else if (name == "sphsolid/vonmises/atom")
-    quantity = VON_MISES;
-  else if (name == "sphsolid/energy/atom")
-    quantity = ENERGY;
-  else
-    quantity = STRESS;
+  const std::string what = by_name ? std::string(arg[3]) : name.substr(9, name.size() - 14);
+  const std::pair<const char *, Quantity> names[] = {
+      {"density", DENSITY}, {"pressure", PRESSURE},       {"vonmises", VON_MISES},
+      {"stress", STRESS},   {"energy", ENERGY},           {"damage", DAMAGE},
+      {"flaws", FLAWS},     {"flaw_strain", FLAW_STRAIN}, {"active_flaws", ACTIVE_FLAWS}};
+  bool found = false;
+  for (const auto &n : names)
+    if (what == n.first) quantity = n.second, found = true;
+  if (!found)
+    error->all(FLERR,
+               "compute sphsolid/atom: unknown quantity '{}' (known: density pressure vonmises "
+               "stress energy damage flaws flaw_strain active_flaws)",
+               what);
 
   dim = domain->dimension;
   ncomp = SPH_STRESS_COMPONENTS(dim);
@@ -53,6 +63,11 @@ void ComputeSPHSolidAtom::init()
 {
   pair = dynamic_cast<PairSPHSolid *>(force->pair_match("sphsolid", 1));
   if (!pair) error->all(FLERR, "compute {} needs 'pair_style sphsolid'", style);
+  if (is_damage() && !pair->damage_on())
+    error->all(FLERR,
+               "compute {} {}: the damage quantities exist while pair sphsolid's damage effect "
+               "is on (pair_style sphsolid ... damage seed S)",
+               id, style);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -84,6 +99,22 @@ void ComputeSPHSolidAtom::compute_peratom()
   if (quantity == DENSITY) {
     for (int i = 0; i < nlocal; i++)
       if (mask[i] & groupbit) values[i] = state->rho[i];
+    return;
+  }
+  if (is_damage()) {
+    if (!state->damage_on())
+      error->all(FLERR, "compute {}: pair sphsolid has no damage state", style);
+    if (quantity == ACTIVE_FLAWS) pair->active_flaws(values);
+    for (int i = 0; i < nlocal; i++) {
+      if (!(mask[i] & groupbit))
+        values[i] = 0.0;
+      else if (quantity == DAMAGE)
+        values[i] = state->damage[i];
+      else if (quantity == FLAWS)
+        values[i] = state->flaw_count[i];
+      else if (quantity == FLAW_STRAIN)
+        values[i] = state->flaw_strain[i];
+    }
     return;
   }
 

@@ -8,9 +8,14 @@
  *   sphsolid/stress/atom    full Cauchy stress sigma = -P I + S, columns
  *                           xx yy zz xy (2D) or xx yy zz xy xz yz (3D) [Pa]
  *   sphsolid/energy/atom    elastic energy m (u_vol(rho) + S:S/(4 mu rho)) [J]
+ *   sphsolid/atom NAME      any of the above by name (density, pressure,
+ *                           vonmises, stress, energy) or a quantity of the
+ *                           damage effect: damage (D), flaws (number of
+ *                           flaws), flaw_strain (weakest activation strain),
+ *                           active_flaws (flaws active at the current state)
  * Pressure, stress and von Mises come from the library's
- * sph_derived_fields(), the energy from sph_energy_fields(), on the state
- * arrays in place.
+ * sph_derived_fields(), the energy from sph_energy_fields(), the active
+ * flaws from sph_damage_active(), on the state arrays in place.
  */
 #ifdef COMPUTE_CLASS
 // clang-format off
@@ -19,6 +24,7 @@ ComputeStyle(sphsolid/pressure/atom,ComputeSPHSolidAtom);
 ComputeStyle(sphsolid/vonmises/atom,ComputeSPHSolidAtom);
 ComputeStyle(sphsolid/stress/atom,ComputeSPHSolidAtom);
 ComputeStyle(sphsolid/energy/atom,ComputeSPHSolidAtom);
+ComputeStyle(sphsolid/atom,ComputeSPHSolidAtom);
 // clang-format on
 #else
 
@@ -42,7 +48,18 @@ class ComputeSPHSolidAtom : public Compute {
   double memory_usage() override;
 
  private:
-  enum Quantity { DENSITY, PRESSURE, VON_MISES, STRESS, ENERGY };
+  enum Quantity {
+    DENSITY,
+    PRESSURE,
+    VON_MISES,
+    STRESS,
+    ENERGY,
+    DAMAGE,
+    FLAWS,
+    FLAW_STRAIN,
+    ACTIVE_FLAWS
+  };
+  bool is_damage() const { return quantity >= DAMAGE; }
   Quantity quantity;
   int dim, ncomp, nmax;
   PairSPHSolid *pair;
