@@ -36,14 +36,18 @@ static double flaw_density_volume(const sph_sim *sim, size_t a)
     return flaw_density_volume_of(&sim->materials[sim->material_of[a]], sim->mass[a]);
 }
 
-static uint64_t seed_of(const sph_sim *sim) { return (uint64_t)sim->fx.damage_seed; }
+/* The key of the run's flaw stream: hash(seed, member) (damage.h). */
+static uint64_t stream_of(const sph_sim *sim)
+{
+    return damage_stream((uint64_t)sim->fx.damage_seed, (uint64_t)sim->fx.damage_member);
+}
 
 /* The flaws of the particle of global id `id` and flaw density x volume
  * kV: their number and the weakest activation strain. */
 static void draw_flaws_of(const sph_sim *sim, uint64_t id, const material *m, double kV, int *count,
                           double *strain)
 {
-    const uint64_t seed = seed_of(sim);
+    const uint64_t seed = stream_of(sim);
     const int below = damage_flaws_below(seed, id, 2000000, sim->fx.damage_flaws);
     *count = below > 0 ? below : 1;
     *strain = pow(damage_gap(seed, id, 0) / kV, 1.0 / m->weibull_m);
@@ -132,7 +136,7 @@ static int active_flaws_of(const sph_sim *sim, uint64_t id, const material *m, d
     if (!(eps >= strain))
         return 0;
     const double u = kV * pow(eps, m->weibull_m);
-    return damage_flaws_below(seed_of(sim), id, count, u);
+    return damage_flaws_below(stream_of(sim), id, count, u);
 }
 
 int damage_active_flaws(const sph_sim *sim, size_t a)
@@ -305,7 +309,7 @@ sph_status sph_flaws_active_at(sph_sim *sim, double strain, double *count)
         if (sim->flaw_count[a] == 0 || strain < sim->flaw_strain[a])
             continue;
         const material *m = &sim->materials[sim->material_of[a]];
-        total += damage_flaws_below(seed_of(sim), a, sim->flaw_count[a],
+        total += damage_flaws_below(stream_of(sim), a, sim->flaw_count[a],
                                     flaw_density_volume(sim, a) * pow(strain, m->weibull_m));
     }
     *count = total;

@@ -8,9 +8,9 @@
  * [m^-3], m = weibull_m), so that the expected number of flaws active at a
  * strain eps is k V eps^m (Weibull's law as
  * Benz & Asphaug 1995 use it).
- * The gaps are exponential draws of a counter-based hash of (seed, particle
- * id, flaw index): any flaw of any particle is computed again from those
- * three numbers, so no random state is stored and the draw does not depend
+ * The gaps are exponential draws of a counter-based hash of (seed, ensemble
+ * member, particle id, flaw index): any flaw of any particle is computed
+ * again from those numbers, so no random state is stored and the draw does not depend
  * on threads, ranks or restarts.  A particle holds the flaws with
  * u <= `flaws` (the effect's parameter, the expected count), and at least
  * one.
@@ -47,27 +47,37 @@ static inline uint64_t damage_mix(uint64_t z)
     return z ^ (z >> 31);
 }
 
-/* A uniform number in (0, 1) from (seed, particle id, flaw index). */
-static inline double damage_uniform(uint64_t seed, uint64_t id, uint64_t flaw)
+/* The key of the flaw stream of ensemble member `member` drawn with `seed`:
+ * hash(seed, member), counter-based like the draws, so member i of an
+ * ensemble is the same run whichever process or job draws it.  Member 0 is
+ * the seed's own stream (the draw of a single run). */
+static inline uint64_t damage_stream(uint64_t seed, uint64_t member)
 {
-    const uint64_t z = damage_mix(damage_mix(damage_mix(seed) ^ id) ^ flaw);
+    const uint64_t key = damage_mix(seed);
+    return member == 0 ? key : damage_mix(key ^ damage_mix(member));
+}
+
+/* A uniform number in (0, 1) from (stream key, particle id, flaw index). */
+static inline double damage_uniform(uint64_t stream, uint64_t id, uint64_t flaw)
+{
+    const uint64_t z = damage_mix(damage_mix(stream ^ id) ^ flaw);
     return ((double)(z >> 11) + 0.5) * (1.0 / 9007199254740992.0);
 }
 
 /* The gap to the next flaw in u = k V eps^m: an exponential draw. */
-static inline double damage_gap(uint64_t seed, uint64_t id, uint64_t flaw)
+static inline double damage_gap(uint64_t stream, uint64_t id, uint64_t flaw)
 {
-    return -log(damage_uniform(seed, id, flaw));
+    return -log(damage_uniform(stream, id, flaw));
 }
 
 /* Flaws with u <= u_max among the first `total` of a particle (counted in
  * order; u_max < the first gives 0). */
-static inline int damage_flaws_below(uint64_t seed, uint64_t id, int total, double u_max)
+static inline int damage_flaws_below(uint64_t stream, uint64_t id, int total, double u_max)
 {
     double u = 0.0;
     int n = 0;
     while (n < total) {
-        u += damage_gap(seed, id, (uint64_t)n);
+        u += damage_gap(stream, id, (uint64_t)n);
         if (u > u_max)
             break;
         ++n;

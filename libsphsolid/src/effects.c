@@ -178,6 +178,10 @@ static const parameter_def damage_parameters[] = {
      FX(damage_seed)},
     {"flaws", "", "expected flaws per particle: the draw keeps those with k V eps^m <= flaws", 10.0,
      POSITIVE, FX(damage_flaws)},
+    {"member", "",
+     "ensemble member: its flaws are drawn from hash(seed, member); 0 is the seed's own draw "
+     "(an integer below 2^53)",
+     0.0, NON_NEGATIVE, FX(damage_member)},
 };
 
 /* Rules beyond the ranges (values in the order of the parameters). */
@@ -193,6 +197,9 @@ static sph_status damage_rule(sph_sim *sim, const double *values)
     if (values[0] != floor(values[0]) || values[0] >= 9007199254740992.0)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "damage: seed=%.17g must be an integer below 2^53",
                         values[0]);
+    if (values[2] != floor(values[2]) || values[2] >= 9007199254740992.0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "damage: member=%.17g must be an integer below 2^53",
+                        values[2]);
     if (values[1] > 1e6)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "damage: flaws=%g per particle is more than the 1e6 the draw allows",

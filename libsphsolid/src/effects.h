@@ -36,7 +36,7 @@ typedef struct effects {
     int kernel_correction;
     /* damage: Benz & Asphaug (1994, 1995), damage.h */
     int damage;
-    double damage_seed, damage_flaws;
+    double damage_seed, damage_flaws, damage_member;
 } effects;
 
 /* Monaghan (1992) eqs (4.1)-(4.2): the artificial viscosity

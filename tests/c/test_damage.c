@@ -111,6 +111,113 @@ static void weakest_flaws_follow_the_first_arrival_law(void **state)
     sph_destroy(sim);
 }
 
+/* Pearson's correlation of x and y over n values. */
+static double correlation(const double *x, const double *y, size_t n)
+{
+    double mx = 0, my = 0;
+    for (size_t a = 0; a < n; ++a) {
+        mx += x[a] / (double)n;
+        my += y[a] / (double)n;
+    }
+    double sxy = 0, sxx = 0, syy = 0;
+    for (size_t a = 0; a < n; ++a) {
+        sxy += (x[a] - mx) * (y[a] - my);
+        sxx += (x[a] - mx) * (x[a] - mx);
+        syy += (y[a] - my) * (y[a] - my);
+    }
+    return sxy / sqrt(sxx * syy);
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* How many values of x also occur in y (n each). */
+static int values_in_common(const double *x, const double *y, size_t n)
+{
+    double *sx = malloc(2 * n * sizeof *sx), *sy = sx + n;
+    assert_non_null(sx);
+    memcpy(sx, x, n * sizeof *sx);
+    memcpy(sy, y, n * sizeof *sy);
+    qsort(sx, n, sizeof *sx, compare_doubles);
+    qsort(sy, n, sizeof *sy, compare_doubles);
+    int common = 0;
+    for (size_t i = 0, j = 0; i < n && j < n;) {
+        if (sx[i] < sy[j])
+            ++i;
+        else if (sy[j] < sx[i])
+            ++j;
+        else {
+            ++common;
+            ++i;
+            ++j;
+        }
+    }
+    free(sx);
+    return common;
+}
+
+/* The flaw field (weakest strain, or flaw count) of ensemble member
+ * `member` drawn with seed 5; member < 0: the parameter left at its
+ * default. */
+static double *member_field(int member, sph_field_id f)
+{
+    int mat;
+    sph_sim *sim = periodic_block(2, 200, 1e-3, &mat);
+    check(sim, sph_material_set(sim, mat, "weibull_k", 1e10));
+    check(sim, sph_material_set(sim, mat, "weibull_m", 9.0));
+    char text[64];
+    if (member >= 0)
+        snprintf(text, sizeof text, "seed=5 member=%d", member);
+    else
+        snprintf(text, sizeof text, "seed=5");
+    check(sim, sph_effect(sim, "damage", text));
+    double *out = copy_field(sim, f, 40000);
+    sph_destroy(sim);
+    return out;
+}
+
+/* Ensemble members draw from hash(seed, member): consecutive members'
+ * flaw fields are uncorrelated (|r| < 0.05; the sampling spread of r over
+ * 40,000 independent pairs is 1/sqrt(40000) = 0.005), member 0 is the
+ * seed's own draw (the default), and every member still follows the
+ * first-arrival law (checked in weakest_flaws_follow_the_first_arrival_law
+ * for member 0; here its median). */
+static void ensemble_members_draw_independent_flaws(void **state)
+{
+    (void)state;
+    const sph_field_id fields[2] = {SPH_FIELD_FLAW_STRAIN, SPH_FIELD_FLAWS};
+    for (int f = 0; f < 2; ++f) {
+        double *plain = member_field(-1, fields[f]);
+        double *prev = member_field(0, fields[f]);
+        assert_memory_equal(plain, prev, 40000 * sizeof(double));
+        for (int member = 1; member <= 4; ++member) {
+            double *next = member_field(member, fields[f]);
+            const double r = correlation(prev, next, 40000);
+            if (!(fabs(r) < 0.05))
+                fail_msg("members %d and %d: flaw field correlation %g", member - 1, member, r);
+            if (f == 0) /* continuous draws: no strain of one member recurs in the next
+                           (a permutation of the same draws would correlate as little) */
+                assert_int_equal(values_in_common(prev, next, 40000), 0);
+            free(prev);
+            prev = next;
+        }
+        free(plain);
+        free(prev);
+    }
+    /* a member's weakest strains keep the law: half below the median
+     * (-ln(1/2) / kV)^(1/m) */
+    double *weakest = member_field(3, SPH_FIELD_FLAW_STRAIN);
+    const double median = pow(log(2.0) / (1e10 * 1e-6), 1.0 / 9.0);
+    int below = 0;
+    for (int a = 0; a < 40000; ++a)
+        below += weakest[a] <= median;
+    assert_close(below / 40000.0, 0.5, 5.0 * sqrt(0.25 / 40000.0), "member 3: share below median");
+    free(weakest);
+}
+
 /* One active flaw (flaws per particle cut to 1, strain above it): D^(1/3)
  * grows at 0.4 c_l / (k_R h) each step until D = 1. */
 static void one_active_flaw_grows_cube_root_of_damage_linearly(void **state)
@@ -505,6 +612,10 @@ static void bad_damage_input_names_the_value(void **state)
     assert_non_null(strstr(sph_errmsg(sim), "weibull_k=-1"));
     assert_int_equal(sph_effect(sim, "damage", "seed=1.5"), SPH_ERR_ARGUMENT);
     assert_non_null(strstr(sph_errmsg(sim), "seed=1.5"));
+    assert_int_equal(sph_effect(sim, "damage", "member=2.5"), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "member=2.5"));
+    assert_int_equal(sph_effect(sim, "damage", "member=-1"), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "member=-1"));
     check(sim, sph_effect(sim, "damage", NULL));
     assert_int_equal(sph_run(sim, 1), SPH_ERR_STATE); /* no material has flaws */
     assert_non_null(strstr(sph_errmsg(sim), "weibull_k"));
@@ -520,6 +631,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(flaw_counts_follow_k_V_eps_to_the_m),
         cmocka_unit_test(weakest_flaws_follow_the_first_arrival_law),
+        cmocka_unit_test(ensemble_members_draw_independent_flaws),
         cmocka_unit_test(one_active_flaw_grows_cube_root_of_damage_linearly),
         cmocka_unit_test(damage_is_capped_by_the_active_share_of_flaws),
         cmocka_unit_test(damage_onset_in_uniaxial_compression_at_E_eps_min_over_nu),
