@@ -12,10 +12,16 @@
  *                           vonmises, stress, energy) or a quantity of the
  *                           damage effect: damage (D), flaws (number of
  *                           flaws), flaw_strain (weakest activation strain),
- *                           active_flaws (flaws active at the current state)
+ *                           active_flaws (flaws active at the current state),
+ *                           fragment (the least atom ID of the atom's
+ *                           fragment: connected atoms of the group with
+ *                           D < 1, as the library's fragment field; -1)
  * Pressure, stress and von Mises come from the library's
  * sph_derived_fields(), the energy from sph_energy_fields(), the active
- * flaws from sph_damage_active(), on the state arrays in place.
+ * flaws from sph_damage_active(), the fragments from rounds of
+ * sph_damage_fragment_labels() over an occasional full neighbour list,
+ * with the labels of ghost atoms brought up to date between rounds, until
+ * no rank changes one.
  */
 #ifdef COMPUTE_CLASS
 // clang-format off
@@ -44,7 +50,10 @@ class ComputeSPHSolidAtom : public Compute {
   ComputeSPHSolidAtom(class LAMMPS *, int, char **);
   ~ComputeSPHSolidAtom() override;
   void init() override;
+  void init_list(int, class NeighList *) override;
   void compute_peratom() override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
   double memory_usage() override;
 
  private:
@@ -57,16 +66,21 @@ class ComputeSPHSolidAtom : public Compute {
     DAMAGE,
     FLAWS,
     FLAW_STRAIN,
-    ACTIVE_FLAWS
+    ACTIVE_FLAWS,
+    FRAGMENT
   };
   bool is_damage() const { return quantity >= DAMAGE; }
   Quantity quantity;
   int dim, ncomp, nmax;
   PairSPHSolid *pair;
-  double *values;               // per-atom vector
-  double **columns;             // per-atom array (stress)
-  std::vector<int> material;    // library material of each owned atom
-  std::vector<double> mass;     // mass of each owned atom (energy)
+  double *values;                       // per-atom vector
+  double **columns;                     // per-atom array (stress)
+  std::vector<int> material;            // library material of each owned atom
+  std::vector<double> mass;             // mass of each owned atom (energy)
+  class NeighList *list;                // full list (fragment)
+  std::vector<double> label;            // fragment labels of owned and ghost atoms
+  std::vector<unsigned char> member;    // atoms of the group (fragment)
+  void fragments();
 };
 
 }    // namespace LAMMPS_NS

@@ -914,6 +914,24 @@ SPH_API sph_status sph_damage_active(sph_sim *sim, size_t n, const uint64_t *id,
                                      const int *flaw_count, const double *flaw_strain,
                                      double *active);
 
+/* Effect damage: fragments of caller-owned particles, one round of a
+ * labelling that a code spread over processes repeats until no process
+ * reports a change.  Particles whose member[a] is non-zero (the handle's
+ * free bodies) and whose particles->damage is below 1 are joined when
+ * closer than the kernel support (the rule of SPH_FIELD_FRAGMENT), over the
+ * neighbours of the n_local particles (CSR or lists, ghosts included, each
+ * joined pair listed at least once).  label (n_total, in/out): each
+ * joinable particle gets the least label of its region as far as this
+ * call sees it, the others -1; *changed is 1 if a local label changed.
+ * With labels starting at a global number (the LAMMPS plugin: the atom
+ * ID) and the ghosts' labels brought up to date before each round, the
+ * fixed point gives each fragment the least number of its particles.
+ * Positions are used as given (ghosts already at their image). */
+SPH_API sph_status sph_damage_fragment_labels(sph_sim *sim, const sph_particles *particles,
+                                              const sph_neighbours *neighbours,
+                                              const unsigned char *member, double *label,
+                                              int *changed);
+
 /* Probe interpolation split for distributed particles: add the
  * contributions of particles [0, n_local) to `sums`
  * (SPH_PROBE_VALUES(dim) + 1 doubles, zeroed by the caller; add the sums of

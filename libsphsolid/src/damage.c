@@ -436,3 +436,110 @@ sph_status sph_damage_active(sph_sim *sim, size_t n, const uint64_t *id, const d
     }
     return sph_ok(sim);
 }
+
+sph_status sph_damage_fragment_labels(sph_sim *sim, const sph_particles *particles,
+                                      const sph_neighbours *neighbours, const unsigned char *member,
+                                      double *label, int *changed)
+{
+    const char *fn = "sph_damage_fragment_labels";
+    sph_status st;
+    if ((st = sph_need(sim, particles, fn, "particles")) ||
+        (st = sph_need(sim, neighbours, fn, "neighbours")) ||
+        (st = sph_need(sim, changed, fn, "changed")))
+        return st;
+    *changed = 0;
+    if (!sim->fx.damage)
+        return sph_fail(sim, SPH_ERR_STATE, "%s: effect damage is off (sph_effect)", fn);
+    const size_t n = particles->n_total, n_local = particles->n_local;
+    if (n == 0)
+        return sph_ok(sim);
+    if ((st = sph_need(sim, particles->x, fn, "particles->x")) ||
+        (st = sph_need(sim, particles->damage, fn, "particles->damage")) ||
+        (st = sph_need(sim, member, fn, "member")) || (st = sph_need(sim, label, fn, "label")))
+        return st;
+    if (n_local > n)
+        return sph_fail(sim, SPH_ERR_ARGUMENT, "%s: n_local=%zu is more than n_total=%zu", fn,
+                        n_local, n);
+    const int by_rows = neighbours->offsets && neighbours->indices;
+    if (!by_rows && !(neighbours->lists && neighbours->counts) && n_local > 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "%s: give neighbours as offsets+indices or "
+                        "lists+counts",
+                        fn);
+    if (!(sim->h > 0.0))
+        return sph_fail(sim, SPH_ERR_STATE, "%s: the smoothing length is not set (sph_set_spacing)",
+                        fn);
+    size_t *parent = malloc(n * sizeof *parent);
+    double *least = malloc(n * sizeof *least);
+    if (!parent || !least) {
+        free(parent);
+        free(least);
+        return sph_fail(sim, SPH_ERR_MEMORY, "%s: cannot allocate for %zu particles", fn, n);
+    }
+    /* the joining rule of damage_fragments: particles of free bodies
+     * (member) with D < 1, closer than the kernel support */
+    const int dim = sim->dim;
+    const size_t stride = particles->stride ? particles->stride : (size_t)dim;
+    const double reach = kernel_support(sim->kernel) * sim->h, reach2 = reach * reach;
+    const double *x = particles->x, *D = particles->damage;
+    for (size_t a = 0; a < n; ++a)
+        parent[a] = a;
+    for (size_t a = 0; a < n_local; ++a) {
+        if (!member[a] || !(D[a] < 1.0))
+            continue;
+        const int *row;
+        size_t count;
+        if (by_rows) {
+            row = neighbours->indices + neighbours->offsets[a];
+            count = neighbours->offsets[a + 1] - neighbours->offsets[a];
+        } else {
+            row = neighbours->lists[a];
+            count = (size_t)neighbours->counts[a];
+        }
+        for (size_t k = 0; k < count; ++k) {
+            const size_t b = (size_t)row[k];
+            if (b >= n) {
+                free(parent);
+                free(least);
+                return sph_fail(sim, SPH_ERR_ARGUMENT,
+                                "%s: neighbour %zu of particle %zu is not below n_total=%zu", fn, b,
+                                a, n);
+            }
+            if (!member[b] || !(D[b] < 1.0))
+                continue;
+            double r2 = 0.0;
+            for (int i = 0; i < dim; ++i) {
+                const double d = x[a * stride + i] - x[b * stride + i];
+                r2 += d * d;
+            }
+            if (!(r2 < reach2))
+                continue;
+            const size_t ra = find_root(parent, a), rb = find_root(parent, b);
+            if (ra < rb)
+                parent[rb] = ra;
+            else if (rb < ra)
+                parent[ra] = rb;
+        }
+    }
+    /* each region's least label, then every member's label */
+    for (size_t a = 0; a < n; ++a)
+        least[a] = INFINITY;
+    for (size_t a = 0; a < n; ++a) {
+        if (!member[a] || !(D[a] < 1.0))
+            continue;
+        const size_t r = find_root(parent, a);
+        if (label[a] < least[r])
+            least[r] = label[a];
+    }
+    int moved = 0;
+    for (size_t a = 0; a < n; ++a) {
+        const double next = member[a] && D[a] < 1.0 ? least[find_root(parent, a)] : -1.0;
+        if (a < n_local && next != label[a])
+            moved = 1;
+        label[a] = next;
+    }
+    free(parent);
+    free(least);
+    *changed = moved;
+    return sph_ok(sim);
+}

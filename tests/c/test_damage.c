@@ -571,6 +571,78 @@ static void a_fully_damaged_band_splits_a_block_into_two_fragments(void **state)
     }
 }
 
+/* The labelling of caller-owned particles (sph_damage_fragment_labels)
+ * gives each fragment of SPH_FIELD_FRAGMENT the least label of its
+ * particles: with labels index + 1, fragment f's first index + 1; the same
+ * with a full list and with each pair once; -1 where the field has -1. */
+static void fragment_labels_of_external_particles_match_the_field(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(21, 10, 1e-3);
+    check(sim, sph_material_set(sim, 0, "weibull_k", 1.0));
+    check(sim, sph_material_set(sim, 0, "weibull_m", 1.0));
+    check(sim, sph_effect(sim, "damage", NULL));
+    double *x = copy_field(sim, SPH_FIELD_POSITION, 420);
+    double *D = field_ptr(sim, SPH_FIELD_DAMAGE);
+    for (int a = 0; a < 210; ++a)
+        if (fabs(x[2 * a]) < 2e-3 || a == 17 || a == 150) /* a band and two holes */
+            D[a] = 1.0;
+    double fragment[210], first[210];
+    check(sim, sph_field_copy(sim, SPH_FIELD_FRAGMENT, fragment));
+    for (int f = 0; f < 210; ++f)
+        first[f] = -1.0;
+    for (int a = 209; a >= 0; --a)
+        if (fragment[a] >= 0)
+            first[(int)fragment[a]] = a;
+    /* every pair within 3 dx: full rows, and each pair once */
+    static int full[210 * 210], half[210 * 210];
+    size_t full_rows[211], half_rows[211], nf = 0, nh = 0;
+    for (int a = 0; a < 210; ++a) {
+        full_rows[a] = nf;
+        half_rows[a] = nh;
+        for (int b = 0; b < 210; ++b) {
+            const double dx = x[2 * a] - x[2 * b], dy = x[2 * a + 1] - x[2 * b + 1];
+            if (b == a || dx * dx + dy * dy > 9e-6)
+                continue;
+            full[nf++] = b;
+            if (b > a)
+                half[nh++] = b;
+        }
+    }
+    full_rows[210] = nf;
+    half_rows[210] = nh;
+    unsigned char member[210];
+    memset(member, 1, sizeof member);
+    const double *mass = field_ptr(sim, SPH_FIELD_MASS);
+    for (int list = 0; list < 2; ++list) {
+        sph_particles p = {0};
+        p.n_local = p.n_total = 210;
+        p.x = x;
+        p.mass = mass;
+        p.damage = D;
+        sph_neighbours nb = {0};
+        nb.offsets = list ? half_rows : full_rows;
+        nb.indices = list ? half : full;
+        double label[210];
+        for (int a = 0; a < 210; ++a)
+            label[a] = a + 1;
+        int changed = 0, fragments = 0;
+        check(sim, sph_damage_fragment_labels(sim, &p, &nb, member, label, &changed));
+        assert_true(changed);
+        for (int a = 0; a < 210; ++a) {
+            const double expected = fragment[a] < 0 ? -1.0 : first[(int)fragment[a]] + 1;
+            assert_close(label[a], expected, 0, "fragment label");
+            fragments += label[a] == a + 1;
+        }
+        assert_int_equal(fragments, 2);
+        /* a second round changes nothing */
+        check(sim, sph_damage_fragment_labels(sim, &p, &nb, member, label, &changed));
+        assert_false(changed);
+    }
+    free(x);
+    sph_destroy(sim);
+}
+
 /* Newton's third law: the platens' reactions and the SPH forces on the
  * specimen sum to zero (no gravity). */
 static void platen_reactions_balance_the_forces_on_the_specimen(void **state)
@@ -641,6 +713,7 @@ int main(void)
         cmocka_unit_test(damaged_stress_keeps_compression_and_scales_the_deviator),
         cmocka_unit_test(largest_principal_strain_of_a_rotated_tensor),
         cmocka_unit_test(a_fully_damaged_band_splits_a_block_into_two_fragments),
+        cmocka_unit_test(fragment_labels_of_external_particles_match_the_field),
         cmocka_unit_test(platen_reactions_balance_the_forces_on_the_specimen),
         cmocka_unit_test(bad_damage_input_names_the_value),
     };

@@ -80,12 +80,13 @@ MODEL = textwrap.dedent("""\
 DUMP = ("write_dump all custom {path} id type x y vx vy c_rho c_stress[*]{extra} "
         "modify sort id format float %.17g\n")
 
-DAMAGE_OUT = " c_D c_flaws c_strain c_active"
+DAMAGE_OUT = " c_D c_flaws c_strain c_active c_F"
 DAMAGE_COMPUTES = textwrap.dedent("""\
     compute D all sphsolid/atom damage
     compute flaws all sphsolid/atom flaws
     compute strain all sphsolid/atom flaw_strain
     compute active all sphsolid/atom active_flaws
+    compute F specimen sphsolid/atom fragment
     """)
 
 
@@ -107,7 +108,8 @@ VARIABLES = {"weibull_k": WEIBULL_K, "fix": "improved_euler"}
 
 
 def final(path: Path) -> np.ndarray:
-    """Rows by atom ID: id type x y vx vy rho sxx syy szz sxy [D flaws strain active]."""
+    """Rows by atom ID: id type x y vx vy rho sxx syy szz sxy [D flaws strain active
+    fragment]."""
     return np.loadtxt(path, skiprows=9)
 
 
@@ -125,6 +127,10 @@ def check_damaged(rows: np.ndarray) -> None:
     platens = rows[rows[:, 1] != 1]
     assert (platens[:, 11] == 0).all() and (platens[:, 12] == 0).all()
     assert np.isinf(platens[:, 13]).all()
+    # fragments: the least ID of each, -1 at D = 1, 0 outside the group
+    assert (platens[:, 15] == 0).all()
+    assert ((spec[:, 15] == -1) == (spec[:, 11] == 1)).all()
+    assert (spec[spec[:, 15] > 0, 15] <= spec[spec[:, 15] > 0, 0]).all()
 
 
 @pytest.mark.parametrize("fix", ["improved_euler", "leapfrog"])
@@ -139,8 +145,8 @@ def test_two_ranks_give_bitwise_the_damage_field_of_one(tmp_path, plugin, fix):
     # position); the platens' IDs follow the creation order of each rank
     sa, sb = specimen(a), specimen(b)
     np.testing.assert_allclose(sb[:, 2:4], sa[:, 2:4], rtol=0, atol=1e-15)
-    # D, flaw count, weakest strain and active flaws: bitwise
-    np.testing.assert_array_equal(sa[:, 11:15], sb[:, 11:15])
+    # D, flaw count, weakest strain, active flaws, fragments: bitwise
+    np.testing.assert_array_equal(sa[:, 11:16], sb[:, 11:16])
     # the rest of the state to round-off (sums over ranks in another order)
     for col in range(4, 11):
         scale = np.abs(sa[:, col]).max()
@@ -169,7 +175,7 @@ def test_restart_gives_bitwise_the_straight_damage_field(tmp_path, plugin):
     a, b = final(straight / "final.txt"), final(restarted / "final.txt")
     check_damaged(a)
     np.testing.assert_array_equal(a[:, :2], b[:, :2])
-    np.testing.assert_array_equal(a[:, 11:15], b[:, 11:15])
+    np.testing.assert_array_equal(a[:, 11:16], b[:, 11:16])
     for col in range(2, 11):
         scale = np.abs(a[:, col]).max()
         assert np.abs(a[:, col] - b[:, col]).max() <= 1e-9 * scale, col
@@ -226,7 +232,7 @@ def library_run(initial: np.ndarray, steps: int, dt: float, integrator: str = "i
     dyn.run(steps=steps)
     n = len(spec)
     return (scene.damage[:n].copy(), scene.positions[:n].copy(), scene.flaws[:n].copy(),
-            scene.flaw_strain[:n].copy())
+            scene.flaw_strain[:n].copy(), scene.fragments[:n].copy())
 
 
 @pytest.mark.parametrize("fix", ["improved_euler", "leapfrog"])
@@ -239,8 +245,13 @@ def test_library_gives_the_same_damage_field(tmp_path, plugin, fix):
     initial = np.loadtxt(tmp_path / "initial.txt", skiprows=9)
     rows = final(tmp_path / "final.txt")
     check_damaged(rows)
-    D, x, flaws, strain = library_run(initial, STEPS, dt, fix)
+    D, x, flaws, strain, fragment = library_run(initial, STEPS, dt, fix)
     spec = specimen(rows)
+    # the library numbers fragments 0, 1, ... in the order of their first
+    # particle; the plugin gives each the least ID of its atoms
+    first = {f: i for i, f in reversed(list(enumerate(fragment))) if f >= 0}
+    np.testing.assert_array_equal(
+        spec[:, 15], [first[f] + 1 if f >= 0 else -1 for f in fragment])
     np.testing.assert_array_equal(spec[:, 12], flaws)
     np.testing.assert_array_equal(spec[:, 13], strain)
     np.testing.assert_array_equal(spec[:, 11], D)
