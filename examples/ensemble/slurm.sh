@@ -12,7 +12,7 @@
 #   MEMBERS=64 DECK=$HOME/sphsolid/examples/brazilian/in.brazilian sbatch examples/ensemble/slurm.sh
 #
 # Output (in the submission directory): ensemble.txt, one line per member
-# "member peak_load_N strength_Pa strain_at_peak onset_s"; each member's
+# "member peak_load_N strength_Pa strain_at_peak onset_s fragments"; each member's
 # load_member<i>.txt and damage_member<i>.txt; log.lammps.<world>.
 #
 #SBATCH --job-name=sph-ensemble

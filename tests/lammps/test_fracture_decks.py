@@ -42,9 +42,13 @@ def test_deck_loads_past_the_peak_and_prints_the_strength(tmp_path, plugin, deck
     else:
         strength = printed(log, "indirect tensile strength 2P/(pi D t):")
         assert strength == pytest.approx(2 * peak / (math.pi * 0.05), rel=1e-9)
-    # the damage field: some atoms fully damaged, some whole
-    D = np.loadtxt(next(tmp_path.glob("damage_*.txt")), skiprows=9)[:, 3]
+    # the damage field: some atoms fully damaged, some whole; the fragments
+    # the deck counts are the labels that equal their atom's ID
+    field = np.loadtxt(next(tmp_path.glob("damage_*.txt")), skiprows=9)
+    D, F = field[:, 3], field[:, 4]
     assert (D == 1.0).any() and (D == 0.0).any()
+    assert ((F == -1) == (D == 1)).all()
+    assert printed(log, "fragments:") == (F == field[:, 0]).sum() >= 1
 
 
 def test_two_partitions_give_each_member_bitwise_as_alone(tmp_path, plugin):
@@ -71,6 +75,7 @@ def test_two_partitions_give_each_member_bitwise_as_alone(tmp_path, plugin):
         log = (alone / "log.lammps").read_text()
         row = rows[rows[:, 0] == member][0]
         assert row[2] == pytest.approx(printed(log, "UCS:"), rel=1e-9)
+        assert row[5] == printed(log, "fragments:")
     # two members: two draws, two damage fields
     assert (job / "damage_member0.txt").read_bytes() != (job / "damage_member1.txt").read_bytes()
 
