@@ -1,5 +1,7 @@
 """The fracture decks: examples/ucs/in.ucs and examples/brazilian/in.brazilian
-run to failure at a very coarse dx and print their strength; and the flaw
+run to failure at a very coarse dx and print their strength; their atoms
+are the library scenes' particles in the same order, so a deck's member
+is the library's member (the same damage field, bitwise); and the flaw
 ensemble as one LAMMPS job (examples/ensemble/in.ensemble, -partition 2x1):
 member i of the job is bitwise member i run alone.
 """
@@ -49,6 +51,35 @@ def test_deck_loads_past_the_peak_and_prints_the_strength(tmp_path, plugin, deck
     assert (D == 1.0).any() and (D == 0.0).any()
     assert ((F == -1) == (D == 1)).all()
     assert printed(log, "fragments:") == (F == field[:, 0]).sum() >= 1
+
+
+@pytest.mark.parametrize("deck,dx,t_end", [(UCS, 0.006, 0.0035), (BRAZILIAN, 0.004, 0.0085)],
+                         ids=["ucs", "brazilian"])
+def test_deck_member_is_the_library_member(tmp_path, plugin, deck, dx, t_end):
+    # The library scene (sphsolid.fracture) with the damage effect's member
+    # 1, run as long as the deck (past the peak; the deck's stop at the
+    # drop is switched off: the loads it would stop on are taken at
+    # another stage than the library's, so the stop can fall a sample
+    # apart).  The deck's specimen atoms are the scene's particles in its
+    # order (ID = index + 1), so they draw the same flaws, and the damage
+    # field and the fragments come out bitwise the same.
+    from sphsolid import ImprovedEuler, _lib, fracture
+
+    run_deck(deck, tmp_path, {"dx": dx, "member": 1, "t_end": t_end, "drop": -1e30}, plugin)
+    log = (tmp_path / "log.lammps").read_text()
+    field = np.loadtxt(next(tmp_path.glob("damage_*.txt")), skiprows=9)
+    steps = int(np.loadtxt(next(tmp_path.glob("load_*.txt")), ndmin=2)[-1, 0])
+    scene = fracture.ucs(dx) if deck == UCS else fracture.brazilian_disc(dx)
+    _lib.check(_lib.lib.sph_effect(scene.handle, b"damage", b"seed=1 flaws=10 member=1"),
+               scene.handle, "member")
+    ImprovedEuler(scene, progress=False).run(steps=steps)
+    n = len(field)
+    D = scene.damage[:n]
+    assert 10 < (D > 0).sum() < n - 10 and (D == 1).any()
+    np.testing.assert_array_equal(field[:, 3], D)
+    np.testing.assert_allclose(field[:, 1:3], scene.positions[:n], rtol=0, atol=1e-9)
+    fragments = scene.fragments[:n]
+    assert printed(log, "fragments:") == fragments.max() + 1
 
 
 def test_two_partitions_give_each_member_bitwise_as_alone(tmp_path, plugin):
