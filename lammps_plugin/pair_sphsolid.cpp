@@ -864,7 +864,7 @@ void PairSPHSolid::draw_flaws(const unsigned char *flawed)
                "material with flaws: give its pair_coeff weibull_k [m^-3] and weibull_m > 0");
 }
 
-bool PairSPHSolid::grow_damage(double dt)
+bool PairSPHSolid::grow_damage(double dt, bool any_rank)
 {
   if (!damage) return false;
   damage_inputs();
@@ -876,6 +876,7 @@ bool PairSPHSolid::grow_damage(double dt)
   if (status != SPH_OK)
     error->one(FLERR, "pair sphsolid: damage stage at step {}: {} ({})", update->ntimestep,
                sph_errmsg(sim), sph_status_name(status));
+  if (!any_rank) return changed != 0;
   MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, world);
   return any != 0;
 }

@@ -115,11 +115,12 @@ class PairSPHSolid : public Pair {
    * particles use).  draw_flaws: the flaws of every owned atom, none for
    * atoms whose flawed[i] is 0 (those the integrator does not move freely:
    * platens, rigid bodies).  grow_damage: the damage stage after a step of
-   * dt, true on every rank if D grew on any.  active_flaws: the flaws
+   * dt; with any_rank, true on every rank if D grew on any (a collective),
+   * else whether it grew on this rank.  active_flaws: the flaws
    * active at the current state (nlocal values into out). */
   bool damage_on() const { return damage; }
   void draw_flaws(const unsigned char *flawed);
-  bool grow_damage(double dt);
+  bool grow_damage(double dt, bool any_rank);
   void active_flaws(double *out);
 
  private:
