@@ -16,7 +16,8 @@ build_beside() {
         src=$work/base
         [ "$side" = head ] && src=.
         cmake -S "$src" -B "$work/build-$side" -DCMAKE_BUILD_TYPE=Release \
-            -DSPHSOLID_LAMMPS_PLUGIN=OFF -DSPHSOLID_TESTS=OFF -DSPHSOLID_EXAMPLES=OFF "$@" >/dev/null
+            -DSPHSOLID_LAMMPS_PLUGIN=OFF -DSPHSOLID_TESTS=OFF -DSPHSOLID_EXAMPLES=OFF \
+            -DSPHSOLID_BENCH=ON "$@" >/dev/null
         cmake --build "$work/build-$side" -j2 --target "$target" >/dev/null
     done
 }

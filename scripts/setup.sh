@@ -24,7 +24,8 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 echo "setup: building the C library (build/)"
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=OFF >/dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=OFF \
+    -DSPHSOLID_EXAMPLES=ON -DSPHSOLID_BENCH=ON >/dev/null
 cmake --build build -j"$(nproc)" >/dev/null
 
 if [ ! -x .venv/bin/python ]; then
@@ -33,12 +34,18 @@ if [ ! -x .venv/bin/python ]; then
 fi
 .venv/bin/python -m pip install -q --upgrade pip
 # Reinstall the package when its sources changed since the last install.
-stamp=$( (cat pyproject.toml CMakeLists.txt; find python libsphsolid -type f \
-          \( -name '*.py' -o -name '*.c' -o -name '*.h' -o -name '*.txt' -o -name '*.in' \) \
-          -print0 | sort -z | xargs -0 cat) | sha1sum | cut -d' ' -f1)
+# The wheel is built once, kept in build/wheel/ with the digest of its
+# sources, and installed from there (scripts/test_wheel.sh tests the same
+# wheel rather than compiling the library again).
+stamp=$(bash scripts/source_stamp.sh)
 if ! .venv/bin/python -c "import sphsolid" 2>/dev/null || [ "$(cat .venv/.sphsolid-stamp 2>/dev/null)" != "$stamp" ]; then
-    echo "setup: installing the sphsolid Python package into .venv"
-    .venv/bin/python -m pip install -q ".[test]"
+    echo "setup: building the sphsolid wheel (build/wheel/) and installing it into .venv"
+    rm -rf build/wheel
+    .venv/bin/python -m pip wheel -q --no-deps . -w build/wheel
+    wheel=$(ls build/wheel/sphsolid-*.whl)
+    .venv/bin/python -m pip install -q "${wheel}[test]"
+    .venv/bin/python -m pip install -q --force-reinstall --no-deps "$wheel"
+    echo "$stamp" > build/wheel/stamp
     echo "$stamp" > .venv/.sphsolid-stamp
 fi
 

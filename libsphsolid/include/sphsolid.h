@@ -585,8 +585,9 @@ SPH_API sph_status sph_set_probe_outside(sph_sim *sim, sph_probe_outside mode);
 
 /* Open an HDF5 output file (layout in docs/hdf5_layout.md).  Particle
  * snapshots are written every `snapshot_interval` steps (0: none but the
- * first) and probe samples every `probe_interval` steps (0: none).  The
- * current state is written as frame 0 at once. */
+ * first) and probe samples every `probe_interval` steps (0: none; > 0
+ * needs at least one probe, SPH_ERR_ARGUMENT otherwise).  The current state
+ * is written as frame 0 at once. */
 SPH_API sph_status sph_output_open(sph_sim *sim, const char *path, long snapshot_interval,
                                    long probe_interval);
 /* Write a snapshot of the current state now. */

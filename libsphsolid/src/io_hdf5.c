@@ -17,6 +17,13 @@
  *   - output frames count only once flushed: `complete_frames` is raised
  *     after the frame's data reached the file, so a full disk or a killed
  *     process leaves every earlier frame readable;
+ *   - nothing readers already trust is rewritten across a page boundary:
+ *     a chunk that later appends rewrite in place (one holding several
+ *     rows of a series) fits in one page and starts on a page boundary,
+ *     as do the metadata blocks (IO_PAGE, file_access).  Linux copies a
+ *     write into a file a page at a time and stops a killed process only
+ *     between pages, so such a rewrite is left wholly old or wholly new,
+ *     never a chunk whose checksum no longer matches rows written before;
  *   - checkpoints are built in memory, written to a fresh temporary file,
  *     synced, closed and renamed over the target: a failure leaves the
  *     previous checkpoint in place;
@@ -262,21 +269,35 @@ int io_write_dataset(io *c, hid_t loc, const char *name, hid_t type, int rank, c
     return c->failed ? -1 : 0;
 }
 
+/* Rows per chunk of a series whose rows take row_bytes each: at most
+ * max_rows, and a chunk of more than one row (rewritten in place as rows
+ * are appended) fits in one page with its 4-byte checksum. */
+static hsize_t series_chunk_rows(hsize_t row_bytes, hsize_t max_rows)
+{
+    hsize_t rows = (IO_PAGE - 4) / row_bytes;
+    if (rows > max_rows)
+        rows = max_rows;
+    return rows < 1 ? 1 : rows;
+}
+
 /* An H5MD time series: group with extendible step, time and value, each
- * chunked and checksummed (value in chunks of value_rows records). */
+ * chunked and checksummed (value in chunks of at most value_rows records;
+ * see series_chunk_rows). */
 int io_series_create(io *c, hid_t loc, const char *name, int rank, const hsize_t *inner,
                      hsize_t value_rows)
 {
     hid_t g = io_group_create(c, loc, name);
-    hsize_t dims[4] = {0}, maxd[4] = {H5S_UNLIMITED}, chunk[4] = {1};
-    for (int i = 0; i < rank; ++i)
+    hsize_t dims[4] = {0}, maxd[4] = {H5S_UNLIMITED}, chunk[4] = {1}, value_bytes = 8;
+    for (int i = 0; i < rank; ++i) {
         dims[i + 1] = maxd[i + 1] = chunk[i + 1] = inner[i];
+        value_bytes *= inner[i];
+    }
     const char *names[3] = {"step", "time", "value"};
     for (int k = 0; k < 3 && !c->failed; ++k) {
         const int r = k < 2 ? 1 : rank + 1;
         hsize_t c1[4];
         memcpy(c1, chunk, sizeof c1);
-        c1[0] = k < 2 ? 256 : value_rows;
+        c1[0] = k < 2 ? series_chunk_rows(8, 256) : series_chunk_rows(value_bytes, value_rows);
         char what[160];
         snprintf(what, sizeof what, "%s/%s", name, names[k]);
         hid_t space = H5Screate_simple(r, dims, maxd);
@@ -347,7 +368,9 @@ int io_series_append(io *c, hid_t loc, const char *path, long step, double time,
 }
 
 /* File access: output files in the HDF5 1.8 format (checksummed metadata;
- * readable by HDF5 1.8 and later and by h5py); checkpoints built in memory
+ * readable by HDF5 1.8 and later and by h5py), every block of half a page
+ * or more (multi-row chunks, metadata blocks) aligned on a page boundary;
+ * checkpoints built in memory
  * (no disk access by HDF5: the image is written by write_image) in the
  * oldest format that holds them, whose in-memory image HDF5 1.10 hands out
  * intact.  Closing a file closes everything in it. */
@@ -360,6 +383,7 @@ static hid_t file_access(io *c, int in_memory)
                                    H5F_LIBVER_V18),
               "file format") &&
         io_ok(c, H5Pset_fclose_degree(fapl, H5F_CLOSE_STRONG), "file access properties") &&
+        (in_memory || io_ok(c, H5Pset_alignment(fapl, IO_PAGE / 2, IO_PAGE), "file alignment")) &&
         (!in_memory || io_ok(c, H5Pset_fapl_core(fapl, (size_t)1 << 16, 0), "in-memory file")))
         return fapl;
     io_close_id(fapl);

@@ -12,6 +12,9 @@
  * the version was recorded) have no `sphsolid_format` attribute. */
 #define SPH_FILE_FORMAT 2L
 
+/* The page a rewrite in place must not cross (see io_hdf5.c). */
+#define IO_PAGE 4096u
+
 #define NO_HDF5(sim) sph_fail(sim, SPH_ERR_UNSUPPORTED, "libsphsolid was built without HDF5")
 
 #ifdef SPHSOLID_HAVE_HDF5

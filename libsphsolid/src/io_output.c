@@ -374,6 +374,11 @@ sph_status sph_output_open(sph_sim *sim, const char *path, long snapshot_interva
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "output intervals (snapshot %ld, probe %ld) must be >= 0",
                         snapshot_interval, probe_interval);
+    if (probe_interval > 0 && sim->n_probes == 0)
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "probe interval %ld, but there are no probes to sample (add them "
+                        "with sph_add_probe first, or pass a probe interval of 0)",
+                        probe_interval);
     if (sim->out)
         return sph_fail(sim, SPH_ERR_STATE, "an output file is already open ('%s')",
                         sim->out->path);

@@ -23,7 +23,7 @@ from .calculators import Calculator, CLibrary
 from .dynamics import Dynamics, ImprovedEuler, Leapfrog
 from .material import Material
 from .probes import PAPER_PROBES, Probes
-from .scene import Scene
+from .scene import Scene, allowing_large
 from . import scenes
 from . import planner
 
@@ -65,7 +65,7 @@ def _package_version() -> str:
 
 __version__ = _package_version()
 
-__all__ = ["Material", "Scene", "Body", "Free", "Fixed", "Velocity", "Force",
+__all__ = ["Material", "Scene", "allowing_large", "Body", "Free", "Fixed", "Velocity", "Force",
            "Pressure", "Rotation", "block", "rectangle", "box", "prism", "cylinder",
            "particles", "plate", "piston", "disc", "ring", "Calculator", "CLibrary", "Dynamics", "ImprovedEuler",
            "Leapfrog", "Probes", "PAPER_PROBES", "Trajectory", "scenes", "plan", "planner",

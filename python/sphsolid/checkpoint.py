@@ -24,6 +24,10 @@ def marks(every, start: float, until: float) -> list[float]:
                          f"{every!r}")
     first = math.floor(start / every) + 1
     last = math.floor(until / every * (1 + 1e-12))
+    if last < 1:
+        raise ValueError(f"checkpoint_every={every:g} s is longer than the run "
+                         f"(to {until:g} s): no checkpoint would be written; "
+                         "give an interval up to the end time")
     if last - first > 100_000:
         raise ValueError(f"checkpoint_every={every!r} s writes "
                          f"{last - first + 1} checkpoints up to {until!r} s;"

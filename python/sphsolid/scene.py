@@ -7,6 +7,8 @@ the particle arrays are numpy views of the library's own storage.
 """
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import ctypes
 from typing import Iterable, Mapping, Sequence
 
@@ -18,10 +20,30 @@ from .build import Body, Free
 from .units import check_scale, length as _length, lengths as _lengths
 from .units import quantity as _quantity
 
-__all__ = ["Scene", "DEFAULT_SMOOTHING_RATIO"]
+__all__ = ["Scene", "DEFAULT_SMOOTHING_RATIO", "allowing_large"]
 
 #: h / dx used when a scene does not say otherwise (h = 1.2 dx, as in the paper)
 DEFAULT_SMOOTHING_RATIO = 1.2
+
+#: allow_large of the scenes that do not pass their own (allowing_large)
+_ALLOW_LARGE = contextvars.ContextVar("sphsolid_allow_large", default=False)
+
+
+@contextlib.contextmanager
+def allowing_large(allow: bool = True):
+    """Scenes built inside the ``with`` block take ``allow_large=allow``
+    unless they pass their own: the scene builders (:mod:`sphsolid.scenes`,
+    scene files, plans) build large scenes this way, as ``sphsolid ...
+    --allow-large`` does::
+
+        with sphsolid.allowing_large():
+            scene = sphsolid.scenes.uniaxial_cylinder("0.5mm")
+    """
+    token = _ALLOW_LARGE.set(bool(allow))
+    try:
+        yield
+    finally:
+        _ALLOW_LARGE.reset(token)
 
 
 class _Buffer:
@@ -57,10 +79,12 @@ class Scene:
         h / dx, with dx the first body's spacing (default 1.2).
     kernel : {"cubic_spline", "wendland_c2", "cubic_o4"}
         Default "cubic_spline" (Monaghan 1992).
-    allow_large : bool
+    allow_large : bool, optional
         Let a run take up to all of the memory available, not half of it
         (``sph_set_allow_large``); bodies beyond the limit are refused
         before they are built, naming the particle count and bytes.
+        Default False, or the value of an enclosing
+        :func:`allowing_large` block.
 
     Notes
     -----
@@ -76,11 +100,13 @@ class Scene:
                  domain: tuple | None = None,
                  periodic: Sequence[bool] | None = None,
                  smoothing_ratio: float | None = None,
-                 kernel: str = "cubic_spline", allow_large: bool = False):
+                 kernel: str = "cubic_spline", allow_large: bool | None = None):
         if dimension not in (2, 3) or isinstance(dimension, bool):
             raise ValueError(f"dimension must be 2 or 3, got {dimension!r}")
         self._handle = None
         self._handle = _lib.new_handle(dimension)
+        if allow_large is None:
+            allow_large = _ALLOW_LARGE.get()
         self._check(lib.sph_set_allow_large(self._handle, bool(allow_large)),
                     "allow_large")
         self.dimension = dimension

@@ -491,7 +491,13 @@ def run_file(path, out=None, until=None, progress=None, log=print,
     output = spec.output
     h5 = out / output.get("file", f"{spec.path.stem}.h5")
     checkpoint = h5.with_name(f"{h5.stem}_checkpoint.h5")
-    out.mkdir(parents=True, exist_ok=True)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"output folder {str(out)!r}: is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise ValueError(f"output folder {str(out)!r}: cannot make it "
+                         f"({error.strerror})") from None
     threads = spec.threads if threads is None else threads
     if threads is not None:
         scene.calc = CLibrary(threads=threads)

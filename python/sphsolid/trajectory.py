@@ -214,6 +214,9 @@ class Trajectory:
     # ------------------------------------------------------------ reading
     def _open_read(self):
         import h5py
+        if self.path.is_dir():
+            raise OSError(f"Trajectory: cannot read {str(self.path)!r}: it "
+                          "is a directory, not an HDF5 file")
         if not self.path.is_file():
             raise OSError(f"Trajectory: cannot read {str(self.path)!r}: no "
                           "such file")
@@ -227,6 +230,10 @@ class Trajectory:
             self._file.close()
             raise OSError(f"Trajectory: {str(self.path)!r} {problem}")
         self._all = self._file["particles/all"]
+        #: the file format (1: libsphsolid 0.1.0 and 0.2.0, before the
+        #: version was recorded; then sph_output_format_version())
+        version = self._file.attrs.get("sphsolid_format")
+        self.format = 1 if version is None else int(np.ravel(version)[0])
 
     def _readable(self):
         if self.mode != "r":
@@ -251,8 +258,13 @@ class Trajectory:
         # frames count once the library has flushed them (complete_frames);
         # a frame being written when the writer stopped is not counted
         self._readable()
-        return min(int(self._all.attrs["complete_frames"]),
-                   self._all["position/value"].shape[0])
+        if "complete_frames" in self._all.attrs:
+            return min(int(self._all.attrs["complete_frames"]),
+                       self._all["position/value"].shape[0])
+        # format 1 recorded no count: the frames every series holds
+        return min(self._all[f"{name}/{part}"].shape[0]
+                   for name in _SERIES if name in self._all
+                   for part in ("step", "time", "value"))
 
     @property
     def times(self) -> np.ndarray:
@@ -346,7 +358,10 @@ class Trajectory:
         if "observables/probes" not in self._file:
             return None
         g = self._file["observables/probes"]
-        done = slice(0, int(g.attrs["complete_samples"]))
+        if "complete_samples" in g.attrs:
+            done = slice(0, int(g.attrs["complete_samples"]))
+        else:       # format 1: the samples every series holds
+            done = slice(0, min(g[k].shape[0] for k in ("step", "time", "value")))
         return ProbeSeries(names=_attr(g.attrs["names"]).split(),
                            columns=_attr(g.attrs["columns"]).split(),
                            points=self._read(g["points"], slice(None)),
@@ -407,17 +422,26 @@ def file_format() -> int:
     return int(lib.sph_output_format_version())
 
 
+#: what every format-1 output holds (the reader's minimum)
+_FORMAT_1_NEEDS = ("parameters", "particles/all/mass", "particles/all/body",
+                   *(f"particles/all/{name}/{part}" for name in _SERIES
+                     for part in ("step", "time", "value")))
+
+
 def _format_problem(f) -> str:
     """Why an open h5py file is not a libsphsolid output file this
     version reads ('' when it is one)."""
     version = f.attrs.get("sphsolid_format")
     if version is None:
-        if "h5md" in f or "checkpoint" in f:
-            return ("is in libsphsolid file format 1 (written before the "
-                    f"format was versioned); this module reads format "
-                    f"{file_format()}: load its frames into a scene with "
-                    "the library (sph_read_frame) or read it with the "
-                    "version that wrote it")
+        # format 1 (libsphsolid 0.1.0 and 0.2.0) recorded no version: an
+        # output has the H5MD group and the position series
+        if "h5md" in f and "particles/all/position/value" in f:
+            missing = [k for k in _FORMAT_1_NEEDS if k not in f]
+            return (f"is a libsphsolid output of file format 1 without "
+                    f"{', '.join('/' + k for k in missing)}" if missing else "")
+        if "checkpoint" in f:
+            return ("is a checkpoint in libsphsolid file format 1 (written "
+                    "before the format was versioned), not an output file")
         return "is not a libsphsolid file (no sphsolid_format attribute)"
     if int(np.ravel(version)[0]) != file_format():
         return (f"has libsphsolid file format {int(np.ravel(version)[0])}; "
@@ -467,6 +491,9 @@ def write_xdmf(h5_path) -> Path:
     (``S_xx``, ``S_yy``, ...); the data stay in the HDF5 file.
     """
     h5_path = Path(os.fspath(h5_path))
+    if h5_path.is_dir():
+        raise OSError(f"write_xdmf: {str(h5_path)!r} is a directory, not an "
+                      "HDF5 output file")
     handle = _lib.new_handle(2)          # only carries the error message
     try:
         _lib.check(lib.sph_write_xdmf(handle, _lib.encode_path(h5_path)),

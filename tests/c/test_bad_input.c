@@ -457,6 +457,77 @@ static void output_negative_interval(void **state)
     sph_destroy(sim);
 }
 
+/* A probe interval with no probe to sample is refused before the file is
+ * created, naming the interval and the missing probes. */
+static void output_probe_interval_without_probes(void **state)
+{
+    (void)state;
+    needs_hdf5();
+    sph_sim *sim = block();
+    remove("test_bad_input_noprobe.h5");
+    refused(sim, sph_output_open(sim, "test_bad_input_noprobe.h5", 1, 5), SPH_ERR_ARGUMENT,
+            "probe interval 5, but there are no probes");
+    assert_null(sim->out);
+    FILE *f = fopen("test_bad_input_noprobe.h5", "rb");
+    assert_null(f);
+    if (f)
+        fclose(f);
+    /* without a probe interval the same scene opens */
+    check(sim, sph_output_open(sim, "test_bad_input_noprobe.h5", 1, 0));
+    check(sim, sph_output_close(sim));
+    sph_destroy(sim);
+    remove("test_bad_input_noprobe.h5");
+    remove("test_bad_input_noprobe.xmf");
+}
+
+static int never_called(const sph_sim *sim, void *user)
+{
+    (void)sim;
+    (void)user;
+    return 0;
+}
+
+/* The run and output calls refuse their bad arguments naming them, and
+ * leave the handle as it was. */
+static void run_and_output_arguments(void **state)
+{
+    (void)state;
+    needs_hdf5();
+    sph_sim *sim = block();
+    refused(sim, sph_output_open(sim, "", 1, 0), SPH_ERR_ARGUMENT, "output path is empty");
+    refused(sim, sph_output_open(sim, NULL, 1, 0), SPH_ERR_ARGUMENT, "output path is empty");
+    refused(sim, sph_output_open(sim, "x.h5", 0, -3), SPH_ERR_ARGUMENT, "probe -3");
+    assert_null(sim->out);
+    refused(sim, sph_run(sim, -1), SPH_ERR_ARGUMENT, "steps=-1");
+    refused(sim, sph_run_until(sim, NAN), SPH_ERR_ARGUMENT, "until t=nan");
+    check(sim, sph_run(sim, 2));
+    refused(sim, sph_run_until(sim, 0.0), SPH_ERR_ARGUMENT, "not before the current time");
+    assert_int_equal(sph_step_count(sim), 2);
+    refused(sim, sph_set_progress(sim, 0, never_called, NULL), SPH_ERR_ARGUMENT,
+            "progress interval=0");
+    refused(sim, sph_set_dt(sim, -1e-7, 0), SPH_ERR_ARGUMENT, "dt=-1e-07: must be finite");
+    refused(sim, sph_set_dt(sim, 1.0, 0), SPH_ERR_ARGUMENT, "exceeds the stability limit");
+    refused(sim, sph_set_integrator(sim, "heun"), SPH_ERR_ARGUMENT, "heun");
+    refused(sim, sph_set_watchdog(sim, -1.0, 0.5, 2.0), SPH_ERR_ARGUMENT,
+            "watchdog max_speed_over_cp=-1");
+    refused(sim, sph_set_watchdog(sim, 1.0, 1.5, 2.0), SPH_ERR_ARGUMENT,
+            "watchdog min_density_ratio=1.5");
+    assert_string_equal(sph_integrator_name(sim), "improved_euler");
+    /* a second file while one is open */
+    remove("test_bad_input_twice.h5");
+    check(sim, sph_output_open(sim, "test_bad_input_twice.h5", 1, 0));
+    refused(sim, sph_output_open(sim, "test_bad_input_other.h5", 1, 0), SPH_ERR_STATE,
+            "an output file is already open ('test_bad_input_twice.h5')");
+    check(sim, sph_output_close(sim));
+    sph_destroy(sim);
+    remove("test_bad_input_twice.h5");
+    remove("test_bad_input_twice.xmf");
+    FILE *f = fopen("test_bad_input_other.h5", "rb");
+    assert_null(f);
+    if (f)
+        fclose(f);
+}
+
 static void output_in_missing_directory(void **state)
 {
     (void)state;
@@ -558,6 +629,8 @@ int main(void)
         cmocka_unit_test(probe_outside_during_output),
         cmocka_unit_test(probe_non_finite_point),
         cmocka_unit_test(output_negative_interval),
+        cmocka_unit_test(output_probe_interval_without_probes),
+        cmocka_unit_test(run_and_output_arguments),
         cmocka_unit_test(output_in_missing_directory),
         cmocka_unit_test(checkpoint_in_missing_directory),
         cmocka_unit_test(checkpoint_empty_path),

@@ -37,10 +37,10 @@ def test_cylinder_deck_holds_the_library_cylinder_and_agrees_on_1_and_2_ranks(tm
         work.mkdir()
         run_deck(DECK, work, {"dx": dx, "steps": steps, "dump": 1, "every": 10}, plugin,
                  ranks=ranks)
-        runs[ranks] = np.loadtxt(work / "final_cylinder.txt", skiprows=9)
+        runs[ranks] = np.loadtxt(work / "cylinder_final.txt", skiprows=9)
     # the probe histories (A, B, C, D: 8 values each in 3D) agree to
     # round-off relative to each probe's peak
-    a, b = (read_probes(tmp_path / f"np{r}" / "probes_cylinder.txt") for r in (1, 2))
+    a, b = (read_probes(tmp_path / f"np{r}" / "cylinder_probes.txt") for r in (1, 2))
     assert a.shape == b.shape == (steps // 10 + 1, 2 + 4 * 8)
     for p in range(4):
         cols = slice(2 + 8 * p, 10 + 8 * p)

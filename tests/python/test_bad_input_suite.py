@@ -155,9 +155,20 @@ def _far_apart_3d():
 
 def _trajectory_of_old_format(tmp_path):
     path = tmp_path / "old.h5"
-    with h5py.File(path, "w") as f:            # format 1: no version
+    with h5py.File(path, "w") as f:            # format 1 (no version), cut short
         f.create_group("h5md")
         f.create_dataset("particles/all/position/value", data=np.zeros((1, 2, 2)))
+    sphsolid.Trajectory(path)
+
+
+def _trajectory_probes_without_probes(tmp_path):
+    sphsolid.Trajectory(tmp_path / "run.h5", "w", small_scene(), probe_interval=5)
+
+
+def _trajectory_of_old_checkpoint(tmp_path):
+    path = tmp_path / "old.h5"
+    with h5py.File(path, "w") as f:            # a format-1 checkpoint
+        f.create_group("checkpoint")
     sphsolid.Trajectory(path)
 
 
@@ -246,7 +257,12 @@ PYTHON_CASES = [
     (_builder_that_cannot_fit, MemoryError, r"radius 0.07 m .*dx=1e-06 m.*are available"),
     (_scene_that_cannot_fit, MemoryError, r"block 'specimen' \(dx=3e-06 m\).*need about .* are available"),
     (_far_apart_3d, ValueError, r"body 'b': particle 0 at x=1.1e\+07 m lies 1.1e\+10 spacings"),
-    (_trajectory_of_old_format, OSError, r"old.h5' is in libsphsolid file format 1"),
+    (_trajectory_of_old_format, OSError,
+     r"old.h5' is a libsphsolid output of file format 1 without /parameters"),
+    (_trajectory_probes_without_probes, ValueError,
+     r"probe interval 5, but there are no probes to sample"),
+    (_trajectory_of_old_checkpoint, OSError,
+     r"old.h5' is a checkpoint in libsphsolid file format 1 .*not an output"),
     (_trajectory_of_newer_format, OSError, r"new.h5' has libsphsolid file format 7"),
     (_trajectory_of_a_checkpoint, OSError, r"is a libsphsolid checkpoint file, not an output file"),
     (_damaged_trajectory_frame, OSError, r"run.h5' is damaged: /particles/all/position/value fails its checksum"),
@@ -312,6 +328,80 @@ def test_cli_bad_input_exits_naming_the_value(argv, message, tmp_path,
     assert message in err, err
     assert "Traceback" not in err
     assert not list(tmp_path.glob("*.h5"))      # nothing half written
+
+
+# --------------------------- the sphsolid command on files and large scenes
+PULL = str(ROOT / "examples" / "scene_file" / "pull.toml")
+#: files the cases below name as @NAME (made in the test's folder)
+FILES = {
+    "text.h5": b"not an HDF5 file\n",
+    "binary.toml": b"\x00\x01\x02binary",
+    "utf16.toml": "dimension = 2\n".encode("utf-16"),
+    "zero.toml": b"until = 0\n",
+    "both.toml": (ROOT / "examples" / "scene_file" / "pull.toml").read_bytes()
+    + b"snapshot_interval = 5\n",
+    "array.json": b"[1, 2]",
+    "truncated.json": b'{"format": "sphsolid-plan 1", "settings": {"dx": 0.001',
+    "old_format.json": b'{"format": 1, "settings": "cubic_spline"}',
+}
+
+FILE_CLI_CASES = [
+    (["run", "@folder"], "scene file '@folder' is a directory, not a TOML file"),
+    (["run", "@missing.toml"], "scene file '@missing.toml': no such file"),
+    (["run", "@zero.toml"], "until must be a finite time > 0, got 0"),
+    (["run", "@utf16.toml"], "it looks like UTF-16 text"),
+    (["run", "@binary.toml"], "binary.toml: not a text file (a NUL byte at 0)"),
+    (["run", "@both.toml"], "gives both snapshot_every and snapshot_interval"),
+    (["run", PULL, "--threads", "0"], "--threads: '0': must be >= 1"),
+    (["run", PULL, "--checkpoint-every", "1ms"],
+     "checkpoint_every=0.001 s is longer than the run (to 4e-05 s)"),
+    (["run", PULL, "--resume", "@missing.h5"], "No such file or directory"),
+    (["run", PULL, "--resume", "@text.h5"], "as an HDF5 file: file signature not found"),
+    (["run", PULL, "--plan", "@array.json"], "a plan file holds a JSON object, got a list"),
+    (["run", PULL, "--out", "@text.h5"], "output folder '@text.h5': is a file, not a folder"),
+    (["piston", "--plan", "@truncated.json"], "truncated.json: not a JSON plan file"),
+    (["piston", "--plan", "@missing.json"], "cannot read the plan file"),
+    (["piston", "--plan", "@old_format.json"], "'format' is 1; this version reads"),
+    (["piston", "--resume", "@text.h5"], "as an HDF5 file: file signature not found"),
+    (["piston", "--out", "@text.h5"], "--out @text.h5: is a file, not a folder"),
+    (["piston", "--until", "1ms", "--checkpoint-every", "2ms"],
+     "checkpoint_every=0.002 s is longer than the run (to 0.001 s)"),
+    (["piston", "--dim", "3", "--dx", "10um"], "3.092e+11 particles"),
+    (["piston", "--h-over-dx", "-1"], "smoothing ratio h/dx=-1"),
+    (["piston", "--integrator", "heun"], "--integrator: invalid choice: 'heun'"),
+    (["piston", "--preset", "nosuch"], "--preset: invalid choice: 'nosuch'"),
+    (["gravity", "--g", "nan"], "--g: 'nan': must be finite"),
+    (["ucs", "--dx", "0"], "--dx: '0': must be finite and > 0"),
+    (["brazilian", "--out", "@text.h5"], "--out @text.h5: is a file, not a folder"),
+    (["xdmf", "@folder"], "'@folder' is a directory, not an HDF5 output file"),
+    (["xdmf", "@text.h5"], "cannot open HDF5 file '@text.h5'"),
+    (["info", "@folder"], "cannot read '@folder': it is a directory"),
+    (["info", "@text.h5"], "file signature not found"),
+]
+
+
+@pytest.mark.parametrize("argv, message", FILE_CLI_CASES,
+                         ids=[" ".join(c[0]).replace(PULL, "pull.toml")
+                              for c in FILE_CLI_CASES])
+def test_cli_refuses_bad_files_naming_them(argv, message, tmp_path, capsys,
+                                           monkeypatch):
+    from sphsolid.cli import main
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "folder").mkdir()
+    for name, content in FILES.items():
+        (tmp_path / name).write_bytes(content)
+    words = [w.replace("@", "") if w.startswith("@") else w for w in argv]
+    if words[0] in ("run", "piston", "gravity", "ucs", "brazilian") and "--out" not in words:
+        words += ["--out", "out"]
+    try:
+        code = main(words)
+    except SystemExit as exited:          # argparse: status 2
+        code = exited.code
+    assert code not in (0, None)
+    err = capsys.readouterr().err
+    assert message.replace("@", "") in err, err
+    assert "Traceback" not in err
+    assert not list((tmp_path / "out").glob("*.h5")) if (tmp_path / "out").is_dir() else True
 
 
 # ---------------------------------------------------- the example program

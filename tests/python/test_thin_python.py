@@ -192,8 +192,31 @@ def test_the_file_format_is_the_librarys(tmp_path):
         _lib.lib.sph_output_format_version()
     with sphsolid.Trajectory(tmp_path / "run.h5") as reader:
         assert len(reader.times) == 2
-    old = ROOT / "tests" / "data" / "format1_output.h5"
-    if old.is_file():
-        with pytest.raises(OSError, match=f"file format 1 .*this module "
-                           f"reads format {written}"):
-            sphsolid.Trajectory(old)
+
+
+def test_a_format_1_output_is_read():
+    """tests/data/format1_output.h5, written by libsphsolid 0.1.0
+    (tests/data/make_format1_output.c): a free 6 x 4 block at 1 mm pushed
+    down at 1 m/s, dt 1e-7 s, a frame and a probe sample every step for 3
+    steps.  With no internal rates frame k is the lattice moved by
+    -1 m/s x k dt, at rho0 and zero stress."""
+    with sphsolid.Trajectory(ROOT / "tests" / "data" / "format1_output.h5") as old:
+        assert old.format == 1
+        assert len(old) == 4 and list(old.steps) == [0, 1, 2, 3]
+        assert old.times == pytest.approx([0, 1e-7, 2e-7, 3e-7], abs=1e-20)
+        assert old.dimension == 2 and old.body_names == ["block"]
+        first = old[0]
+        i, j = np.meshgrid(np.arange(6), np.arange(4), indexing="ij")
+        lattice = {(round(x, 9), round(y, 9)) for x, y in
+                   zip(((i + 0.5) * 1e-3).ravel(), ((j + 0.5) * 1e-3).ravel())}
+        assert {(round(x, 9), round(y, 9)) for x, y in first.positions} == lattice
+        for k, frame in enumerate(old):
+            np.testing.assert_allclose(frame.positions[:, 1] - first.positions[:, 1],
+                                       -1.0 * k * 1e-7, atol=1e-15)
+            np.testing.assert_allclose(frame.velocities, [[0, -1.0]] * 24)
+            np.testing.assert_allclose(frame.density, 2300.0)
+            assert not frame.deviatoric_stress.any()
+        probes = old.probes
+        assert probes.names == ["centre"] and len(probes.times) == 4
+        assert probes["centre"]["von_mises"] == pytest.approx(np.zeros(4), abs=1e-6)
+        assert "frames: 4" in old.describe()

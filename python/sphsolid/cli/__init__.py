@@ -121,12 +121,18 @@ def main(argv=None) -> int:
     """Run ``sphsolid`` with ``argv`` (default: the command line); returns
     the exit status (2 with the message on a bad value)."""
     from .._lib import SimulationError, UnsupportedError
+    from ..scene import allowing_large
     args = build_parser().parse_args(argv)
     try:
-        return args.run(args)
+        # --allow-large reaches every scene the command builds
+        with allowing_large(getattr(args, "allow_large", False)):
+            return args.run(args)
     except (ValueError, OSError, MemoryError, SimulationError,
             UnsupportedError) as error:
-        print(f"sphsolid: error: {error}", file=sys.stderr)
+        message = str(error)
+        if "sph_set_allow_large" in message and hasattr(args, "allow_large"):
+            message += " (on this command: --allow-large)"
+        print(f"sphsolid: error: {message}", file=sys.stderr)
         return 2
 
 

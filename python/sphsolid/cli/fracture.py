@@ -17,7 +17,7 @@ import math
 import time as wallclock
 from pathlib import Path
 
-from .options import positive, whole
+from .options import add_allow_large_option, output_folder, positive, whole
 
 __all__ = ["add_arguments", "run"]
 
@@ -55,6 +55,7 @@ def add_arguments(parser, name: str) -> None:
                         help="OpenMP threads (default: OpenMP's)")
     parser.add_argument("--out", type=Path, default=Path("."),
                         help="output directory (default: current)")
+    add_allow_large_option(parser)
 
 
 def run(args, name: str) -> int:
@@ -62,7 +63,7 @@ def run(args, name: str) -> int:
     from ..calculators import CLibrary
     from ..trajectory import Trajectory
 
-    args.out.mkdir(parents=True, exist_ok=True)
+    output_folder(args.out)
     if name == "ucs":
         scene = fracture.ucs(args.dx, seed=args.seed)
     else:

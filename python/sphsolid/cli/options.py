@@ -167,6 +167,29 @@ def add_checkpoint_options(parser) -> None:
                         "run from there")
 
 
+def output_folder(path: Path, option: str = "--out") -> Path:
+    """Make the output folder (and its parents), or refuse naming the
+    option: a file in its place, a folder that cannot be made."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{option} {path}: is a file, not a folder")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise ValueError(f"{option} {path}: cannot make the folder "
+                         f"({error.strerror})") from None
+    return path
+
+
+def add_allow_large_option(parser) -> None:
+    """--allow-large of the commands that build a scene."""
+    parser.add_argument("--allow-large", action="store_true",
+                        help="build and run a scene that needs more than "
+                        "half of the available memory (up to all of it; "
+                        "refused otherwise, naming the particle count and "
+                        "bytes)")
+
+
 def add_scene_options(parser, dx: float | None, until: float,
                       frames: int) -> None:
     """The options of the project scenes (``sphsolid piston``, ``gravity``);
@@ -186,6 +209,7 @@ def add_scene_options(parser, dx: float | None, until: float,
     from .._lib import kernel_names
     add_integrator_options(parser)
     add_checkpoint_options(parser)
+    add_allow_large_option(parser)
     parser.add_argument("--kernel", default=None, choices=kernel_names(),
                         help="smoothing kernel (default: the preset's)")
     parser.add_argument("--h-over-dx", type=finite(-math.inf, "must be "

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .options import (add_checkpoint_options, add_integrator_options,
-                      positive_time, whole)
+from .options import (add_allow_large_option, add_checkpoint_options,
+                      add_integrator_options, positive_time, whole)
 
 help = "build and run a scene file (TOML)"
 description = ("Build and run the scene a TOML file describes "
@@ -26,6 +26,7 @@ def add_arguments(parser) -> None:
         "the file's preset key, else none: the file and the library's "
         "defaults"))
     add_checkpoint_options(parser)
+    add_allow_large_option(parser)
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction,
                         default=None)
     parser.add_argument("--plan", type=Path, default=None,

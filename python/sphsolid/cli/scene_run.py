@@ -8,6 +8,8 @@ import sys
 import time as wallclock
 from dataclasses import dataclass
 
+from .options import output_folder
+
 __all__ = ["Resolved", "resolve", "scene_setting", "planned_scene",
            "run_scene"]
 
@@ -121,7 +123,7 @@ def run_scene(args, scene, run: Resolved) -> int:
     from ..trajectory import Frame, Trajectory
 
     name, dx, until = run.name, run.dx, run.until
-    args.out.mkdir(parents=True, exist_ok=True)
+    output_folder(args.out)
     if args.backend == "lammps":
         from ..lammps import Lammps
         scene.calc = Lammps(threads=args.threads)

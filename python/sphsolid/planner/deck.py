@@ -105,7 +105,7 @@ def run_deck(deck: Path, dx: float, until: float, probes, variable: str,
     args = [_lmp(), "-in", str(script), "-log", str(log_path), "-screen",
             "none", "-var", variable, repr(float(dx)), "-var",
             time_variable, repr(float(until))]
-    if "plugin" in declared:
+    if "plugin" in declared or "${plugin}" in text:
         args += ["-var", "plugin", str(find_plugin())]
     for key, value in values:
         args += ["-var", key, str(value)]
