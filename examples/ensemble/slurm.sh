@@ -11,9 +11,10 @@
 #   sbatch examples/ensemble/slurm.sh
 #   MEMBERS=64 DECK=$HOME/sphsolid/examples/brazilian/in.brazilian sbatch examples/ensemble/slurm.sh
 #
-# Output (in the submission directory): ensemble.txt, one line per member
-# "member peak_load_N strength_Pa strain_at_peak onset_s fragments"; each member's
-# load_member<i>.txt and damage_member<i>.txt; log.lammps.<world>.
+# Output (in the submission directory): ensemble_summary.txt, one line per
+# member "member peak_load_N strength_Pa strain_at_peak onset_s fragments";
+# each member's ensemble_member<i>_load.txt and ensemble_member<i>_damage.txt;
+# log.lammps.<world>.
 #
 #SBATCH --job-name=sph-ensemble
 #SBATCH --ntasks=16                    # worlds: members run in parallel

@@ -31,7 +31,7 @@ def printed(log: str, label: str) -> float:
 def test_deck_loads_past_the_peak_and_prints_the_strength(tmp_path, plugin, deck, dx, width):
     run_deck(deck, tmp_path, {"dx": dx}, plugin)
     log = (tmp_path / "log.lammps").read_text()
-    load = np.loadtxt(next(tmp_path.glob("load_*.txt")), comments="#", ndmin=2)
+    load = np.loadtxt(next(tmp_path.glob("*_load.txt")), comments="#", ndmin=2)
     peak = printed(log, "peak load:")
     onset = printed(log, "damage onset:")
     # the peak is the largest sample, damage began before the stop, and the
@@ -46,7 +46,7 @@ def test_deck_loads_past_the_peak_and_prints_the_strength(tmp_path, plugin, deck
         assert strength == pytest.approx(2 * peak / (math.pi * 0.05), rel=1e-9)
     # the damage field: some atoms fully damaged, some whole; the fragments
     # the deck counts are the labels that equal their atom's ID
-    field = np.loadtxt(next(tmp_path.glob("damage_*.txt")), skiprows=9)
+    field = np.loadtxt(next(tmp_path.glob("*_damage.txt")), skiprows=9)
     D, F = field[:, 3], field[:, 4]
     assert (D == 1.0).any() and (D == 0.0).any()
     assert ((F == -1) == (D == 1)).all()
@@ -67,8 +67,8 @@ def test_deck_member_is_the_library_member(tmp_path, plugin, deck, dx, t_end):
 
     run_deck(deck, tmp_path, {"dx": dx, "member": 1, "t_end": t_end, "drop": -1e30}, plugin)
     log = (tmp_path / "log.lammps").read_text()
-    field = np.loadtxt(next(tmp_path.glob("damage_*.txt")), skiprows=9)
-    steps = int(np.loadtxt(next(tmp_path.glob("load_*.txt")), ndmin=2)[-1, 0])
+    field = np.loadtxt(next(tmp_path.glob("*_damage.txt")), skiprows=9)
+    steps = int(np.loadtxt(next(tmp_path.glob("*_load.txt")), ndmin=2)[-1, 0])
     scene = fracture.ucs(dx) if deck == UCS else fracture.brazilian_disc(dx)
     _lib.check(_lib.lib.sph_effect(scene.handle, b"damage", b"seed=1 flaws=10 member=1"),
                scene.handle, "member")
@@ -94,21 +94,22 @@ def test_two_partitions_give_each_member_bitwise_as_alone(tmp_path, plugin):
                           env=dict(os.environ, OMP_NUM_THREADS="1"))
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
     assert "Running on 2 partitions" in done.stdout + (job / "log.lammps").read_text()
-    rows = np.loadtxt(job / "ensemble.txt", ndmin=2)
+    rows = np.loadtxt(job / "ensemble_summary.txt", ndmin=2)
     assert sorted(rows[:, 0]) == [0, 1]
     for member in (0, 1):
         alone = tmp_path / f"alone{member}"
         alone.mkdir()
         run_deck(UCS, alone, {"dx": dx, "member": member}, plugin)
-        for ours, theirs in (("damage_ucs.txt", f"damage_member{member}.txt"),
-                             ("load_ucs.txt", f"load_member{member}.txt")):
+        for ours, theirs in (("ucs_damage.txt", f"ensemble_member{member}_damage.txt"),
+                             ("ucs_load.txt", f"ensemble_member{member}_load.txt")):
             assert (alone / ours).read_bytes() == (job / theirs).read_bytes(), (member, ours)
         log = (alone / "log.lammps").read_text()
         row = rows[rows[:, 0] == member][0]
         assert row[2] == pytest.approx(printed(log, "UCS:"), rel=1e-9)
         assert row[5] == printed(log, "fragments:")
     # two members: two draws, two damage fields
-    assert (job / "damage_member0.txt").read_bytes() != (job / "damage_member1.txt").read_bytes()
+    assert ((job / "ensemble_member0_damage.txt").read_bytes()
+            != (job / "ensemble_member1_damage.txt").read_bytes())
 
 
 def test_slurm_example_runs_the_ensemble_deck():
