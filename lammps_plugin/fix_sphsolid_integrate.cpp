@@ -83,6 +83,7 @@ void FixSPHSolidIntegrate::init()
                  id, style, group->names[igroup]);
   }
   init_rigid_bodies();
+  draw_flaws();
   if (update->dt_default)
     error->all(FLERR,
                "fix {}: no timestep given; use the timestep command or define the fix "
@@ -123,6 +124,22 @@ void FixSPHSolidIntegrate::init_rigid_bodies()
                  "fix sphsolid/force too",
                  rigid[k]->id, all[1]);
   }
+}
+
+/* the library's prescribed and force-driven bodies have no flaws: here the
+   atoms outside the group and those of a fix sphsolid/force body */
+void FixSPHSolidIntegrate::draw_flaws()
+{
+  if (!pair->damage_on()) return;
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  std::vector<unsigned char> flawed((size_t) std::max(nlocal, 1), 0);
+  for (int i = 0; i < nlocal; i++) {
+    flawed[i] = (mask[i] & groupbit) ? 1 : 0;
+    for (FixSPHSolidForce *body : rigid)
+      if (mask[i] & body->groupbit) flawed[i] = 0;
+  }
+  pair->draw_flaws(flawed.data());
 }
 
 /* every atom of a fix sphsolid/force group gets the body's acceleration */

@@ -10,7 +10,10 @@
  * Groups of fix sphsolid/force inside it move as rigid bodies under their
  * applied force: their atoms' dv/dt is the body's (pack()).  Without a
  * timestep command the fix sets the library's default step of its
- * integrator when it is defined.
+ * integrator when it is defined.  With pair sphsolid's damage effect on,
+ * the atoms it moves freely get flaws at init, and the derived fix runs
+ * the library's damage stage after each step (an operator split, as the
+ * library's own runs do).
  */
 #ifndef SPHSOLID_FIX_SPHSOLID_INTEGRATE_H
 #define SPHSOLID_FIX_SPHSOLID_INTEGRATE_H
@@ -53,6 +56,9 @@ class FixSPHSolidIntegrate : public Fix {
   double default_factor();     // default step / (h/c0) of the integrator
   sph_rates stage_rates();
   void check_finite();
+  // effect damage: the flaws of the atoms this fix moves freely (in its
+  // group, in no fix sphsolid/force body), none for the others
+  void draw_flaws();
 };
 
 }    // namespace LAMMPS_NS

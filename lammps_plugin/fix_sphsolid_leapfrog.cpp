@@ -123,4 +123,27 @@ void FixSPHSolidLeapfrog::final_integrate()
       pair->handle(), nlocal, update->dt, atom->v[0], 3, pair->state()->rho, dvbuf.data(),
       integrate_motion.data(), pair->atom_materials(), &bad);
   if (status != SPH_OK) fail(status, bad, "kick");
+
+  // effect damage: flaws activate and D grows on the step's end state.
+  // If D grew the carried rates are stale: both passes again at y_{n+1}
+  // (as the library's leapfrog evaluates both when it carries none), the
+  // acceleration into f with the other fixes' forces kept.
+  if (!pair->grow_damage(update->dt, true)) return;
+  const int dim = pair->dimension();
+  double **f = atom->f;
+  const double *dv_pair = pair->dv_dt();
+  other_force.resize((size_t) std::max(nlocal, 1) * dim);
+  for (int i = 0; i < nlocal; i++) {
+    const double m = pair->mass_of(i);
+    for (int d = 0; d < dim; d++)
+      other_force[(size_t) i * dim + d] = f[i][d] - m * dv_pair[(size_t) i * dim + d];
+  }
+  pair->evaluate_rates(true, SPH_RATES_ALL);
+  dv_pair = pair->dv_dt();
+  for (int i = 0; i < nlocal; i++) {
+    const double m = pair->mass_of(i);
+    for (int d = 0; d < dim; d++)
+      f[i][d] = m * dv_pair[(size_t) i * dim + d] + other_force[(size_t) i * dim + d];
+  }
+  keep_rates(false);
 }

@@ -20,7 +20,7 @@ using namespace LAMMPS_NS;
 
 FixSPHSolidState::FixSPHSolidState(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), rho(nullptr), S(nullptr), saved(nullptr), carried_rho(nullptr),
-    carried_S(nullptr), nmax_arrays(0)
+    carried_S(nullptr), damage(nullptr), flaw_count(nullptr), flaw_strain(nullptr), nmax_arrays(0)
 {
   if (narg != 3)
     error->all(FLERR, "fix SPHSOLID/STATE is created by pair sphsolid and takes no arguments");
@@ -47,10 +47,9 @@ FixSPHSolidState::FixSPHSolidState(LAMMPS *lmp, int narg, char **arg) :
 
   restart_peratom = 1;
   create_attribute = 1;
-  comm_forward = 3 + 3 + 1 + ncomp;    // with positions and velocities
   forward_motion = false;
   forward_stress = true;
-  maxexchange = 2 * (1 + ncomp) + nsaved;
+  set_comm_sizes();
 
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
@@ -69,6 +68,41 @@ FixSPHSolidState::~FixSPHSolidState()
   memory->destroy(saved);
   memory->destroy(carried_rho);
   memory->destroy(carried_S);
+  memory->destroy(damage);
+  memory->destroy(flaw_count);
+  memory->destroy(flaw_strain);
+}
+
+/* values per atom of a forward message (with positions and velocities) and
+   of an exchange */
+void FixSPHSolidState::set_comm_sizes()
+{
+  const int with_damage = damage ? 1 : 0;
+  comm_forward = 3 + 3 + 1 + ncomp + with_damage;
+  maxexchange = 2 * (1 + ncomp) + nsaved + 3 * with_damage;
+}
+
+void FixSPHSolidState::set_damage(bool on)
+{
+  if (on == damage_on()) return;
+  if (!on) {
+    memory->destroy(damage);
+    memory->destroy(flaw_count);
+    memory->destroy(flaw_strain);
+    damage = flaw_strain = nullptr;
+    flaw_count = nullptr;
+  } else {
+    const int n = std::max(nmax_arrays, 1);
+    memory->create(damage, n, "sphsolid:damage");
+    memory->create(flaw_count, n, "sphsolid:flaw_count");
+    memory->create(flaw_strain, n, "sphsolid:flaw_strain");
+    for (int i = 0; i < n; i++) {
+      damage[i] = 0.0;
+      flaw_count[i] = 0;
+      flaw_strain[i] = INFINITY;
+    }
+  }
+  set_comm_sizes();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -82,6 +116,11 @@ void FixSPHSolidState::grow_arrays(int nmax)
   memory->grow(saved, nmax, nsaved, "sphsolid:saved");
   memory->grow(carried_rho, nmax, "sphsolid:carried_rho");
   memory->grow(carried_S, nmax, ncomp, "sphsolid:carried_S");
+  if (damage) {
+    memory->grow(damage, nmax, "sphsolid:damage");
+    memory->grow(flaw_count, nmax, "sphsolid:flaw_count");
+    memory->grow(flaw_strain, nmax, "sphsolid:flaw_strain");
+  }
   nmax_arrays = nmax;
 }
 
@@ -92,6 +131,11 @@ void FixSPHSolidState::copy_arrays(int i, int j, int /*delflag*/)
   for (int k = 0; k < nsaved; k++) saved[j][k] = saved[i][k];
   carried_rho[j] = carried_rho[i];
   for (int k = 0; k < ncomp; k++) carried_S[j][k] = carried_S[i][k];
+  if (damage) {
+    damage[j] = damage[i];
+    flaw_count[j] = flaw_count[i];
+    flaw_strain[j] = flaw_strain[i];
+  }
 }
 
 void FixSPHSolidState::set_arrays(int i)
@@ -101,6 +145,11 @@ void FixSPHSolidState::set_arrays(int i)
   for (int k = 0; k < nsaved; k++) saved[i][k] = 0.0;
   carried_rho[i] = NAN;
   for (int k = 0; k < ncomp; k++) carried_S[i][k] = NAN;
+  if (damage) {
+    damage[i] = 0.0;
+    flaw_count[i] = 0;
+    flaw_strain[i] = INFINITY;
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -113,6 +162,11 @@ int FixSPHSolidState::pack_exchange(int i, double *buf)
   for (int k = 0; k < nsaved; k++) buf[m++] = saved[i][k];
   buf[m++] = carried_rho[i];
   for (int k = 0; k < ncomp; k++) buf[m++] = carried_S[i][k];
+  if (damage) {
+    buf[m++] = damage[i];
+    buf[m++] = flaw_count[i];
+    buf[m++] = flaw_strain[i];
+  }
   return m;
 }
 
@@ -124,6 +178,11 @@ int FixSPHSolidState::unpack_exchange(int nlocal, double *buf)
   for (int k = 0; k < nsaved; k++) saved[nlocal][k] = buf[m++];
   carried_rho[nlocal] = buf[m++];
   for (int k = 0; k < ncomp; k++) carried_S[nlocal][k] = buf[m++];
+  if (damage) {
+    damage[nlocal] = buf[m++];
+    flaw_count[nlocal] = static_cast<int>(buf[m++]);
+    flaw_strain[nlocal] = buf[m++];
+  }
   return m;
 }
 
@@ -168,6 +227,7 @@ int FixSPHSolidState::pack_forward_comm(int n, int *list, double *buf, int pbc_f
       buf[m++] = rho[j];
       if (forward_stress)
         for (int k = 0; k < ncomp; k++) buf[m++] = S[j][k];
+      if (damage) buf[m++] = damage[j];
     }
     return m;
   }
@@ -176,6 +236,7 @@ int FixSPHSolidState::pack_forward_comm(int n, int *list, double *buf, int pbc_f
     buf[m++] = rho[j];
     if (forward_stress)
       for (int k = 0; k < ncomp; k++) buf[m++] = S[j][k];
+    if (damage) buf[m++] = damage[j];
   }
   return m;
 }
@@ -191,6 +252,7 @@ void FixSPHSolidState::unpack_forward_comm(int n, int first, double *buf)
       rho[i] = buf[m++];
       if (forward_stress)
         for (int k = 0; k < ncomp; k++) S[i][k] = buf[m++];
+      if (damage) damage[i] = buf[m++];
     }
     return;
   }
@@ -198,22 +260,32 @@ void FixSPHSolidState::unpack_forward_comm(int n, int first, double *buf)
     rho[i] = buf[m++];
     if (forward_stress)
       for (int k = 0; k < ncomp; k++) S[i][k] = buf[m++];
+    if (damage) damage[i] = buf[m++];
   }
 }
 
 /* ----------------------------------------------------------------------
-   restart: rho, S and the leapfrog's carried rates (the stage-1 copy is
-   only alive inside a step); files with rho and S only are read too
+   restart: rho, S, the leapfrog's carried rates (the stage-1 copy is only
+   alive inside a step) and, with damage on, D, the flaw count and the
+   weakest activation strain; files with rho and S only, or without the
+   damage state, are read too.  A file with the damage state turns the
+   arrays on (pair sphsolid turns them off again at init if its damage
+   effect is off).
 ------------------------------------------------------------------------- */
 
 int FixSPHSolidState::pack_restart(int i, double *buf)
 {
   int m = 0;
-  buf[m++] = 3 + 2 * ncomp;    // LAMMPS convention: first value = count including itself
+  buf[m++] = size_restart(i);    // LAMMPS convention: first value = count including itself
   buf[m++] = rho[i];
   for (int k = 0; k < ncomp; k++) buf[m++] = S[i][k];
   buf[m++] = carried_rho[i];
   for (int k = 0; k < ncomp; k++) buf[m++] = carried_S[i][k];
+  if (damage) {
+    buf[m++] = damage[i];
+    buf[m++] = flaw_count[i];
+    buf[m++] = flaw_strain[i];
+  }
   return m;
 }
 
@@ -223,33 +295,44 @@ void FixSPHSolidState::unpack_restart(int nlocal, int nth)
   int m = 0;
   for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
   const int count = static_cast<int>(extra[nlocal][m]);
-  if (count != 2 + ncomp && count != 3 + 2 * ncomp)
+  const int plain = 2 + ncomp, with_rates = 3 + 2 * ncomp, with_damage = with_rates + 3;
+  if (count != plain && count != with_rates && count != with_damage)
     error->one(FLERR,
                "SPH state in the restart file has {} values per atom, a {}D run needs {} (or {} "
-               "with the leapfrog's rates)",
-               count - 1, dim, ncomp + 1, 2 * (ncomp + 1));
+               "with the leapfrog's rates, {} with the damage state)",
+               count - 1, dim, plain - 1, with_rates - 1, with_damage - 1);
   m++;
   rho[nlocal] = extra[nlocal][m++];
   for (int k = 0; k < ncomp; k++) S[nlocal][k] = extra[nlocal][m++];
   for (int k = 0; k < nsaved; k++) saved[nlocal][k] = 0.0;
-  carried_rho[nlocal] = count == 2 + ncomp ? NAN : extra[nlocal][m++];
-  for (int k = 0; k < ncomp; k++)
-    carried_S[nlocal][k] = count == 2 + ncomp ? NAN : extra[nlocal][m++];
+  carried_rho[nlocal] = count == plain ? NAN : extra[nlocal][m++];
+  for (int k = 0; k < ncomp; k++) carried_S[nlocal][k] = count == plain ? NAN : extra[nlocal][m++];
+  if (count == with_damage) {
+    set_damage(true);
+    damage[nlocal] = extra[nlocal][m++];
+    flaw_count[nlocal] = static_cast<int>(extra[nlocal][m++]);
+    flaw_strain[nlocal] = extra[nlocal][m++];
+  } else if (damage) {
+    damage[nlocal] = 0.0;
+    flaw_count[nlocal] = 0;
+    flaw_strain[nlocal] = INFINITY;
+  }
 }
 
 int FixSPHSolidState::size_restart(int /*i*/)
 {
-  return 3 + 2 * ncomp;
+  return 3 + 2 * ncomp + (damage ? 3 : 0);
 }
 
 int FixSPHSolidState::maxsize_restart()
 {
-  return 3 + 2 * ncomp;
+  return 3 + 2 * ncomp + (damage ? 3 : 0);
 }
 
 /* ---------------------------------------------------------------------- */
 
 double FixSPHSolidState::memory_usage()
 {
-  return (double) nmax_arrays * (2 * (1 + ncomp) + nsaved) * sizeof(double);
+  return (double) nmax_arrays * (2 * (1 + ncomp) + nsaved) * sizeof(double) +
+         (damage ? (double) nmax_arrays * (2 * sizeof(double) + sizeof(int)) : 0.0);
 }

@@ -10,10 +10,15 @@
  *          made by sph_improved_euler_predict_strided() and read by
  *          sph_improved_euler_correct_strided(), one
  *          row per atom so that it migrates with the atom inside a step
+ *   damage, flaw_count, flaw_strain
+ *          the state of the library's damage effect, only while pair
+ *          sphsolid has it on (set_damage): damage D, the number of flaws
+ *          and the weakest activation strain (sph_damage_flaws)
  * Each array is contiguous (rows of one atom), so the library reads and
  * writes it in place.  The values move with their atoms between MPI ranks,
- * rho and S (optionally with x and v) are sent to ghost atoms, and rho and
- * S are written to and read from restart files.
+ * rho and S (optionally with x and v, and D with damage on) are sent to
+ * ghost atoms, and rho, S, the leapfrog's rates and the damage state are
+ * written to and read from restart files.
  */
 #ifdef FIX_CLASS
 // clang-format off
@@ -53,6 +58,11 @@ class FixSPHSolidState : public Fix {
   double *carried_S_data() { return carried_S ? carried_S[0] : nullptr; }
   double *saved_data() { return saved ? saved[0] : nullptr; }
 
+  /* Damage state on (arrays allocated: D = 0 and no flaws drawn for atoms
+   * without a restart's values) or off (arrays freed). */
+  void set_damage(bool on);
+  bool damage_on() const { return damage != nullptr; }
+
   double *rho;       // per atom
   double **S;        // per atom x ncomp
   double **saved;    // per atom x nsaved
@@ -62,6 +72,11 @@ class FixSPHSolidState : public Fix {
    * without them). */
   double *carried_rho;    // per atom
   double **carried_S;     // per atom x ncomp
+  /* effect damage (nullptr while off): D, flaw count, weakest activation
+   * strain; the flaws are drawn from the atom ID (pair sphsolid) */
+  double *damage;         // per atom
+  int *flaw_count;        // per atom
+  double *flaw_strain;    // per atom
 
   /* Forward communication sends rho and S; with forward_motion also the
    * positions and velocities (as comm->forward_comm() would), so that the
@@ -73,6 +88,7 @@ class FixSPHSolidState : public Fix {
  private:
   int dim, ncomp, nsaved;
   int nmax_arrays;
+  void set_comm_sizes();
 };
 
 }    // namespace LAMMPS_NS

@@ -50,10 +50,10 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 /* ---------------------------------------------------------------------- */
 
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
-    Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false), sim(nullptr),
-    state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0), nrates(-1),
-    send_back(false), partial_size(0), pass_size(0), compute_pass(SPH_RATES_ALL), pairs_computed(0),
-    ghost_pairs(0)
+    Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false), damage(false),
+    sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0),
+    nrates(-1), send_back(false), partial_size(0), pass_size(0), compute_pass(SPH_RATES_ALL),
+    pairs_computed(0), ghost_pairs(0)
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -119,6 +119,7 @@ void PairSPHSolid::settings(int narg, char **arg)
   kernel.clear();     // empty: the library's default
   effects.clear();
   xsph = false;
+  damage = false;
 
   int iarg = 1;
   while (iarg < narg) {
@@ -151,6 +152,7 @@ void PairSPHSolid::settings(int narg, char **arg)
         if (e.first == word) error->all(FLERR, "pair_style sphsolid: effect {} given twice", word);
       effects.emplace_back(word, parameters);
       if (word == "xsph") xsph = true;
+      if (word == "damage") damage = true;
     } else {
       std::string known = "h_over_dx kernel";
       for (const auto &e : effect_names)
@@ -166,12 +168,21 @@ void PairSPHSolid::settings(int narg, char **arg)
 }
 
 /* The library material for a pair_coeff: whichever pair of constants was
-   given decides the library call. */
+   given decides the library call; Weibull constants given are set on it. */
 static sph_status add_material(sph_sim *s, const SPHSolidMaterial &m, int *index)
 {
-  if (m.kind == "K_mu") return sph_add_material_K_mu(s, m.first, m.second, m.rho0, index);
-  if (m.kind == "E_nu") return sph_add_material_E_nu(s, m.first, m.second, m.rho0, index);
-  return sph_add_material_K_nu(s, m.first, m.second, m.rho0, index);
+  sph_status status;
+  if (m.kind == "K_mu")
+    status = sph_add_material_K_mu(s, m.first, m.second, m.rho0, index);
+  else if (m.kind == "E_nu")
+    status = sph_add_material_E_nu(s, m.first, m.second, m.rho0, index);
+  else
+    status = sph_add_material_K_nu(s, m.first, m.second, m.rho0, index);
+  if (status == SPH_OK && m.weibull_k != 0.0)
+    status = sph_material_set(s, *index, "weibull_k", m.weibull_k);
+  if (status == SPH_OK && m.weibull_m != 0.0)
+    status = sph_material_set(s, *index, "weibull_m", m.weibull_m);
+  return status;
 }
 
 /* ----------------------------------------------------------------------
@@ -192,9 +203,11 @@ void PairSPHSolid::coeff(int narg, char **arg)
   std::map<std::string, double> given;
   for (int iarg = 2; iarg < narg; iarg += 2) {
     const std::string key = arg[iarg];
-    if (key != "K" && key != "mu" && key != "E" && key != "nu" && key != "rho0")
+    if (key != "K" && key != "mu" && key != "E" && key != "nu" && key != "rho0" &&
+        key != "weibull_k" && key != "weibull_m")
       error->all(FLERR,
-                 "pair_coeff for sphsolid: unknown keyword '{}' (expected K, mu, E, nu, rho0)",
+                 "pair_coeff for sphsolid: unknown keyword '{}' (expected K, mu, E, nu, rho0, "
+                 "weibull_k, weibull_m)",
                  key);
     if (iarg + 1 >= narg) error->all(FLERR, "pair_coeff for sphsolid: {} needs a value", key);
     if (given.count(key)) error->all(FLERR, "pair_coeff for sphsolid: {} given twice", key);
@@ -205,6 +218,12 @@ void PairSPHSolid::coeff(int narg, char **arg)
 
   SPHSolidMaterial m;
   m.rho0 = given["rho0"];
+  // the Weibull flaw constants of the damage effect (sph_material_set)
+  for (const char *key : {"weibull_k", "weibull_m"})
+    if (given.count(key)) {
+      (std::string(key) == "weibull_k" ? m.weibull_k : m.weibull_m) = given[key];
+      given.erase(key);
+    }
   const size_t nconst = given.size() - 1;
   if (nconst == 2 && given.count("K") && given.count("mu")) {
     m.kind = "K_mu", m.first = given["K"], m.second = given["mu"];
@@ -370,6 +389,10 @@ void PairSPHSolid::init_style()
   if (state_fix->dimension() != dim)
     error->all(FLERR, "pair sphsolid: the stored per-atom state is {}D, the run is {}D",
                state_fix->dimension(), dim);
+  // the damage state lives with the atoms while the effect is on; D read
+  // from a restart file is kept, the flaws are drawn again at the
+  // integrator's init (draw_flaws)
+  state_fix->set_damage(damage);
 
   check_deck();
 
@@ -418,9 +441,10 @@ void PairSPHSolid::check_ranks_agree()
   }
   for (int t = 1; t <= atom->ntypes; t++) {
     const SPHSolidMaterial &m = type_params[t];
-    settings.emplace_back(
-        fmt::format("pair_coeff {} {}", t, t),
-        fmt::format("{} {} {} {}", m.kind, number(m.first), number(m.second), number(m.rho0)));
+    settings.emplace_back(fmt::format("pair_coeff {} {}", t, t),
+                          fmt::format("{} {} {} {} {} {}", m.kind, number(m.first),
+                                      number(m.second), number(m.rho0), number(m.weibull_k),
+                                      number(m.weibull_m)));
   }
   settings.emplace_back("timestep", number(update->dt));
 
@@ -735,6 +759,7 @@ void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
   particles.mass = mp;
   particles.material = materialbuf.data();
   particles.stride = 3;
+  particles.damage = damage ? state_fix->damage : nullptr;    // ghosts' D came with their state
 
   sph_neighbours neighbours{};
   neighbours.offsets = neighbour_offsets.data();
@@ -797,6 +822,78 @@ void PairSPHSolid::unpack_reverse_comm(int n, int *list, double *buf)
   }
 }
 
+/* ----------------------------------------------------------------------
+   effect damage on the owned atoms: the library's calls with each atom's
+   ID as its global index
+------------------------------------------------------------------------- */
+
+void PairSPHSolid::damage_inputs()
+{
+  const int nlocal = atom->nlocal;
+  const size_t n = std::max(nlocal, 1);
+  idbuf.resize(n);
+  localmass.resize(n);
+  localmaterial.resize(n);
+  const tagint *tag = atom->tag;
+  const int *type = atom->type;
+  for (int i = 0; i < nlocal; i++) {
+    idbuf[i] = (uint64_t) (tag[i] - 1);    // the library numbers its particles from 0
+    localmass[i] = mass_of(i);
+    localmaterial[i] = type_material[type[i]];
+  }
+}
+
+void PairSPHSolid::draw_flaws(const unsigned char *flawed)
+{
+  if (!damage) return;
+  damage_inputs();
+  FixSPHSolidState *st = state_fix;
+  const sph_status status =
+      sph_damage_flaws(sim, atom->nlocal, idbuf.data(), localmass.data(), localmaterial.data(),
+                       flawed, st->flaw_count, st->flaw_strain);
+  if (status != SPH_OK)
+    error->one(FLERR, "pair sphsolid: drawing the flaws of the damage effect: {} ({})",
+               sph_errmsg(sim), sph_status_name(status));
+  // the library refuses a run without any atom that can be damaged
+  int mine = 0, any = 0;
+  for (int i = 0; i < atom->nlocal && !mine; i++) mine = st->flaw_count[i] > 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
+  if (!any)
+    error->all(FLERR,
+               "pair sphsolid: effect damage is on but no atom the integrator moves has a "
+               "material with flaws: give its pair_coeff weibull_k [m^-3] and weibull_m > 0");
+}
+
+bool PairSPHSolid::grow_damage(double dt, bool any_rank)
+{
+  if (!damage) return false;
+  damage_inputs();
+  FixSPHSolidState *st = state_fix;
+  int changed = 0, any = 0;
+  const sph_status status =
+      sph_damage_grow(sim, atom->nlocal, dt, idbuf.data(), localmass.data(), localmaterial.data(),
+                      st->rho, st->S_data(), st->flaw_count, st->flaw_strain, st->damage, &changed);
+  if (status != SPH_OK)
+    error->one(FLERR, "pair sphsolid: damage stage at step {}: {} ({})", update->ntimestep,
+               sph_errmsg(sim), sph_status_name(status));
+  if (!any_rank) return changed != 0;
+  MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, world);
+  return any != 0;
+}
+
+void PairSPHSolid::active_flaws(double *out)
+{
+  if (!damage) error->all(FLERR, "pair sphsolid: active flaws need the damage effect");
+  damage_inputs();
+  FixSPHSolidState *st = state_fix;
+  const sph_status status =
+      sph_damage_active(sim, atom->nlocal, idbuf.data(), localmass.data(), localmaterial.data(),
+                        st->rho, st->S_data(), st->flaw_count, st->flaw_strain, out);
+  if (status != SPH_OK)
+    error->one(FLERR, "pair sphsolid: active flaws: {} ({})", sph_errmsg(sim),
+               sph_status_name(status));
+}
+
 /* ---------------------------------------------------------------------- */
 
 void PairSPHSolid::compute(int eflag, int vflag)
@@ -847,5 +944,7 @@ double PairSPHSolid::memory_usage()
   bytes += sizeof(int) *
            (materialbuf.capacity() + neighbour_counts.capacity() + neighbour_indices.capacity());
   bytes += sizeof(size_t) * neighbour_offsets.capacity();
+  bytes += sizeof(uint64_t) * idbuf.capacity() + sizeof(double) * localmass.capacity() +
+           sizeof(int) * localmaterial.capacity();
   return bytes;
 }

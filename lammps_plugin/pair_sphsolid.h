@@ -31,13 +31,16 @@ namespace LAMMPS_NS {
 class FixSPHSolidState;
 
 /* One material as given to pair_coeff: the pair of constants that defines
- * it (K and mu, E and nu, or K and nu) and the reference density. */
+ * it (K and mu, E and nu, or K and nu), the reference density and the
+ * Weibull flaw constants of the damage effect (0: no flaws). */
 struct SPHSolidMaterial {
   std::string kind;    // "K_mu", "E_nu" or "K_nu"
   double first = 0.0, second = 0.0, rho0 = 0.0;
+  double weibull_k = 0.0, weibull_m = 0.0;
   bool operator==(const SPHSolidMaterial &o) const
   {
-    return kind == o.kind && first == o.first && second == o.second && rho0 == o.rho0;
+    return kind == o.kind && first == o.first && second == o.second && rho0 == o.rho0 &&
+           weibull_k == o.weibull_k && weibull_m == o.weibull_m;
   }
 };
 
@@ -106,6 +109,20 @@ class PairSPHSolid : public Pair {
   const double *dx_dt() const { return xsph ? rate_dx.data() : nullptr; }
   int rates_count() const { return nrates; }    // owned atoms at the last evaluation
 
+  /* Effect damage (pair_style keyword damage): whether it is on, and the
+   * library calls on the owned atoms' state (fix SPHSOLID/STATE), each
+   * atom's flaws keyed by its ID (tag - 1, the index the library's own
+   * particles use).  draw_flaws: the flaws of every owned atom, none for
+   * atoms whose flawed[i] is 0 (those the integrator does not move freely:
+   * platens, rigid bodies).  grow_damage: the damage stage after a step of
+   * dt; with any_rank, true on every rank if D grew on any (a collective),
+   * else whether it grew on this rank.  active_flaws: the flaws
+   * active at the current state (nlocal values into out). */
+  bool damage_on() const { return damage; }
+  void draw_flaws(const unsigned char *flawed);
+  bool grow_damage(double dt, bool any_rank);
+  void active_flaws(double *out);
+
  private:
   void check_deck();
   /* Stops every rank, naming the first keyword whose value differs between
@@ -121,6 +138,7 @@ class PairSPHSolid : public Pair {
   double support;        // kernel support radius [m] (sph_support_radius)
   std::string kernel;    // kernel name; empty: the library's default
   bool xsph;             // XSPH effect on: the rates carry dx/dt
+  bool damage;           // damage effect on: the state fix keeps D and the flaws
   std::vector<std::pair<std::string, std::string>> effects;    // name, "key=value ..."
   std::vector<SPHSolidMaterial> type_params;                   // per atom type (index 0 unused)
   std::vector<int> type_material;                              // library material per atom type
@@ -156,6 +174,11 @@ class PairSPHSolid : public Pair {
   bool computes_pair_with_ghost(int i, int j) const;
   void fail(sph_sim *, sph_status, const std::string &what, bool destroy);
   void initialise_state();
+  // the owned atoms' IDs (tag - 1), masses and materials for the damage calls
+  void damage_inputs();
+  std::vector<uint64_t> idbuf;
+  std::vector<double> localmass;
+  std::vector<int> localmaterial;
 };
 
 }    // namespace LAMMPS_NS

@@ -6,8 +6,8 @@
  * pair sphsolid, fix sphsolid/improved_euler (and its deprecated name
  * sphsolid/heun), fix sphsolid/leapfrog, fix sphsolid/force, fix SPHSOLID/STATE
  * (internal, created by the pair style), computes
- * sphsolid/{density,pressure,vonmises,stress,energy}/atom
- * and sphsolid/probe.
+ * sphsolid/{density,pressure,vonmises,stress,energy}/atom, sphsolid/atom
+ * (any of those or a damage quantity by name) and sphsolid/probe.
  */
 #include "lammpsplugin_api.h"
 
@@ -78,7 +78,8 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
       {"sphsolid/pressure/atom", "per-atom pressure P from the equation of state [Pa]"},
       {"sphsolid/vonmises/atom", "per-atom von Mises stress sqrt(3/2 S:S) [Pa]"},
       {"sphsolid/stress/atom", "per-atom Cauchy stress -P I + S, 4 (2D) or 6 (3D) columns [Pa]"},
-      {"sphsolid/energy/atom", "per-atom elastic (strain) energy of pair sphsolid [J]"}};
+      {"sphsolid/energy/atom", "per-atom elastic (strain) energy of pair sphsolid [J]"},
+      {"sphsolid/atom", "per-atom quantity of pair sphsolid by name (damage, flaws, ...)"}};
   for (const auto &style : atom_styles)
     add(reg, lmp, handle, "compute", style[0], style[1], nullptr,
         (lammpsplugin_factory2 *) &create_compute<ComputeSPHSolidAtom>);

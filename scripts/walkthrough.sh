@@ -133,16 +133,22 @@ mkdir "$work/decks"
 for deck in examples/*/in.*; do
     dx=$(awk '$1 == "variable" && $2 == "dx" { print $4; exit }' "$deck")
     coarse=$("$py" -c "print(repr(4 * float('$dx')))")
+    # a deck that runs another one names it relative to its own folder
+    inner=$(awk '$1 == "variable" && $2 == "deck" { print $4; exit }' "$deck")
+    deck_args=()
+    [ -n "$inner" ] && deck_args=(-var deck "$root/$(dirname "$deck")/$inner")
     for integrator in $integrators; do
         name=$(basename "$deck")_$integrator
         (cd "$work/decks" && "$lmp" -in "$root/$deck" -log "$name.log" -screen none -nocite \
-            ${plugin_args[@]+"${plugin_args[@]}"} -var dx "$coarse" -var t_end 2e-5 \
+            ${plugin_args[@]+"${plugin_args[@]}"} ${deck_args[@]+"${deck_args[@]}"} \
+            -var dx "$coarse" -var t_end 2e-5 \
             -var integrator "$integrator" -var threads 1 -var output "$name") \
             || { tail -5 "$work/decks/$name.log" >&2; fail "$deck with $integrator failed"; }
         ! grep -q "Open of file" "$work/decks/$name.log" || fail "$deck: a failed plugin load"
         grep -Eq "^fix +[^ ]+ +[^ ]+ +sphsolid/$integrator( |$)" "$work/decks/$name.log" \
             || fail "$deck: -var integrator $integrator did not choose fix sphsolid/$integrator"
-        [ -s "$work/decks/${name}_probes.txt" ] || fail "$deck: no ${name}_probes.txt"
+        find "$work/decks" -maxdepth 1 -name "${name}_*" -size +0 | grep -q . \
+            || fail "$deck: wrote no ${name}_* file"
         echo "$deck: $integrator at dx = $coarse m, $(grep -o 'for [0-9]* steps' \
             "$work/decks/$name.log" | tail -1)"
     done

@@ -39,6 +39,7 @@
 #define SPHSOLID_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -884,6 +885,53 @@ SPH_API sph_status sph_derived_fields(sph_sim *sim, size_t n, const double *rho,
  * sph_energy() sums (`energy`: n doubles). */
 SPH_API sph_status sph_energy_fields(sph_sim *sim, size_t n, const double *mass, const double *rho,
                                      const double *S, const int *material, double *energy);
+
+/* Effect damage on n external particles (a code that owns its particles:
+ * the LAMMPS plugin), with the handle's seed, flaws parameter, materials
+ * and smoothing length.  A particle's flaws are drawn from (seed, id[a],
+ * flaw index): id is its global index, the one the handle's own particles
+ * use (0, 1, ... in the order they were added), so a code that numbers
+ * its particles from 1 passes number - 1 to get the same flaws, on any
+ * number of processes.  mass[a] / rho0 is its volume at rest.
+ *  - sph_damage_flaws: the number of flaws of each particle and its
+ *    weakest activation strain (0 and inf where flawed[a] is 0, as the
+ *    handle's prescribed bodies, or the material has no flaws; flawed may
+ *    be NULL: all may be damaged);
+ *  - sph_damage_grow: the damage stage after a step of dt: activation by
+ *    each particle's largest principal strain at (rho, S), growth of
+ *    damage[a] (D in [0, 1]); *changed is 1 if any D grew (rates
+ *    evaluated before are stale then);
+ *  - sph_damage_active: the flaws active at the current state (n doubles).
+ * SPH_ERR_STATE while the effect is off. */
+SPH_API sph_status sph_damage_flaws(sph_sim *sim, size_t n, const uint64_t *id, const double *mass,
+                                    const int *material, const unsigned char *flawed,
+                                    int *flaw_count, double *flaw_strain);
+SPH_API sph_status sph_damage_grow(sph_sim *sim, size_t n, double dt, const uint64_t *id,
+                                   const double *mass, const int *material, const double *rho,
+                                   const double *S, const int *flaw_count,
+                                   const double *flaw_strain, double *damage, int *changed);
+SPH_API sph_status sph_damage_active(sph_sim *sim, size_t n, const uint64_t *id, const double *mass,
+                                     const int *material, const double *rho, const double *S,
+                                     const int *flaw_count, const double *flaw_strain,
+                                     double *active);
+
+/* Effect damage: fragments of caller-owned particles, one round of a
+ * labelling that a code spread over processes repeats until no process
+ * reports a change.  Particles whose member[a] is non-zero (the handle's
+ * free bodies) and whose particles->damage is below 1 are joined when
+ * closer than the kernel support (the rule of SPH_FIELD_FRAGMENT), over the
+ * neighbours of the n_local particles (CSR or lists, ghosts included, each
+ * joined pair listed at least once).  label (n_total, in/out): each
+ * joinable particle gets the least label of its region as far as this
+ * call sees it, the others -1; *changed is 1 if a local label changed.
+ * With labels starting at a global number (the LAMMPS plugin: the atom
+ * ID) and the ghosts' labels brought up to date before each round, the
+ * fixed point gives each fragment the least number of its particles.
+ * Positions are used as given (ghosts already at their image). */
+SPH_API sph_status sph_damage_fragment_labels(sph_sim *sim, const sph_particles *particles,
+                                              const sph_neighbours *neighbours,
+                                              const unsigned char *member, double *label,
+                                              int *changed);
 
 /* Probe interpolation split for distributed particles: add the
  * contributions of particles [0, n_local) to `sums`

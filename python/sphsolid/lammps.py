@@ -309,6 +309,7 @@ class Lammps(Calculator):
         self._step = 0
         self._synced = None
         self._prepared = False
+        self._damage = False
         self._moves = {}
         self._later = {}
         self._fix = "sphsolid/improved_euler"
@@ -402,7 +403,11 @@ class Lammps(Calculator):
             m = body.material
             given = " ".join(f"{key} {float(val)!r}"
                              for key, val in m._given.items())
-            cmd(f"pair_coeff {k + 1} {k + 1} {given} rho0 {m.rho0!r}")
+            # the damage effect's flaw law (0: none, the plugin's default)
+            flaws = "".join(f" {key} {float(getattr(m, key))!r}"
+                            for key in ("weibull_k", "weibull_m")
+                            if getattr(m, key))
+            cmd(f"pair_coeff {k + 1} {k + 1} {given} rho0 {m.rho0!r}{flaws}")
         cmd(f"neighbor {0.3 * spacing!r} bin")
         cmd("neigh_modify every 1 delay 0 check yes")
         # force-driven bodies are integrated with the free ones, as rigid
@@ -445,6 +450,22 @@ class Lammps(Calculator):
         cmd("compute rho all sphsolid/density/atom")
         cmd("compute pressure all sphsolid/pressure/atom")
         cmd("compute stress all sphsolid/stress/atom")
+        self._damage = "damage" in scene.effects
+        if self._damage:
+            # the atoms start undamaged (the plugin has no way in for D);
+            # their IDs are the library's indices + 1, so they draw the
+            # library's flaws
+            damage = np.empty(len(scene), dtype=np.float64)
+            _check(lib.sph_field_copy(
+                scene.handle, _lib.FIELD_DAMAGE,
+                damage.ctypes.data_as(ctypes.POINTER(ctypes.c_double))),
+                scene.handle, "damage")
+            if np.any(damage != 0.0):
+                raise UnsupportedError(
+                    "LAMMPS backend: the scene has damage already (D > 0, "
+                    "e.g. from a checkpoint); LAMMPS starts every atom at D = "
+                    "0. Continue it on the C library backend")
+            cmd("compute damage all sphsolid/atom damage")
         self.set_dt(lib.sph_dt(scene.handle), allow_unstable=True)
         cmd("run 0 post no")          # initialise pair, fixes and computes
         self._prepared = True
@@ -644,6 +665,10 @@ class Lammps(Calculator):
         scene.velocities[order] = v
         scene.density[order] = rho
         scene.deviatoric_stress[order] = deviatoric
+        if self._damage:
+            scene._state(_lib.FIELD_DAMAGE)[order] = \
+                self.lmp.numpy.extract_compute("damage", LMP_STYLE_ATOM,
+                                               LMP_TYPE_VECTOR)[:nlocal]
         self._digests = self._state_digests()
 
     def close(self) -> None:

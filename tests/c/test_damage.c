@@ -380,6 +380,82 @@ static void damage_field_is_bitwise_the_same_on_1_and_2_threads(void **state)
     sph_destroy(two);
 }
 
+/* The calls on external particles (sph_damage_flaws, _grow, _active),
+ * given the handle's own particles with id = index, are the handle's
+ * damage stage bitwise: the same flaws, the same D after a step, the
+ * same active flaws; other ids draw other flaws. */
+static void external_particles_damage_as_the_handle_does(void **state)
+{
+    (void)state;
+    sph_sim *sim = tension_block(1);
+    check(sim, sph_run(sim, 20));
+    const size_t n = 1600;
+    uint64_t *id = malloc(n * sizeof *id);
+    int *material = calloc(n, sizeof *material), *count = malloc(n * sizeof *count);
+    double *strain = malloc(n * sizeof *strain), *active = malloc(n * sizeof *active);
+    assert_true(id && material && count && strain && active);
+    for (size_t a = 0; a < n; ++a)
+        id[a] = a;
+    const double *mass = field_ptr(sim, SPH_FIELD_MASS);
+    check(sim, sph_damage_flaws(sim, n, id, mass, material, NULL, count, strain));
+    double *flaws = copy_field(sim, SPH_FIELD_FLAWS, n);
+    double *weakest = copy_field(sim, SPH_FIELD_FLAW_STRAIN, n);
+    for (size_t a = 0; a < n; ++a) {
+        assert_true((double)count[a] == flaws[a]);
+        assert_memory_equal(&strain[a], &weakest[a], sizeof(double));
+    }
+    double *D = copy_field(sim, SPH_FIELD_DAMAGE, n);
+    check(sim, sph_run(sim, 1));
+    const double *rho = field_ptr(sim, SPH_FIELD_DENSITY);
+    const double *S = field_ptr(sim, SPH_FIELD_DEVIATORIC_STRESS);
+    int changed = 0;
+    check(sim, sph_damage_grow(sim, n, sph_dt(sim), id, mass, material, rho, S, count, strain, D,
+                               &changed));
+    const double *D_handle = field_ptr(sim, SPH_FIELD_DAMAGE);
+    double *active_handle = copy_field(sim, SPH_FIELD_ACTIVE_FLAWS, n);
+    check(sim, sph_damage_active(sim, n, id, mass, material, rho, S, count, strain, active));
+    int grown = 0;
+    for (size_t a = 0; a < n; ++a) {
+        assert_memory_equal(&D[a], &D_handle[a], sizeof(double));
+        assert_true(active[a] == active_handle[a]);
+        grown += D[a] > 0.0;
+    }
+    assert_true(changed && grown > 0 && grown < (int)n); /* a step that damages */
+    /* ids one higher: another draw; flawed = 0: no flaws */
+    unsigned char *flawed = calloc(n, 1);
+    assert_non_null(flawed);
+    for (size_t a = 0; a < n; ++a)
+        id[a] = a + 1;
+    check(sim, sph_damage_flaws(sim, n, id, mass, material, NULL, count, strain));
+    int same = 0;
+    for (size_t a = 0; a < n; ++a)
+        same += strain[a] == weakest[a];
+    assert_true(same < 5);
+    check(sim, sph_damage_flaws(sim, n, id, mass, material, flawed, count, strain));
+    for (size_t a = 0; a < n; ++a)
+        assert_true(count[a] == 0 && isinf(strain[a]));
+    /* bad input names the value; off: a state error */
+    material[7] = 3;
+    assert_int_equal(sph_damage_flaws(sim, n, id, mass, material, NULL, count, strain),
+                     SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "material[7]=3"));
+    check(sim, sph_effect_off(sim, "damage"));
+    assert_int_equal(
+        sph_damage_grow(sim, n, 1e-7, id, mass, material, rho, S, count, strain, D, &changed),
+        SPH_ERR_STATE);
+    free(flawed);
+    free(active_handle);
+    free(D);
+    free(weakest);
+    free(flaws);
+    free(active);
+    free(strain);
+    free(count);
+    free(material);
+    free(id);
+    sph_destroy(sim);
+}
+
 /* The paper scene (coarse), its probe series after `steps`. */
 static void paper_probes(int damage, int toggle, double *out, int steps, size_t *bytes)
 {
@@ -495,6 +571,78 @@ static void a_fully_damaged_band_splits_a_block_into_two_fragments(void **state)
     }
 }
 
+/* The labelling of caller-owned particles (sph_damage_fragment_labels)
+ * gives each fragment of SPH_FIELD_FRAGMENT the least label of its
+ * particles: with labels index + 1, fragment f's first index + 1; the same
+ * with a full list and with each pair once; -1 where the field has -1. */
+static void fragment_labels_of_external_particles_match_the_field(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(21, 10, 1e-3);
+    check(sim, sph_material_set(sim, 0, "weibull_k", 1.0));
+    check(sim, sph_material_set(sim, 0, "weibull_m", 1.0));
+    check(sim, sph_effect(sim, "damage", NULL));
+    double *x = copy_field(sim, SPH_FIELD_POSITION, 420);
+    double *D = field_ptr(sim, SPH_FIELD_DAMAGE);
+    for (int a = 0; a < 210; ++a)
+        if (fabs(x[2 * a]) < 2e-3 || a == 17 || a == 150) /* a band and two holes */
+            D[a] = 1.0;
+    double fragment[210], first[210];
+    check(sim, sph_field_copy(sim, SPH_FIELD_FRAGMENT, fragment));
+    for (int f = 0; f < 210; ++f)
+        first[f] = -1.0;
+    for (int a = 209; a >= 0; --a)
+        if (fragment[a] >= 0)
+            first[(int)fragment[a]] = a;
+    /* every pair within 3 dx: full rows, and each pair once */
+    static int full[210 * 210], half[210 * 210];
+    size_t full_rows[211], half_rows[211], nf = 0, nh = 0;
+    for (int a = 0; a < 210; ++a) {
+        full_rows[a] = nf;
+        half_rows[a] = nh;
+        for (int b = 0; b < 210; ++b) {
+            const double dx = x[2 * a] - x[2 * b], dy = x[2 * a + 1] - x[2 * b + 1];
+            if (b == a || dx * dx + dy * dy > 9e-6)
+                continue;
+            full[nf++] = b;
+            if (b > a)
+                half[nh++] = b;
+        }
+    }
+    full_rows[210] = nf;
+    half_rows[210] = nh;
+    unsigned char member[210];
+    memset(member, 1, sizeof member);
+    const double *mass = field_ptr(sim, SPH_FIELD_MASS);
+    for (int list = 0; list < 2; ++list) {
+        sph_particles p = {0};
+        p.n_local = p.n_total = 210;
+        p.x = x;
+        p.mass = mass;
+        p.damage = D;
+        sph_neighbours nb = {0};
+        nb.offsets = list ? half_rows : full_rows;
+        nb.indices = list ? half : full;
+        double label[210];
+        for (int a = 0; a < 210; ++a)
+            label[a] = a + 1;
+        int changed = 0, fragments = 0;
+        check(sim, sph_damage_fragment_labels(sim, &p, &nb, member, label, &changed));
+        assert_true(changed);
+        for (int a = 0; a < 210; ++a) {
+            const double expected = fragment[a] < 0 ? -1.0 : first[(int)fragment[a]] + 1;
+            assert_close(label[a], expected, 0, "fragment label");
+            fragments += label[a] == a + 1;
+        }
+        assert_int_equal(fragments, 2);
+        /* a second round changes nothing */
+        check(sim, sph_damage_fragment_labels(sim, &p, &nb, member, label, &changed));
+        assert_false(changed);
+    }
+    free(x);
+    sph_destroy(sim);
+}
+
 /* Newton's third law: the platens' reactions and the SPH forces on the
  * specimen sum to zero (no gravity). */
 static void platen_reactions_balance_the_forces_on_the_specimen(void **state)
@@ -560,10 +708,12 @@ int main(void)
         cmocka_unit_test(damage_is_capped_by_the_active_share_of_flaws),
         cmocka_unit_test(damage_onset_in_uniaxial_compression_at_E_eps_min_over_nu),
         cmocka_unit_test(damage_field_is_bitwise_the_same_on_1_and_2_threads),
+        cmocka_unit_test(external_particles_damage_as_the_handle_does),
         cmocka_unit_test(damage_without_active_flaws_leaves_the_paper_series_bitwise),
         cmocka_unit_test(damaged_stress_keeps_compression_and_scales_the_deviator),
         cmocka_unit_test(largest_principal_strain_of_a_rotated_tensor),
         cmocka_unit_test(a_fully_damaged_band_splits_a_block_into_two_fragments),
+        cmocka_unit_test(fragment_labels_of_external_particles_match_the_field),
         cmocka_unit_test(platen_reactions_balance_the_forces_on_the_specimen),
         cmocka_unit_test(bad_damage_input_names_the_value),
     };

@@ -367,3 +367,35 @@ def test_probe_outside_records_nan_when_asked(lmp_factory):
                                 "thermo_style custom step c_far[1]", "run 0"]:
         lmp.command(c)
     assert math.isnan(lmp.extract_compute("far", 0, 1)[0])
+
+
+# the damage effect
+DAMAGE_PAIR = ["pair_style sphsolid 0.001 damage seed 2",
+               "pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0 weibull_k 1e28 weibull_m 9"]
+
+
+def test_negative_weibull_constant_is_named_by_the_library(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001 damage",
+                                   "pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0 weibull_k -1"],
+               "weibull_k", "-1")
+
+
+def test_damage_without_flaws_is_named(lmp_factory):
+    fails_with(lmp_factory, BOX + ["pair_style sphsolid 0.001 damage", GOOD_PAIR[1],
+                                   "fix 1 all sphsolid/improved_euler", "run 1"],
+               "no atom the integrator moves has a material with flaws", "weibull_k")
+
+
+def test_damage_quantity_without_the_effect_is_named(lmp_factory):
+    fails_with(lmp_factory, BOX + GOOD_PAIR + ["compute D all sphsolid/atom damage", "run 0"],
+               "damage quantities", "damage seed")
+
+
+def test_unknown_atom_quantity_is_named(lmp_factory):
+    fails_with(lmp_factory, BOX + DAMAGE_PAIR + ["compute D all sphsolid/atom crack"],
+               "unknown quantity 'crack'", "fragment")
+
+
+def test_atom_quantity_missing_is_named(lmp_factory):
+    fails_with(lmp_factory, BOX + DAMAGE_PAIR + ["compute D all sphsolid/atom"],
+               "takes one quantity", "damage")

@@ -6,7 +6,9 @@ output; the integrating fix named by ${integrator}, never written out; the
 plugin loaded once (-var plugin FILE in place of the one lmp loaded by
 itself, no "Open of file ... failed" after the automatic load); the files
 written named ${output}_*.  Each deck runs at 4 times its default spacing
-for 20 us of simulated time (a few steps each).
+for 20 us of simulated time (a few steps each).  A deck that runs another
+deck (examples/ensemble/in.ensemble) names it in its variable `deck`, a
+path relative to its own folder, which the test passes resolved.
 """
 from __future__ import annotations
 
@@ -50,9 +52,17 @@ def run(deck: Path, work: Path, variables: dict, plugin: Path | None = None,
 
 
 def coarse(deck: Path, integrator: str, output: str = "run") -> dict:
-    dx = float(deck_variables(deck.read_text())["dx"]) * COARSE
-    return {"dx": repr(dx), "t_end": T_END, "integrator": integrator, "threads": 1,
-            "output": output}
+    declared = deck_variables(deck.read_text())
+    dx = float(declared["dx"]) * COARSE
+    variables = {"dx": repr(dx), "t_end": T_END, "integrator": integrator, "threads": 1,
+                 "output": output}
+    if "deck" in declared:
+        variables["deck"] = str((deck.parent / declared["deck"]).resolve())
+    return variables
+
+
+#: LAMMPS's own file: the counter of a uloop variable (in.ensemble)
+LAMMPS_FILES = {"log.lammps", "tmp.lammps.variable"}
 
 
 def test_there_are_decks():
@@ -92,7 +102,7 @@ def test_deck_runs_with_every_integrator(deck, integrator, tmp_path, plugin):
     steps = [int(s) for s in re.findall(r"Loop time of \S+ on \d+ procs for (\d+) steps", log)]
     assert steps and steps[-1] > 0
     assert "1 MPI tasks x 1 OpenMP threads" in log
-    written = sorted(p.name for p in tmp_path.iterdir() if p.name != "log.lammps")
+    written = sorted(p.name for p in tmp_path.iterdir() if p.name not in LAMMPS_FILES)
     assert written and all(name.startswith("run_") for name in written), written
     assert all((tmp_path / name).stat().st_size > 0 for name in written)
 
