@@ -32,6 +32,13 @@ class Finding:
         return asdict(self)
 
 
+
+def _defaults(effect: str) -> dict:
+    """The library's default parameters of an effect (its registry)."""
+    return {key: p["default"] for key, p in
+            _lib.effect_registry()[effect]["parameters"].items()
+            if p["default"] is not None}
+
 def _roughness(values) -> float:
     """Mean |second difference| over mean |first difference| of a series
     (0 smooth, 2 alternating; the dissipation study's measure)."""
@@ -231,7 +238,7 @@ def detect_effects(scene_factory, dx: float, until: float, probes,
         share = min(shares)
         if share > 0.1 and _effect_available("artificial_stress"):
             findings.append(Finding(
-                "artificial_stress", {"epsilon": 0.3, "n": 4.0},
+                "artificial_stress", _defaults("artificial_stress"),
                 "sustained tension (tensile instability: clumping, "
                 "numerical fracture)",
                 "at t = " + ", ".join(f"{c * dyn.dt * 1e3:.3g}"
