@@ -95,7 +95,7 @@ static void periodic_column_settles_to_static_gravity_field(void **state)
     int probes[7];
     for (int k = 0; k < 7; ++k) {
         const double p[2] = {0.0, (0.2 + 0.1 * k) * H};
-        char name[8];
+        char name[16]; /* room for any int: -O1 does not narrow k */
         snprintf(name, sizeof name, "y%d", k);
         check(sim, sph_add_probe(sim, name, p, &probes[k]));
     }
