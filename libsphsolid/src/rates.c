@@ -226,7 +226,6 @@ static ALWAYS_INLINE void add_record(const sums *s, size_t b, const double *rest
         if (!s->width[q])
             continue;
         double *restrict dst = s->p[q] + b * s->stride[q];
-#pragma GCC unroll 9
         for (int i = 0; i < s->width[q]; ++i)
             dst[i] += t[(size_t)(s->offset[q] + i) * step];
     }
@@ -466,24 +465,36 @@ static ALWAYS_INLINE void chunk_sums(const engine *e, size_t b0, size_t b1, size
         rs.acc[c] = 0.0;
     /* a neighbour b < far_below is at least two chunks before a */
     const size_t far_below = b0 >= e->chunk ? b0 - e->chunk : 0;
-    for (size_t a = b0; a < b1; ++a) {
-        const int *list;
-        int count;
+    /* row a's neighbours from kk on are still to be gathered; one call of
+     * block_sums (each call site is a copy of the whole block's code) */
+    size_t a = b0;
+    int kk = 0, count = 0;
+    const int *list = NULL;
+    row_data ra = {0};
+    if (a < b1) {
         neighbours_of(e, a, &list, &count);
-        if (!count)
-            continue;
-        const row_data ra = row_of(e, a, dim, pass);
-        for (int kk = 0; kk < count; ++kk) {
-            const size_t b = (size_t)list[kk];
+        ra = row_of(e, a, dim, pass);
+    }
+    for (;;) {
+        while (a < b1 && blk.p.n < PAIR_BLOCK) {
+            if (kk == count) { /* the next row */
+                if (++a == b1)
+                    break;
+                neighbours_of(e, a, &list, &count);
+                kk = 0;
+                ra = row_of(e, a, dim, pass);
+                continue;
+            }
+            const size_t b = (size_t)list[kk++];
             if (e->full && b < a && b >= far_below)
                 continue; /* a full list: the pair is computed in b's row */
-            gather_pair(e, &ra, a, b, dim, pass, &blk, blk.p.n);
-            if (++blk.p.n == PAIR_BLOCK)
-                block_sums(e, &s, &blk, b0, dend, far, &rs, dim, kernel, pass);
+            gather_pair(e, &ra, a, b, dim, pass, &blk, blk.p.n++);
         }
+        if (blk.p.n)
+            block_sums(e, &s, &blk, b0, dend, far, &rs, dim, kernel, pass);
+        if (a >= b1)
+            break;
     }
-    if (blk.p.n)
-        block_sums(e, &s, &blk, b0, dend, far, &rs, dim, kernel, pass);
     rows_end(&s, &rs, b1);
 }
 
