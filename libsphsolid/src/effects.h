@@ -60,7 +60,7 @@ static inline double viscosity_pair(double alpha, double beta, double h, double 
 static inline void artificial_viscosity_term(int dim, double alpha, double beta, double h,
                                              pair_block *p)
 {
-    for (int k = 0; k < p->n; ++k) {
+    for (int k = 0; k < PAIR_BLOCK; ++k) {
         double v_dot_r = 0.0;
         for (int i = 0; i < dim; ++i)
             v_dot_r += p->v[i][k] * p->r[i][k];
@@ -91,13 +91,13 @@ static inline void artificial_stress_term(int dim, double inv_W_dx, double n,
 {
     const int nsym = pair_tensor_components(dim);
     if (n == 4.0)
-        for (int k = 0; k < p->n; ++k) {
+        for (int k = 0; k < PAIR_BLOCK; ++k) {
             const double fn = artificial_stress_factor_4(p->W[k], inv_W_dx);
             for (int c = 0; c < nsym; ++c)
                 p->T[c][k] += p->R[c][k] * fn;
         }
     else
-        for (int k = 0; k < p->n; ++k) {
+        for (int k = 0; k < PAIR_BLOCK; ++k) {
             const double fn = artificial_stress_factor(p->W[k], inv_W_dx, n);
             for (int c = 0; c < nsym; ++c)
                 p->T[c][k] += p->R[c][k] * fn;
@@ -116,12 +116,12 @@ void artificial_stress_tensor(int dim, const double *S, double P, double rho, do
 static inline void xsph_term(int dim, double epsilon, const pair_block *restrict p,
                              pair_rows *restrict ta, pair_rows *restrict tb)
 {
-    for (int k = 0; k < p->n; ++k) {
+    for (int k = 0; k < PAIR_BLOCK; ++k) {
         const double s = epsilon / p->rho_mean[k] * p->W[k];
         for (int i = 0; i < dim; ++i) {
             const double t = -(s * p->v[i][k]);
             ta[i][k] = p->m_b[k] * t;
-            tb[i][k] = -(p->m_a * t);
+            tb[i][k] = -(p->m_a[k] * t);
         }
     }
 }
@@ -135,7 +135,7 @@ static inline void correction_moment_term(int dim, const pair_block *restrict p,
                                           pair_rows *restrict ta, pair_rows *restrict tb)
 {
     const int nsym = pair_tensor_components(dim);
-    for (int k = 0; k < p->n; ++k) {
+    for (int k = 0; k < PAIR_BLOCK; ++k) {
         double H[6];
         H[0] = -p->r[0][k] * p->gW[0][k];
         H[1] = -p->r[1][k] * p->gW[1][k];
@@ -149,7 +149,7 @@ static inline void correction_moment_term(int dim, const pair_block *restrict p,
         }
         for (int c = 0; c < nsym; ++c) {
             ta[c][k] = p->V_b[k] * H[c];
-            tb[c][k] = p->V_a * H[c];
+            tb[c][k] = p->V_a[k] * H[c];
         }
     }
 }

@@ -285,8 +285,13 @@ static sph_status heun_stage(sph_sim *sim, double dt, int corrector, double *mov
         for (long a = 0; a < n; ++a) {
             for (int i = 0; i < dim; ++i)
                 sim->x_saved[a * dim + i] = sim->x[a * dim + i];
-            predict_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, (size_t)dim, sim->rho, sim->S,
-                             &r, bs[body_of[a]].integrate, 1, &s);
+            /* (the dimension a constant of each call: loops unrolled) */
+            if (dim == 2)
+                predict_particle(2, 4, dt, (size_t)a, sim->x, sim->v, 2, sim->rho, sim->S, &r,
+                                 bs[body_of[a]].integrate, 1, &s);
+            else
+                predict_particle(3, 6, dt, (size_t)a, sim->x, sim->v, 3, sim->rho, sim->S, &r,
+                                 bs[body_of[a]].integrate, 1, &s);
             if (bs[body_of[a]].rotate)
                 rotate_particle(dim, &bs[body_of[a]], sim->x_saved + a * dim, sim->x + a * dim,
                                 sim->v + a * dim);
@@ -296,8 +301,10 @@ static sph_status heun_stage(sph_sim *sim, double dt, int corrector, double *mov
     reduction(max : max_moved)
         for (long a = 0; a < n; ++a) {
             const body_stage *b = &bs[body_of[a]];
-            double d = correct_particle(dim, nc, dt, (size_t)a, sim->x, sim->v, (size_t)dim,
-                                        sim->rho, sim->S, &r, b->integrate, 1, &s);
+            double d = dim == 2 ? correct_particle(2, 4, dt, (size_t)a, sim->x, sim->v, 2, sim->rho,
+                                                   sim->S, &r, b->integrate, 1, &s)
+                                : correct_particle(3, 6, dt, (size_t)a, sim->x, sim->v, 3, sim->rho,
+                                                   sim->S, &r, b->integrate, 1, &s);
             if (b->rotate && !isnan(d))
                 d = rotate_particle(dim, b, sim->x_saved + a * dim, sim->x + a * dim,
                                     sim->v + a * dim);

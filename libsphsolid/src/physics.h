@@ -60,26 +60,29 @@ static inline void stress_over_rho2(int dim, const double *S, double P, double r
 }
 
 /*
- * Pair terms over a block of pairs (a, b_k), k < n, of one row a: the
- * inputs in structure-of-arrays form (one short array per quantity, so that
- * the loops over k vectorise), filled by the pair pass (rates.c).  Each
- * term writes, for every pair, the contribution to particle a (ta, partner
- * weight m_b or V_b) and to particle b (tb, weight m_a or V_a) as rows
- * ta[c][k] of its components c.  Swapping a and b maps r_ab, v_ab and
- * grad_a W_ab to their negatives: a term even in them gives b the same
- * unweighted value, an odd one its negative; written out so, the one-sided
- * form (the pair seen from b) gives b's contribution to the bit.
+ * Pair terms over a block of pairs (a_k, b_k), k < PAIR_BLOCK: the inputs
+ * in structure-of-arrays form (one short array per quantity, so that the
+ * loops over k vectorise), filled by the pair pass (rates.c); a block may
+ * hold the pairs of several rows a.  Each term writes, for every pair, the
+ * contribution to particle a (ta, partner weight m_b or V_b) and to
+ * particle b (tb, weight m_a or V_a) as rows ta[c][k] of its components c.
+ * Swapping a and b maps r_ab, v_ab and grad_a W_ab to their negatives: a
+ * term even in them gives b the same unweighted value, an odd one its
+ * negative; written out so, the one-sided form (the pair seen from b) gives
+ * b's contribution to the bit.  The loops run over all PAIR_BLOCK lanes (a
+ * fixed trip count: whole vectors, no remainder); lanes from n on hold
+ * finite filler whose terms nobody reads.
  */
-#define PAIR_BLOCK 16
+#define PAIR_BLOCK 32
 
 typedef struct pair_block {
-    int n;                    /* pairs in the block */
-    double m_a, V_a;          /* mass and volume m/rho of a */
-    double r[3][PAIR_BLOCK];  /* r_ab = x_a - x_b */
-    double v[3][PAIR_BLOCK];  /* v_ab = v_a - v_b */
-    double r2[PAIR_BLOCK];    /* |r_ab|^2 */
-    double gW[3][PAIR_BLOCK]; /* grad_a W_ab */
-    double W[PAIR_BLOCK];     /* W_ab (with artificial stress or XSPH) */
+    int n;                                   /* pairs in the block */
+    double r[3][PAIR_BLOCK];                 /* r_ab = x_a - x_b */
+    double v[3][PAIR_BLOCK];                 /* v_ab = v_a - v_b */
+    double r2[PAIR_BLOCK];                   /* |r_ab|^2 */
+    double gW[3][PAIR_BLOCK];                /* grad_a W_ab */
+    double W[PAIR_BLOCK];                    /* W_ab (with artificial stress or XSPH) */
+    double m_a[PAIR_BLOCK], V_a[PAIR_BLOCK]; /* mass and volume m/rho of a */
     double m_b[PAIR_BLOCK], V_b[PAIR_BLOCK];
     double rho_mean[PAIR_BLOCK], c_mean[PAIR_BLOCK]; /* (rho_a + rho_b)/2, same for c0 */
     /* momentum: T_ab = sigma_a/rho_a^2 + sigma_b/rho_b^2 (+ effect terms),
@@ -95,12 +98,12 @@ typedef double pair_rows[PAIR_BLOCK];
 static inline void continuity_term(int dim, const pair_block *restrict p, pair_rows *restrict ta,
                                    pair_rows *restrict tb)
 {
-    for (int k = 0; k < p->n; ++k) {
+    for (int k = 0; k < PAIR_BLOCK; ++k) {
         double s = 0.0;
         for (int i = 0; i < dim; ++i)
             s += p->v[i][k] * p->gW[i][k];
         ta[0][k] = p->m_b[k] * s;
-        tb[0][k] = p->m_a * s;
+        tb[0][k] = p->m_a[k] * s;
     }
 }
 
@@ -111,9 +114,9 @@ static inline void velocity_gradient_term(int dim, const pair_block *restrict p,
 {
     for (int i = 0; i < dim; ++i)
         for (int j = 0; j < dim; ++j)
-            for (int k = 0; k < p->n; ++k) {
+            for (int k = 0; k < PAIR_BLOCK; ++k) {
                 ta[i * dim + j][k] = -(p->V_b[k] * p->v[i][k] * p->gW[j][k]);
-                tb[i * dim + j][k] = -(p->V_a * p->v[i][k] * p->gW[j][k]);
+                tb[i * dim + j][k] = -(p->V_a[k] * p->v[i][k] * p->gW[j][k]);
             }
 }
 
@@ -125,12 +128,12 @@ static inline void momentum_term(int dim, const pair_block *restrict p, pair_row
                                  pair_rows *restrict tb)
 {
     for (int i = 0; i < dim; ++i)
-        for (int k = 0; k < p->n; ++k) {
+        for (int k = 0; k < PAIR_BLOCK; ++k) {
             double s = 0.0;
             for (int j = 0; j < dim; ++j)
                 s += p->T[pair_tensor_index(dim, i, j)][k] * p->gW[j][k];
             ta[i][k] = p->m_b[k] * s;
-            tb[i][k] = -(p->m_a * s);
+            tb[i][k] = -(p->m_a[k] * s);
         }
 }
 

@@ -41,8 +41,9 @@
  * results do not depend on when the list was rebuilt.
  *
  * The pair loop is compiled in one variant per (dimension, kernel, pass,
- * sums layout) and instruction-set path.  A row's neighbours are taken in
- * blocks of PAIR_BLOCK: gathered into structure-of-arrays form, then every
+ * sums layout) and instruction-set path.  The pairs of a chunk are taken
+ * row after row in blocks of PAIR_BLOCK (a block runs across rows, so its
+ * vectors are full): gathered into structure-of-arrays form, then every
  * pair term (physics.h, effects.h; one function each, the only place its
  * equation is written) runs over the block in a short loop that
  * vectorises; effects are runtime switches tested once per block.  The
@@ -218,13 +219,13 @@ static void far_append(far_list *f, int record, size_t b, const double *terms)
 /* Adds a record of terms t (its doubles `step` apart, in the order of the
  * sums' offsets) to particle b's sums.  The one scatter of the pair pass:
  * own rows, partners, far records and the partial-sum buffer. */
-static ALWAYS_INLINE void add_record(const sums *s, size_t b, const double *t, size_t step)
+static ALWAYS_INLINE void add_record(const sums *s, size_t b, const double *restrict t, size_t step)
 {
 #pragma GCC unroll 6
     for (int q = 0; q < N_SUMS; ++q) {
         if (!s->width[q])
             continue;
-        double *dst = s->p[q] + b * s->stride[q];
+        double *restrict dst = s->p[q] + b * s->stride[q];
         for (int i = 0; i < s->width[q]; ++i)
             dst[i] += t[(size_t)(s->offset[q] + i) * step];
     }
@@ -258,74 +259,111 @@ static ALWAYS_INLINE sums loop_sums(const engine *e, const int dim, const int sp
     return s;
 }
 
-/* The pair block of row a: neighbours list[0..count) (at most PAIR_BLOCK),
- * those the row computes gathered in structure-of-arrays form with the
- * per-pair factors of the pass, then the kernel (and its gradient). */
-static ALWAYS_INLINE void gather_block(const engine *e, size_t a, const int *list, int count,
-                                       size_t far_below, const int dim, const int kernel,
-                                       const int pass, pair_block *p, int *bidx)
+/* A block of pairs being filled row after row: the terms' inputs (those of
+ * a per pair too, since the pairs may come from several rows), which
+ * particles each pair joins, and what the gather leaves to vector loops. */
+typedef struct row_block {
+    pair_block p;
+    int a[PAIR_BLOCK], b[PAIR_BLOCK];
+    double rho_a[PAIR_BLOCK], rho_b[PAIR_BLOCK];
+} row_block;
+
+/* Lanes of every input set to finite filler (a pair at rest at zero
+ * distance, unit densities), so that the fixed-length loops never meet
+ * uninitialised or denormal values past the block's pairs. */
+static ALWAYS_INLINE void block_filler(row_block *k)
+{
+    memset(k, 0, sizeof *k);
+    for (int i = 0; i < PAIR_BLOCK; ++i)
+        k->rho_a[i] = k->rho_b[i] = 1.0;
+}
+
+/* Per row a: what every pair of the row takes from a. */
+typedef struct row_data {
+    const double *x, *v, *P, *R;
+    double m, V, rho, c;
+} row_data;
+
+static ALWAYS_INLINE row_data row_of(const engine *e, size_t a, const int dim, const int pass)
+{
+    const int nsym = dim == 2 ? 3 : 6;
+    const int mom = pass & PASS_MOMENTUM;
+    row_data r;
+    r.x = e->x + a * e->xs;
+    r.v = e->v + a * e->xs;
+    r.P = e->pair_data + a * (size_t)e->pstride;
+    r.R = mom && e->R ? e->R + a * (size_t)nsym : NULL;
+    r.m = e->mass[a];
+    r.rho = e->rho[a];
+    r.V = r.m / r.rho;
+    r.c = e->c0_all > 0.0 || !mom ? e->c0_all : r.P[nsym];
+    return r;
+}
+
+/* Lane k of the block: the pair (a, b), gathered in structure-of-arrays
+ * form with the per-pair factors of the pass. */
+static ALWAYS_INLINE void gather_pair(const engine *e, const row_data *ra, size_t a, size_t b,
+                                      const int dim, const int pass, row_block *blk, int k)
 {
     const int nsym = dim == 2 ? 3 : 6, pstride = e->pstride;
+    const int mom = pass & PASS_MOMENTUM;
+    const int viscosity = mom && e->fx.artificial_viscosity;
+    pair_block *p = &blk->p;
+    blk->a[k] = (int)a;
+    blk->b[k] = (int)b;
+    double r_ab[3];
+    separation(e, ra->x, b, dim, e->periodic, r_ab);
+    const double *vb = e->v + b * e->xs;
+    const double *Pb = e->pair_data + b * (size_t)pstride;
+    for (int i = 0; i < dim; ++i) {
+        p->r[i][k] = r_ab[i];
+        p->v[i][k] = ra->v[i] - vb[i];
+    }
+    p->m_a[k] = ra->m;
+    p->V_a[k] = ra->V;
+    p->m_b[k] = e->mass[b];
+    blk->rho_a[k] = ra->rho;
+    blk->rho_b[k] = e->rho[b];
+    if (mom) /* the per-particle stress factors (pass_pair_data) */
+        for (int c = 0; c < nsym; ++c)
+            p->T[c][k] = ra->P[c] + Pb[c];
+    if (viscosity && !(e->c0_all > 0.0))
+        p->c_mean[k] = 0.5 * (ra->c + Pb[nsym]);
+    if (ra->R)
+        for (int c = 0; c < nsym; ++c)
+            p->R[c][k] = ra->R[c] + e->R[b * (size_t)nsym + (size_t)c];
+}
+
+/* The rest of the block's inputs, in loops over all lanes without
+ * branches (they vectorise): volumes, means, the kernel and its gradient. */
+static ALWAYS_INLINE void block_inputs(const engine *e, row_block *blk, const int dim,
+                                       const int kernel, const int pass)
+{
+    pair_block *p = &blk->p;
     const int cont = pass & PASS_CONTINUITY, mom = pass & PASS_MOMENTUM;
     const int viscosity = mom && e->fx.artificial_viscosity, stress = mom && e->R;
     const int xsph = cont && e->acc.width[SUM_U] > 0;
-    const double *xa = e->x + a * e->xs, *va = e->v + a * e->xs;
-    const double *Pa = e->pair_data + a * (size_t)pstride;
-    const double *Ra = stress ? e->R + a * (size_t)nsym : NULL;
-    const double rho_a = e->rho[a], c0_all = e->c0_all;
-    const double c_a = c0_all > 0.0 || !mom ? c0_all : Pa[nsym];
-    double rho_b[PAIR_BLOCK];
-    int n = 0;
-    p->m_a = e->mass[a];
-    p->V_a = p->m_a / rho_a;
-    for (int kk = 0; kk < count; ++kk) {
-        const int b = list[kk];
-        if (e->full && (size_t)b < a && (size_t)b >= far_below)
-            continue; /* a full list: the pair is computed in b's row */
-        const int k = n++;
-        bidx[k] = b;
-        double r_ab[3];
-        separation(e, xa, (size_t)b, dim, e->periodic, r_ab);
-        const double *vb = e->v + (size_t)b * e->xs;
-        const double *Pb = e->pair_data + (size_t)b * (size_t)pstride;
-        for (int i = 0; i < dim; ++i) {
-            p->r[i][k] = r_ab[i];
-            p->v[i][k] = va[i] - vb[i];
-        }
-        p->m_b[k] = e->mass[b];
-        rho_b[k] = e->rho[b];
-        if (mom) /* the per-particle stress factors (pass_pair_data) */
-            for (int c = 0; c < nsym; ++c)
-                p->T[c][k] = Pa[c] + Pb[c];
-        if (viscosity)
-            p->c_mean[k] = c0_all > 0.0 ? c0_all : 0.5 * (c_a + Pb[nsym]);
-        if (stress)
-            for (int c = 0; c < nsym; ++c)
-                p->R[c][k] = Ra[c] + e->R[(size_t)b * (size_t)nsym + (size_t)c];
-    }
-    p->n = n;
-    /* the rest in short loops without branches, which vectorise */
     if (cont) /* volumes m/rho (rounded as when they were stored) */
-        for (int k = 0; k < n; ++k)
-            p->V_b[k] = p->m_b[k] / rho_b[k];
+        for (int k = 0; k < PAIR_BLOCK; ++k)
+            p->V_b[k] = p->m_b[k] / blk->rho_b[k];
     if (viscosity || xsph)
-        for (int k = 0; k < n; ++k)
-            p->rho_mean[k] = 0.5 * (rho_a + rho_b[k]);
+        for (int k = 0; k < PAIR_BLOCK; ++k)
+            p->rho_mean[k] = 0.5 * (blk->rho_a[k] + blk->rho_b[k]);
     double q[PAIR_BLOCK];
-    for (int k = 0; k < n; ++k) {
+    for (int k = 0; k < PAIR_BLOCK; ++k) {
         double q2 = 0.0;
         for (int i = 0; i < dim; ++i)
             q2 += p->r[i][k] * p->r[i][k];
         p->r2[k] = q2;
         q[k] = sqrt(q2) * e->inv_h;
     }
-    for (int k = 0; k < n; ++k) {
+    for (int k = 0; k < PAIR_BLOCK; ++k) {
         const double F = kernel_f(kernel, dim, q[k]) * e->f_norm;
         for (int i = 0; i < dim; ++i)
             p->gW[i][k] = F * p->r[i][k];
     }
     if (stress || xsph)
-        for (int k = 0; k < n; ++k)
+        for (int k = 0; k < PAIR_BLOCK; ++k)
             p->W[k] = kernel_w(kernel, dim, q[k]) * e->w_norm;
 }
 
@@ -353,50 +391,111 @@ static ALWAYS_INLINE void pair_terms(const engine *e, pair_block *p, const sums 
     }
 }
 
-/* The pair pass for row a of a chunk whose direct targets are [b0, dend):
- * block by block, the terms of every pair; a's summed in neighbour order,
- * b's added to b's sums, or left to b's row (a far pair listed in both
- * rows), or appended to the chunk's far records. */
-static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t dend, far_list *far,
-                                   const int dim, const int kernel, const int split, const int pass,
-                                   const int plain)
-{
-    const sums s = loop_sums(e, dim, split, pass, plain);
-    const int record = s.record;
+/* The rows of a chunk being summed: a's terms are summed in neighbour order
+ * (from zero, in acc) and added to a's sums when its row ends, every row in
+ * turn, so each sum runs in the order of the rows and their lists. */
+typedef struct row_sum {
+    size_t a; /* the row being summed */
     double acc[MAX_RECORD];
-    for (int c = 0; c < record; ++c)
-        acc[c] = 0.0;
-    const int *list;
-    int count;
-    neighbours_of(e, a, &list, &count);
-    /* a neighbour b < far_below is at least two chunks before a */
-    const size_t far_below = b0 >= e->chunk ? b0 - e->chunk : 0;
-    for (int k0 = 0; k0 < count; k0 += PAIR_BLOCK) {
-        pair_block p;
-        int bidx[PAIR_BLOCK];
-        pair_rows ta[MAX_RECORD], tb[MAX_RECORD];
-        const int kn = count - k0 < PAIR_BLOCK ? count - k0 : PAIR_BLOCK;
-        gather_block(e, a, list + k0, kn, far_below, dim, kernel, pass, &p, bidx);
-        pair_terms(e, &p, &s, dim, pass, ta, tb);
-        for (int k = 0; k < p.n; ++k) /* each sum in neighbour order */
+} row_sum;
+
+/* Ends the rows before `until`: their sums (zero for a row without pairs)
+ * added to the particles'. */
+static ALWAYS_INLINE void rows_end(const sums *s, row_sum *rs, size_t until)
+{
+    while (rs->a < until) {
+        add_record(s, rs->a, rs->acc, 1);
+        for (int c = 0; c < s->record; ++c)
+            rs->acc[c] = 0.0;
+        rs->a++;
+    }
+}
+
+/* The block's n pairs: their terms, then in pair order a's summed into the
+ * row's acc, b's added to b's sums (direct targets [b0, dend)), or left to
+ * b's row (a far pair listed in both rows), or appended to the chunk's far
+ * records. */
+static ALWAYS_INLINE void block_sums(const engine *e, const sums *s, row_block *blk, size_t b0,
+                                     size_t dend, far_list *far, row_sum *rs, const int dim,
+                                     const int kernel, const int pass)
+{
+    const int record = s->record;
+    pair_rows ta[MAX_RECORD], tb[MAX_RECORD];
+    block_inputs(e, blk, dim, kernel, pass);
+    pair_terms(e, &blk->p, s, dim, pass, ta, tb);
+    const int n = blk->p.n;
+    for (int k = 0; k < n; ++k) {
+        const size_t a = (size_t)blk->a[k], b = (size_t)blk->b[k];
+        if (a != rs->a)
+            rows_end(s, rs, a);
 #pragma GCC unroll 22
+        for (int c = 0; c < record; ++c)
+            rs->acc[c] += ta[c][k];
+        if (b >= b0 && b < dend) {
+            add_record(s, b, &tb[0][k], PAIR_BLOCK);
+        } else if (e->reverse && b < e->n_local) {
+            /* a far pair listed in both rows: b's row adds b's terms */
+        } else if (b < e->n_local || e->ghost_sums) {
+            double t[MAX_RECORD];
             for (int c = 0; c < record; ++c)
-                acc[c] += ta[c][k];
-        for (int k = 0; k < p.n; ++k) {
-            const size_t b = (size_t)bidx[k];
-            if (b >= b0 && b < dend) {
-                add_record(&s, b, &tb[0][k], PAIR_BLOCK);
-            } else if (e->reverse && b < e->n_local) {
-                /* a far pair listed in both rows: b's row adds b's terms */
-            } else if (b < e->n_local || e->ghost_sums) {
-                double t[MAX_RECORD];
-                for (int c = 0; c < record; ++c)
-                    t[c] = tb[c][k];
-                far_append(far, record, b, t);
-            }
+                t[c] = tb[c][k];
+            far_append(far, record, b, t);
         }
     }
-    add_record(&s, a, acc, 1);
+    blk->p.n = 0;
+}
+
+/* The pair pass for the rows [b0, b1) of a chunk whose direct targets are
+ * [b0, dend): the pairs gathered row after row into blocks of PAIR_BLOCK
+ * (a block runs across rows, so its vectors are full), each full block
+ * summed. */
+static ALWAYS_INLINE void chunk_sums(const engine *e, size_t b0, size_t b1, size_t dend,
+                                     far_list *far, const int dim, const int kernel,
+                                     const int split, const int pass, const int plain)
+{
+    const sums s = loop_sums(e, dim, split, pass, plain);
+    row_block blk;
+    block_filler(&blk);
+    if (e->c0_all > 0.0) /* every pair's mean sound speed */
+        for (int k = 0; k < PAIR_BLOCK; ++k)
+            blk.p.c_mean[k] = e->c0_all;
+    row_sum rs;
+    rs.a = b0;
+    for (int c = 0; c < MAX_RECORD; ++c)
+        rs.acc[c] = 0.0;
+    /* a neighbour b < far_below is at least two chunks before a */
+    const size_t far_below = b0 >= e->chunk ? b0 - e->chunk : 0;
+    /* row a's neighbours from kk on are still to be gathered; one call of
+     * block_sums (each call site is a copy of the whole block's code) */
+    size_t a = b0;
+    int kk = 0, count = 0;
+    const int *list = NULL;
+    row_data ra = {0};
+    if (a < b1) {
+        neighbours_of(e, a, &list, &count);
+        ra = row_of(e, a, dim, pass);
+    }
+    for (;;) {
+        while (a < b1 && blk.p.n < PAIR_BLOCK) {
+            if (kk == count) { /* the next row */
+                if (++a == b1)
+                    break;
+                neighbours_of(e, a, &list, &count);
+                kk = 0;
+                ra = row_of(e, a, dim, pass);
+                continue;
+            }
+            const size_t b = (size_t)list[kk++];
+            if (e->full && b < a && b >= far_below)
+                continue; /* a full list: the pair is computed in b's row */
+            gather_pair(e, &ra, a, b, dim, pass, &blk, blk.p.n++);
+        }
+        if (blk.p.n)
+            block_sums(e, &s, &blk, b0, dend, far, &rs, dim, kernel, pass);
+        if (a >= b1)
+            break;
+    }
+    rows_end(&s, &rs, b1);
 }
 
 /* One function per (dimension, kernel, sums, pass) and instruction-set
@@ -416,18 +515,17 @@ static ALWAYS_INLINE void row_sums(const engine *e, size_t a, size_t b0, size_t 
 
 typedef void (*chunk_fn)(const engine *, long);
 
-static ALWAYS_INLINE void chunk_rows(const engine *e, long c, const int dim, const int kernel,
+static ALWAYS_INLINE void chunk_rows(const engine *shared, long c, const int dim, const int kernel,
                                      const int split, const int pass)
 {
+    const engine *e = shared;
     const size_t b0 = (size_t)c * e->chunk;
     const size_t b1 = b0 + e->chunk < e->n_local ? b0 + e->chunk : e->n_local;
     const size_t dend = b1 + e->chunk < e->n_local ? b1 + e->chunk : e->n_local;
     if (!e->acc.width[SUM_M] && !e->acc.width[SUM_U])
-        for (size_t a = b0; a < b1; ++a)
-            row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split, pass, 1);
+        chunk_sums(e, b0, b1, dend, &e->far[c], dim, kernel, split, pass, 1);
     else
-        for (size_t a = b0; a < b1; ++a)
-            row_sums(e, a, b0, dend, &e->far[c], dim, kernel, split, pass, 0);
+        chunk_sums(e, b0, b1, dend, &e->far[c], dim, kernel, split, pass, 0);
 }
 
 #define CHUNK_FN(ATTR, PATH, DIM, KERNEL, SPLIT, PASS)                                           \
@@ -523,10 +621,10 @@ static void pass_pairs(const engine *e, int kernel, size_t n_sums)
     }
 }
 
-/* Pass 3 for one particle: the rates from its sums. */
-static void finish_particle(const engine *e, size_t a)
+/* Pass 3 for one particle: the rates from its sums (the dimension a
+ * constant of each caller below). */
+static ALWAYS_INLINE void finish_particle(const engine *e, size_t a, const int dim)
 {
-    const int dim = e->dim;
     const sums *s = &e->acc;
     if (e->pass & PASS_MOMENTUM) {
         double *dv = e->dv_dt + a * (size_t)dim;
@@ -572,8 +670,12 @@ static void pass_finish(const engine *e)
 {
     const long n = (long)e->n_local;
 #pragma omp parallel for schedule(static) num_threads(e->threads)
-    for (long a = 0; a < n; ++a)
-        finish_particle(e, (size_t)a);
+    for (long a = 0; a < n; ++a) {
+        if (e->dim == 2)
+            finish_particle(e, (size_t)a, 2);
+        else
+            finish_particle(e, (size_t)a, 3);
+    }
 }
 
 /* The layout of the sums of a pass: widths and offsets in a record. */
@@ -784,14 +886,30 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     return SPH_OK;
 }
 
+/* Each thread zeroes the sums of its block of particles: a sum whose rows
+ * are contiguous (stride = width: the rate arrays) in one memset, a sum in
+ * a buffer of records element by element. */
 static void zero_sums(const engine *e, size_t n)
 {
-    const long nn = (long)n;
-#pragma omp parallel for schedule(static) num_threads(e->threads)
-    for (long a = 0; a < nn; ++a)
-        for (int q = 0; q < N_SUMS; ++q)
-            for (int i = 0; i < e->acc.width[q]; ++i)
-                e->acc.p[q][(size_t)a * e->acc.stride[q] + (size_t)i] = 0.0;
+#pragma omp parallel num_threads(e->threads)
+    {
+        long begin, end;
+        thread_block((long)n, &begin, &end);
+        const sums *s = &e->acc;
+        const size_t rows = (size_t)(end - begin);
+        for (int q = 0; q < N_SUMS; ++q) {
+            const size_t w = (size_t)s->width[q], z = s->stride[q];
+            if (!w)
+                continue;
+            double *p = s->p[q] + (size_t)begin * z;
+            if (z == w)
+                memset(p, 0, rows * w * sizeof *p);
+            else
+                for (size_t a = 0; a < rows; ++a)
+                    for (size_t i = 0; i < w; ++i)
+                        p[a * z + i] = 0.0;
+        }
+    }
 }
 
 static sph_status pairs_run(sph_sim *sim, engine *e)

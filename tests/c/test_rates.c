@@ -503,9 +503,10 @@ static pair_block random_block(int dim, unsigned seed)
     pair_block p;
     memset(&p, 0, sizeof p);
     p.n = 7;
-    p.m_a = 1.0 + uniform(&seed);
-    p.V_a = 1e-3 * (1.0 + uniform(&seed));
+    const double m_a = 1.0 + uniform(&seed), V_a = 1e-3 * (1.0 + uniform(&seed));
     for (int k = 0; k < p.n; ++k) {
+        p.m_a[k] = m_a;
+        p.V_a[k] = V_a;
         const double F = -1.0 - uniform(&seed); /* W'(r)/r < 0 */
         p.r2[k] = 0.0;
         for (int i = 0; i < dim; ++i) {
@@ -534,10 +535,10 @@ static pair_block mirrored(int dim, const pair_block *p, int k)
     pair_block m;
     memset(&m, 0, sizeof m);
     m.n = 1;
-    m.m_a = p->m_b[k];
-    m.V_a = p->V_b[k];
-    m.m_b[0] = p->m_a;
-    m.V_b[0] = p->V_a;
+    m.m_a[0] = p->m_b[k];
+    m.V_a[0] = p->V_b[k];
+    m.m_b[0] = p->m_a[k];
+    m.V_b[0] = p->V_a[k];
     for (int i = 0; i < dim; ++i) {
         m.r[i][0] = -p->r[i][k];
         m.v[i][0] = -p->v[i][k];
