@@ -206,6 +206,16 @@ static size_t find_root(size_t *parent, size_t a)
     return a;
 }
 
+/* Joins the regions of a and b, the smaller root becoming the parent. */
+static void unite(size_t *parent, size_t a, size_t b)
+{
+    const size_t ra = find_root(parent, a), rb = find_root(parent, b);
+    if (ra < rb)
+        parent[rb] = ra;
+    else if (rb < ra)
+        parent[ra] = rb;
+}
+
 sph_status damage_fragments(sph_sim *sim, double *out, long *count)
 {
     const size_t n = sim->n;
@@ -239,13 +249,8 @@ sph_status damage_fragments(sph_sim *sim, double *out, long *count)
                     d = nearest_image(d, sim->hi[i] - sim->lo[i], 0.5 * (sim->hi[i] - sim->lo[i]));
                 r2 += d * d;
             }
-            if (!(r2 < reach2))
-                continue;
-            const size_t ra = find_root(parent, a), rb = find_root(parent, b);
-            if (ra < rb)
-                parent[rb] = ra;
-            else if (rb < ra)
-                parent[ra] = rb;
+            if (r2 < reach2)
+                unite(parent, a, b);
         }
     }
     /* ids in the order of each fragment's first particle */
@@ -512,13 +517,8 @@ sph_status sph_damage_fragment_labels(sph_sim *sim, const sph_particles *particl
                 const double d = x[a * stride + i] - x[b * stride + i];
                 r2 += d * d;
             }
-            if (!(r2 < reach2))
-                continue;
-            const size_t ra = find_root(parent, a), rb = find_root(parent, b);
-            if (ra < rb)
-                parent[rb] = ra;
-            else if (rb < ra)
-                parent[ra] = rb;
+            if (r2 < reach2)
+                unite(parent, a, b);
         }
     }
     /* each region's least label, then every member's label */
