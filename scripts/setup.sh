@@ -26,7 +26,13 @@ fi
 echo "setup: building the C library (build/)"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=OFF \
     -DSPHSOLID_EXAMPLES=ON -DSPHSOLID_BENCH=ON >/dev/null
-cmake --build build -j"$(nproc)" >/dev/null
+# The C build runs beside the Python steps below (the wheel compiles the
+# library again): each is mostly one long compile of rates.c, so on two
+# cores the two overlap.
+build_log=build/setup-build.log
+cmake --build build -j"$(nproc)" >"$build_log" 2>&1 &
+build_pid=$!
+trap 'kill "$build_pid" 2>/dev/null || true' EXIT
 
 if [ ! -x .venv/bin/python ]; then
     echo "setup: creating .venv"
@@ -48,6 +54,13 @@ if ! .venv/bin/python -c "import sphsolid" 2>/dev/null || [ "$(cat .venv/.sphsol
     echo "$stamp" > build/wheel/stamp
     echo "$stamp" > .venv/.sphsolid-stamp
 fi
+
+if ! wait "$build_pid"; then
+    cat "$build_log" >&2
+    echo "setup: building the C library (build/) failed (above)" >&2
+    exit 1
+fi
+trap - EXIT
 
 # The format and lint tools of scripts/format.sh, pinned so that every
 # machine formats alike.
