@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io_hdf5.h"
 #include "sim.h"
 
 #ifdef SPHSOLID_HAVE_HDF5
@@ -179,10 +180,12 @@ static sph_status write_xdmf(sph_sim *sim, const char *h5_path)
         H5Fclose(file);
         return sph_fail(sim, SPH_ERR_MEMORY, "sph_write_xdmf: cannot allocate %ld times", frames);
     }
-    int err = 0;
+    io c = {0}; /* the cause, e.g. a time chunk whose checksum fails */
     if (frames > 0) {
-        hid_t d = H5Dopen2(file, "/particles/all/position/time", H5P_DEFAULT);
-        err = d < 0 || H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, times) < 0;
+        const char *what = "/particles/all/position/time";
+        hid_t d = H5Dopen2(file, what, H5P_DEFAULT);
+        if (io_ok(&c, d, what))
+            io_ok(&c, H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, times), what);
         if (d >= 0)
             H5Dclose(d);
     }
@@ -197,10 +200,10 @@ static sph_status write_xdmf(sph_sim *sim, const char *h5_path)
             ? 5
             : 3;
     H5Fclose(file);
-    if (err) {
+    if (c.failed) {
         free(times);
-        return sph_fail(sim, SPH_ERR_IO, "sph_write_xdmf: cannot read the frame times of '%s'",
-                        h5_path);
+        return sph_fail(sim, SPH_ERR_IO, "sph_write_xdmf: cannot read the frame times of '%s': %s",
+                        h5_path, c.cause);
     }
 
     const char *href;

@@ -209,6 +209,26 @@ def _damaged_trajectory_frame(tmp_path):
         traj[-1]
 
 
+def _xdmf_of_damaged_times(tmp_path):
+    # the XDMF companion lists each frame's time: a damaged time series
+    # fails its checksum and no companion is written from it
+    path = tmp_path / "run.h5"
+    scene = small_scene()
+    with sphsolid.Trajectory(path, "w", scene) as traj:
+        sphsolid.ImprovedEuler(scene).run(2)
+        traj.write()
+    with h5py.File(path, "r") as f:
+        times = f["/particles/all/position/time"]
+        chunk = times.id.get_chunk_info(0)
+        stored = times[-1].tobytes()
+    data = bytearray(path.read_bytes())
+    at = data.find(stored, chunk.byte_offset, chunk.byte_offset + chunk.size)
+    assert at >= 0
+    data[at + 3] ^= 0x5F
+    path.write_bytes(bytes(data))
+    sphsolid.trajectory.write_xdmf(path)
+
+
 def _load_frame_into_another_shape(tmp_path):
     path = tmp_path / "run.h5"
     scene = sphsolid.Scene(2, [build.rectangle((0, 0.02), (0, 0.01), 1e-3, rock())])
@@ -274,6 +294,7 @@ PYTHON_CASES = [
     (_trajectory_of_newer_format, OSError, r"new.h5' has libsphsolid file format 7"),
     (_trajectory_of_a_checkpoint, OSError, r"is a libsphsolid checkpoint file, not an output file"),
     (_damaged_trajectory_frame, OSError, r"run.h5' is damaged: /particles/all/position/value fails its checksum"),
+    (_xdmf_of_damaged_times, OSError, r"frame times of .*run.h5.: data error detected by Fletcher32 checksum"),
     (_load_frame_into_another_shape, ValueError, r"body 'specimen' spans x in \[.*\] m in the file, \[.*\] m here"),
     (_checkpoint_of_another_material, ValueError, r"material 0 has bulk modulus K = 12200000000 in the file, 1000000000 here"),
     (_checkpoint_of_another_motion, ValueError, r"body 'specimen' has motion 'free' in the file, motion 'fixed' here"),
