@@ -428,6 +428,21 @@ def load(path, preset=None, integrator=None) -> SceneFile:
     return SceneFile(path, preset=preset, integrator=integrator)
 
 
+
+def make_folder(path: Path, label: str) -> Path:
+    """Make an output folder (and its parents), or refuse with ``label``
+    (how the caller names it): a file in its place, a folder that cannot
+    be made."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{label}: is a file, not a folder")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise ValueError(f"{label}: cannot make the folder "
+                         f"({error.strerror})") from None
+    return path
+
 def run_file(path, out=None, until=None, progress=None, log=print,
              threads=None, integrator=None, preset=None,
              checkpoint_every=None, resume=None, dt=None,
@@ -491,13 +506,7 @@ def run_file(path, out=None, until=None, progress=None, log=print,
     output = spec.output
     h5 = out / output.get("file", f"{spec.path.stem}.h5")
     checkpoint = h5.with_name(f"{h5.stem}_checkpoint.h5")
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"output folder {str(out)!r}: is a file, not a folder")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise ValueError(f"output folder {str(out)!r}: cannot make it "
-                         f"({error.strerror})") from None
+    make_folder(out, f"output folder {str(out)!r}")
     threads = spec.threads if threads is None else threads
     if threads is not None:
         scene.calc = CLibrary(threads=threads)

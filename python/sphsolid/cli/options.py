@@ -170,15 +170,8 @@ def add_checkpoint_options(parser) -> None:
 def output_folder(path: Path, option: str = "--out") -> Path:
     """Make the output folder (and its parents), or refuse naming the
     option: a file in its place, a folder that cannot be made."""
-    path = Path(path)
-    if path.exists() and not path.is_dir():
-        raise ValueError(f"{option} {path}: is a file, not a folder")
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise ValueError(f"{option} {path}: cannot make the folder "
-                         f"({error.strerror})") from None
-    return path
+    from ..scenefile import make_folder
+    return make_folder(path, f"{option} {path}")
 
 
 def add_allow_large_option(parser) -> None:
