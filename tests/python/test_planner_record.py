@@ -532,3 +532,35 @@ def test_the_record_prunes_settings_it_prices_far_above_the_best(
                  record=None)
     refined = [s for s, dx in ran if dx < ladder[-1] * (1 - 1e-6)]
     assert set(refined) == {a, b, c}
+
+
+def test_a_scene_whose_effects_the_record_lacks_is_refused_by_name(
+        monkeypatch, tmp_path):
+    # the record verifies the plain setting; the scene calls for
+    # artificial stress, which no setting of the record has
+    spec = planner.project_scenes()["strip"]
+    plain = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
+    stressed = planner.Setting.make(
+        1.2, "cubic_spline", "leapfrog",
+        effects={"artificial_stress": {"epsilon": 0.3}})
+    record = record_module.Record({"format": 1, "settings": {
+        record_module.family(plain): {"max": {"ratio": 0.5, "bias": 0.0}}}})
+    monkeypatch.setattr(planner.search, "candidate_settings",
+                        lambda *a, **k: ([stressed], []))
+    plan = planner.plan(spec.factory, error=0.05, until=20e-6,
+                        probes=spec.probes, quantity=spec.quantity,
+                        threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
+                        timing_checks=0, record=record)
+    assert not plan.feasible
+    assert "no setting with artificial_stress" in plan.reason
+    assert "--no-record" in plan.reason and "record=None" in plan.reason
+
+
+def test_the_cli_plans_without_the_record_when_asked(monkeypatch, tmp_path):
+    from sphsolid.cli import main
+    calls = _record_plan_calls(monkeypatch)
+    for extra in ([], ["--no-record"]):
+        with pytest.raises(_Planned):
+            main(["plan", "strip", "--error", "3%", "--no-cache",
+                  "--out", str(tmp_path / "p.json")] + extra)
+    assert calls[0]["record"] is True and calls[1]["record"] is None

@@ -958,6 +958,25 @@ def plan(scene_factory: Callable, error: float = 0.03,
                   scene=scene)
     if affordable:
         result.adopt(affordable[0])
+    elif not cands and skipped:
+        # the record left every candidate out: say which effects made
+        # them unverified, and how to plan without the record
+        verified = ({name for key in record.families()
+                     for name in key.split(" + ")[1:]} if record else set())
+        effects = sorted({name for c in skipped for name, _ in c.setting.effects
+                          if name not in verified})
+        unverified = sum(c.note.startswith("not verified") for c in skipped)
+        result.best_reachable_error = None
+        result.reason = (
+            f"the verification record verifies none of the {len(skipped)} "
+            f"candidate settings in the {norm} norm ({unverified} not "
+            "verified" + (f"; the record has no setting with "
+                          f"{', '.join(effects)}, which this scene calls "
+                          "for" if effects else "")
+            + f"; {len(skipped) - unverified} biased at or above the "
+            "request or dominated); plan without the record (sphsolid "
+            "plan --no-record, planner.plan(..., record=None)) to choose "
+            "by self-convergence alone, without the record's margins")
     else:
         result.best_reachable_error, result.reason = _refusal(
             usable, error, max_seconds, scene_factory, until)
