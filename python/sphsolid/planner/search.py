@@ -153,6 +153,8 @@ def validate_plan_data(data, source: str = "plan") -> None:
     if "smoothing_ratio" in settings:
         _number(settings["smoothing_ratio"], f"{where}smoothing_ratio'",
                 True, optional=False)
+    if "step" in settings:
+        _number(settings["step"], f"{where}step'", True, optional=False)
     _number(settings.get("threads"), f"{where}threads'", True, integer=True)
     for key in ("kernel", "integrator"):
         if key in settings and not isinstance(settings[key], str):
@@ -278,6 +280,13 @@ class Plan:
         return build_scene(scene_factory, self.dx, self.setting,
                            self.threads if threads is None else threads,
                            calculator)
+
+    def dynamics(self, scene, **kwargs):
+        """The Dynamics of the planned run: the plan's integrator at its
+        step (``kwargs`` go to it; an explicit ``dt`` wins)."""
+        if not self.feasible or self.setting is None:
+            raise ValueError(f"the plan was refused: {self.reason}")
+        return self.setting.dynamics(scene, **kwargs)
 
     def summary(self) -> str:
         """A table for people."""
@@ -426,11 +435,29 @@ def default_candidates(scene_factory, findings_by: dict,
             kernel, ratio, inset = family
             needed = {f.effect: f.parameters for f in findings
                       if f.effect and f.required}
-            for eff in ([effects, needed] if needed != effects
-                        else [effects]):
-                out.append(Setting.make(ratio, kernel, integrator, eff,
-                                        inset))
+            # and at the settings of the presets made for this kernel and
+            # integrator (the fronts preset: cubic_o4 at h/dx 1.6525,
+            # the leapfrog at half its step), with the same effects
+            own = [(ratio, inset, 1.0)] + [
+                (p.smoothing_ratio, p.inset, p.step) for p in preset_settings(
+                    kernel, integrator)
+                if accepted["smoothing_ratio"] and accepted["inset"]
+                and (p.smoothing_ratio, p.inset, p.step)
+                != (ratio, inset, 1.0)]
+            for (r, i, step), eff in itertools.product(
+                    own, [effects, needed] if needed != effects
+                    else [effects]):
+                out.append(Setting.make(r, kernel, integrator, eff, i,
+                                        step))
     return out
+
+
+def preset_settings(kernel: str, integrator: str) -> list:
+    """The presets (:data:`sphsolid.presets.PRESETS`) of this kernel and
+    integrator."""
+    from ..presets import PRESETS
+    return [p for p in PRESETS.values()
+            if p.kernel == kernel and p.integrator == integrator]
 
 
 def candidate_settings(scene_factory, until: float, probes, quantity: str,
