@@ -435,29 +435,11 @@ def default_candidates(scene_factory, findings_by: dict,
             kernel, ratio, inset = family
             needed = {f.effect: f.parameters for f in findings
                       if f.effect and f.required}
-            # and at the settings of the presets made for this kernel and
-            # integrator (the fronts preset: cubic_o4 at h/dx 1.6525,
-            # the leapfrog at half its step), with the same effects
-            own = [(ratio, inset, 1.0)] + [
-                (p.smoothing_ratio, p.inset, p.step) for p in preset_settings(
-                    kernel, integrator)
-                if accepted["smoothing_ratio"] and accepted["inset"]
-                and (p.smoothing_ratio, p.inset, p.step)
-                != (ratio, inset, 1.0)]
-            for (r, i, step), eff in itertools.product(
-                    own, [effects, needed] if needed != effects
-                    else [effects]):
-                out.append(Setting.make(r, kernel, integrator, eff, i,
-                                        step))
+            for eff in ([effects, needed] if needed != effects
+                        else [effects]):
+                out.append(Setting.make(ratio, kernel, integrator, eff,
+                                        inset))
     return out
-
-
-def preset_settings(kernel: str, integrator: str) -> list:
-    """The presets (:data:`sphsolid.presets.PRESETS`) of this kernel and
-    integrator."""
-    from ..presets import PRESETS
-    return [p for p in PRESETS.values()
-            if p.kernel == kernel and p.integrator == integrator]
 
 
 def candidate_settings(scene_factory, until: float, probes, quantity: str,
