@@ -922,6 +922,14 @@ SPH_API sph_status sph_energy_fields(sph_sim *sim, size_t n, const double *mass,
  *    evaluated before are stale then);
  *  - sph_damage_active: the flaws active at the current state (n doubles).
  * SPH_ERR_STATE while the effect is off. */
+/* Effect drucker_prager on n external particles: the return of each
+ * deviator S (n * ncomp, changed in place) onto the cone at its pressure
+ * (rho) and damage (damage: n values, required while effect damage is on,
+ * else ignored); member[a] = 0 skips particle a (prescribed bodies; NULL:
+ * all).  *changed is 1 if a deviator was scaled. */
+SPH_API sph_status sph_drucker_prager_return(sph_sim *sim, size_t n, const int *material,
+                                             const double *rho, const double *damage,
+                                             const unsigned char *member, double *S, int *changed);
 SPH_API sph_status sph_damage_flaws(sph_sim *sim, size_t n, const uint64_t *id, const double *mass,
                                     const int *material, const unsigned char *flawed,
                                     int *flaw_count, double *flaw_strain);

@@ -193,6 +193,15 @@ static sph_status one_step(sph_sim *sim, const integrator *in, double dt)
         if (grew)
             sim->rates_valid = 0;
     }
+    if (sim->fx.drucker_prager) {
+        /* the same split: the deviator returned onto the cone at the end
+         * state (on the damaged stress when damage is on) */
+        int returned = 0;
+        if ((st = plastic_stage(sim, &returned)))
+            return st;
+        if (returned)
+            sim->rates_valid = 0;
+    }
     if (sim->energy_account)
         energy_account_step(sim, dt);
     sim->t += dt;

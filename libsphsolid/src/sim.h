@@ -294,6 +294,11 @@ void damage_redraw(sph_sim *sim);
  * with D < 1 within the kernel support; -1 elsewhere), and their number. */
 sph_status damage_fragments(sph_sim *sim, double *out, long *count);
 
+/* plasticity.c */
+/* The drucker_prager return of every free-body particle at the current
+ * state; *changed is set when some deviator was scaled. */
+sph_status plastic_stage(sph_sim *sim, int *changed);
+
 /* energy.c (the energy account) */
 /* Adds the boundary power and the viscous dissipation rate of the current
  * rate evaluation (called before the prescribed accelerations are zeroed). */
