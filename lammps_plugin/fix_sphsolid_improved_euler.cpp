@@ -172,7 +172,7 @@ void FixSPHSolidImprovedEuler::final_integrate()
   // effect damage: flaws activate and D grows on the step's end state,
   // before the rates of the next step are evaluated there (which they are
   // whether D grew or not: no collective needed)
-  pair->grow_damage(update->dt, false);
+  pair->grow_damage(update->dt, false, pair->drucker_prager_on() ? free_atoms() : nullptr);
 
   // The first rate evaluation of the next step, at y_{n+1}.  Forces from
   // other fixes (gravity) are kept as they were added to f(y*): they do not

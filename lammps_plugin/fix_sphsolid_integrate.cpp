@@ -131,15 +131,21 @@ void FixSPHSolidIntegrate::init_rigid_bodies()
 void FixSPHSolidIntegrate::draw_flaws()
 {
   if (!pair->damage_on()) return;
+  pair->draw_flaws(free_atoms());
+}
+
+/* the atoms in the group and in no fix sphsolid/force body */
+const unsigned char *FixSPHSolidIntegrate::free_atoms()
+{
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
-  std::vector<unsigned char> flawed((size_t) std::max(nlocal, 1), 0);
+  free_mask.assign((size_t) std::max(nlocal, 1), 0);
   for (int i = 0; i < nlocal; i++) {
-    flawed[i] = (mask[i] & groupbit) ? 1 : 0;
+    free_mask[i] = (mask[i] & groupbit) ? 1 : 0;
     for (FixSPHSolidForce *body : rigid)
-      if (mask[i] & body->groupbit) flawed[i] = 0;
+      if (mask[i] & body->groupbit) free_mask[i] = 0;
   }
-  pair->draw_flaws(flawed.data());
+  return free_mask.data();
 }
 
 /* every atom of a fix sphsolid/force group gets the body's acceleration */

@@ -128,7 +128,8 @@ void FixSPHSolidLeapfrog::final_integrate()
   // If D grew the carried rates are stale: both passes again at y_{n+1}
   // (as the library's leapfrog evaluates both when it carries none), the
   // acceleration into f with the other fixes' forces kept.
-  if (!pair->grow_damage(update->dt, true)) return;
+  if (!pair->grow_damage(update->dt, true, pair->drucker_prager_on() ? free_atoms() : nullptr))
+    return;
   const int dim = pair->dimension();
   double **f = atom->f;
   const double *dv_pair = pair->dv_dt();

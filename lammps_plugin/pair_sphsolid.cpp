@@ -51,9 +51,9 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
     Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false), damage(false),
-    sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0),
-    nrates(-1), send_back(false), partial_size(0), pass_size(0), compute_pass(SPH_RATES_ALL),
-    pairs_computed(0), ghost_pairs(0)
+    drucker_prager(false), sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1),
+    nmax_scratch(0), nrates(-1), send_back(false), partial_size(0), pass_size(0),
+    compute_pass(SPH_RATES_ALL), pairs_computed(0), ghost_pairs(0)
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -120,6 +120,7 @@ void PairSPHSolid::settings(int narg, char **arg)
   effects.clear();
   xsph = false;
   damage = false;
+  drucker_prager = false;
 
   int iarg = 1;
   while (iarg < narg) {
@@ -153,6 +154,7 @@ void PairSPHSolid::settings(int narg, char **arg)
       effects.emplace_back(word, parameters);
       if (word == "xsph") xsph = true;
       if (word == "damage") damage = true;
+      if (word == "drucker_prager") drucker_prager = true;
     } else {
       std::string known = "h_over_dx kernel";
       for (const auto &e : effect_names)
@@ -864,18 +866,33 @@ void PairSPHSolid::draw_flaws(const unsigned char *flawed)
                "material with flaws: give its pair_coeff weibull_k [m^-3] and weibull_m > 0");
 }
 
-bool PairSPHSolid::grow_damage(double dt, bool any_rank)
+bool PairSPHSolid::grow_damage(double dt, bool any_rank, const unsigned char *free_atoms)
 {
-  if (!damage) return false;
-  damage_inputs();
+  if (!damage && !drucker_prager) return false;
   FixSPHSolidState *st = state_fix;
   int changed = 0, any = 0;
-  const sph_status status =
-      sph_damage_grow(sim, atom->nlocal, dt, idbuf.data(), localmass.data(), localmaterial.data(),
-                      st->rho, st->S_data(), st->flaw_count, st->flaw_strain, st->damage, &changed);
-  if (status != SPH_OK)
-    error->one(FLERR, "pair sphsolid: damage stage at step {}: {} ({})", update->ntimestep,
-               sph_errmsg(sim), sph_status_name(status));
+  if (damage) {
+    damage_inputs();
+    const sph_status status = sph_damage_grow(
+        sim, atom->nlocal, dt, idbuf.data(), localmass.data(), localmaterial.data(), st->rho,
+        st->S_data(), st->flaw_count, st->flaw_strain, st->damage, &changed);
+    if (status != SPH_OK)
+      error->one(FLERR, "pair sphsolid: damage stage at step {}: {} ({})", update->ntimestep,
+                 sph_errmsg(sim), sph_status_name(status));
+  }
+  if (drucker_prager) {
+    const int nlocal = atom->nlocal;
+    localmaterial.resize((size_t) std::max(nlocal, 1));
+    for (int i = 0; i < nlocal; i++) localmaterial[i] = type_material[atom->type[i]];
+    int returned = 0;
+    const sph_status status = sph_drucker_prager_return(sim, nlocal, localmaterial.data(), st->rho,
+                                                        damage ? st->damage : nullptr, free_atoms,
+                                                        st->S_data(), &returned);
+    if (status != SPH_OK)
+      error->one(FLERR, "pair sphsolid: drucker_prager return at step {}: {} ({})",
+                 update->ntimestep, sph_errmsg(sim), sph_status_name(status));
+    changed |= returned;
+  }
   if (!any_rank) return changed != 0;
   MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, world);
   return any != 0;

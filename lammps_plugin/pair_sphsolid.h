@@ -114,13 +114,18 @@ class PairSPHSolid : public Pair {
    * atom's flaws keyed by its ID (tag - 1, the index the library's own
    * particles use).  draw_flaws: the flaws of every owned atom, none for
    * atoms whose flawed[i] is 0 (those the integrator does not move freely:
-   * platens, rigid bodies).  grow_damage: the damage stage after a step of
-   * dt; with any_rank, true on every rank if D grew on any (a collective),
-   * else whether it grew on this rank.  active_flaws: the flaws
-   * active at the current state (nlocal values into out). */
+   * platens, rigid bodies).  grow_damage: the stages after a step of dt,
+   * the damage stage and, with effect drucker_prager, the return of the
+   * deviators of the atoms whose free_atoms[i] is 1 (those the integrator
+   * moves freely) onto the cone (sph_drucker_prager_return); with
+   * any_rank, true on every rank if D grew or a deviator was returned on
+   * any (a collective), else whether that happened on this rank.
+   * active_flaws: the flaws active at the current state (nlocal values
+   * into out). */
   bool damage_on() const { return damage; }
+  bool drucker_prager_on() const { return drucker_prager; }
   void draw_flaws(const unsigned char *flawed);
-  bool grow_damage(double dt, bool any_rank);
+  bool grow_damage(double dt, bool any_rank, const unsigned char *free_atoms);
   void active_flaws(double *out);
 
  private:
@@ -142,6 +147,8 @@ class PairSPHSolid : public Pair {
   std::vector<std::pair<std::string, std::string>> effects;    // name, "key=value ..."
   std::vector<SPHSolidMaterial> type_params;                   // per atom type (index 0 unused)
   std::vector<int> type_material;                              // library material per atom type
+  // drucker_prager effect on: the deviators are returned after a step
+  bool drucker_prager;
 
   sph_sim *sim;    // configured in init_style()
   FixSPHSolidState *state_fix;
