@@ -83,9 +83,11 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
   start.dS_dt = state->carried_S_data();
   stage.resize((size_t) std::max(nlocal, 1) * saved_values());
   double *x = atom->x[0], *v = atom->v[0];
+  double begin = PairSPHSolid::cpu_seconds();
   sph_status status =
       sph_leapfrog_begin_strided(pair->handle(), nlocal, update->dt, x, v, 3, state->rho,
                                  state->S_data(), &start, integrate_motion.data(), stage.data());
+  pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - begin);
   if (status != SPH_OK) fail(status, -1, "kick");
 
   // the density and stress rates at the half step (the continuity pass):
@@ -93,9 +95,11 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
   pair->evaluate_rates(true, SPH_RATES_CONTINUITY);
   const sph_rates half = stage_rates();
   long bad = -1;
+  begin = PairSPHSolid::cpu_seconds();
   status = sph_leapfrog_drift_strided(pair->handle(), nlocal, update->dt, x, v, 3, state->rho,
                                       state->S_data(), &half, integrate_motion.data(), stage.data(),
                                       pair->atom_materials(), &bad);
+  pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - begin);
   if (status != SPH_OK) fail(status, bad, "drift");
   keep_rates(false);    // they predict the next half step
 }
@@ -119,9 +123,11 @@ void FixSPHSolidLeapfrog::final_integrate()
   const int nlocal = atom->nlocal;
   pack();
   long bad = -1;
+  const double begin = PairSPHSolid::cpu_seconds();
   const sph_status status = sph_leapfrog_end_strided(
       pair->handle(), nlocal, update->dt, atom->v[0], 3, pair->state()->rho, dvbuf.data(),
       integrate_motion.data(), pair->atom_materials(), &bad);
+  pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - begin);
   if (status != SPH_OK) fail(status, bad, "kick");
 
   // effect damage: flaws activate and D grows on the step's end state.

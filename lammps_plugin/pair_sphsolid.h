@@ -22,6 +22,7 @@ PairStyle(sphsolid,PairSPHSolid);
 
 #include "sphsolid.h"
 
+#include <ctime>
 #include <string>
 #include <utility>
 #include <vector>
@@ -122,6 +123,23 @@ class PairSPHSolid : public Pair {
   void draw_flaws(const unsigned char *flawed);
   bool grow_damage(double dt, bool any_rank);
   void active_flaws(double *out);
+  /* CPU seconds of this process (cpu_seconds(): all its threads) in each
+   * part of the plugin's work during a run (its set-up included), for the
+   * end-of-run line of finish(): the library's rate calls, the integrator
+   * fix's library stages, the ghost exchanges of evaluate_rates() (and,
+   * newton on, the sums sent back), and the refresh of masses, materials
+   * and the neighbour rows after a re-neighbouring.  What the loop holds
+   * beyond these is the plugin's own copying (f = m dv/dt, dv/dt = f/m,
+   * the carried rates) and LAMMPS's own work.  CPU time, not wall time:
+   * on a shared machine it is what the parts cost, whatever else runs. */
+  enum Part { PART_RATES, PART_STAGES, PART_EXCHANGE, PART_REFRESH, N_PARTS };
+  void add_seconds(Part part, double seconds) { part_seconds[part] += seconds; }
+  static double cpu_seconds()
+  {
+    timespec now;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+    return (double) now.tv_sec + 1e-9 * (double) now.tv_nsec;
+  }
 
  private:
   void check_deck();
@@ -167,6 +185,8 @@ class PairSPHSolid : public Pair {
   int compute_pass;               // the rates compute() evaluates
   bigint pairs_computed;          // pairs in this rank's rows (the last list)
   bigint ghost_pairs;             // of them, pairs with a ghost atom
+
+  double part_seconds[N_PARTS];    // add_seconds(), since init_style()
 
   void allocate();
   void grow_scratch();
