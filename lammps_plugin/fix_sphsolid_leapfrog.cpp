@@ -91,9 +91,12 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
   if (status != SPH_OK) fail(status, -1, "kick");
 
   // the density and stress rates at the half step (the continuity pass):
-  // ghosts' x, v, rho and S in one exchange
-  pair->evaluate_rates(true, SPH_RATES_CONTINUITY);
-  const sph_rates half = stage_rates();
+  // ghosts' x, v, rho and S in one exchange; written where the atoms carry
+  // them, as they also predict the next half step
+  pair->evaluate_rates(true, SPH_RATES_CONTINUITY, state->carried_rho, state->carried_S_data());
+  sph_rates half = stage_rates();
+  half.drho_dt = state->carried_rho;
+  half.dS_dt = state->carried_S_data();
   long bad = -1;
   begin = PairSPHSolid::cpu_seconds();
   status = sph_leapfrog_drift_strided(pair->handle(), nlocal, update->dt, x, v, 3, state->rho,
@@ -101,7 +104,6 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
                                       pair->atom_materials(), &bad);
   pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - begin);
   if (status != SPH_OK) fail(status, bad, "drift");
-  keep_rates(false);    // they predict the next half step
 }
 
 /* The pair's last density and stress rates into the atoms' carried ones

@@ -714,7 +714,7 @@ void PairSPHSolid::convert_list()
 
 /* ---------------------------------------------------------------------- */
 
-void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
+void PairSPHSolid::evaluate_rates(bool with_motion, int pass, double *drho_into, double *dS_into)
 {
   // density and deviatoric stress of the ghosts, and with_motion their
   // positions and velocities too, in one exchange (the stress only for a
@@ -777,8 +777,8 @@ void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
 
   sph_rates rates;
   rates.dv_dt = rate_dv.data();
-  rates.drho_dt = rate_drho.data();
-  rates.dS_dt = rate_dS.data();
+  rates.drho_dt = drho_into ? drho_into : rate_drho.data();
+  rates.dS_dt = dS_into ? dS_into : rate_dS.data();
   rates.dx_dt = xsph ? rate_dx.data() : nullptr;
 
   // the pass over the pairs and its finish: the rates of the owned atoms.

@@ -63,8 +63,12 @@ class PairSPHSolid : public Pair {
   /* Rates of the owned atoms at the current state of owned and ghost atoms.
    * Density and deviatoric stress are sent to the ghosts here; with
    * with_motion their positions and velocities too (in the same message),
-   * otherwise those must be current already (Verlet's forward comm). */
-  void evaluate_rates(bool with_motion = false, int pass = SPH_RATES_ALL);
+   * otherwise those must be current already (Verlet's forward comm).
+   * drho_into and dS_into, if given, take the density and stress rates of
+   * the owned atoms (nlocal and nlocal x ncomp doubles) in place of the
+   * pair's own arrays, which then keep the rates of an earlier call. */
+  void evaluate_rates(bool with_motion = false, int pass = SPH_RATES_ALL,
+                      double *drho_into = nullptr, double *dS_into = nullptr);
   /* The rates compute() evaluates (SPH_RATES_ALL; the leapfrog, which
    * takes the density and stress rates at the half step, asks for
    * SPH_RATES_MOMENTUM). */
