@@ -371,7 +371,7 @@ void PairSPHSolid::init_style()
   send_back = force->newton_pair != 0;
   cached_build = -1;               // materials of the types may have changed
   compute_pass = SPH_RATES_ALL;    // until an integrator fix asks for less (its init follows)
-  std::fill(part_seconds, part_seconds + N_PARTS, 0.0);
+  reset_seconds();
 
   if (sim) sph_destroy(sim);
   sim = nullptr;

@@ -128,7 +128,8 @@ class PairSPHSolid : public Pair {
   bool grow_damage(double dt, bool any_rank);
   void active_flaws(double *out);
   /* CPU seconds of this process (cpu_seconds(): all its threads) in each
-   * part of the plugin's work during a run (its set-up included), for the
+   * part of the plugin's work during a run's loop (from reset_seconds(),
+   * which the integrator fix calls at the end of the set-up), for the
    * end-of-run line of finish(): the library's rate calls, the integrator
    * fix's library stages, the ghost exchanges of evaluate_rates() (and,
    * newton on, the sums sent back), and the refresh of masses, materials
@@ -138,6 +139,10 @@ class PairSPHSolid : public Pair {
    * on a shared machine it is what the parts cost, whatever else runs. */
   enum Part { PART_RATES, PART_STAGES, PART_EXCHANGE, PART_REFRESH, N_PARTS };
   void add_seconds(Part part, double seconds) { part_seconds[part] += seconds; }
+  void reset_seconds()
+  {
+    for (double &t : part_seconds) t = 0.0;
+  }
   static double cpu_seconds()
   {
     timespec now;
@@ -190,7 +195,7 @@ class PairSPHSolid : public Pair {
   bigint pairs_computed;          // pairs in this rank's rows (the last list)
   bigint ghost_pairs;             // of them, pairs with a ghost atom
 
-  double part_seconds[N_PARTS];    // add_seconds(), since init_style()
+  double part_seconds[N_PARTS];    // add_seconds(), since reset_seconds()
 
   void allocate();
   void grow_scratch();
