@@ -170,6 +170,13 @@ void FixSPHSolidIntegrate::apply_rigid_bodies()
   }
 }
 
+/* the end of a run's set-up: pair sphsolid's timers count the loop from
+   here on (the set-up's rate evaluation is not part of it) */
+void FixSPHSolidIntegrate::setup(int /*vflag*/)
+{
+  pair->reset_seconds();
+}
+
 /* ---------------------------------------------------------------------- */
 
 void FixSPHSolidIntegrate::pack()

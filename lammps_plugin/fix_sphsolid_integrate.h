@@ -32,6 +32,7 @@ class FixSPHSolidForce;
 class FixSPHSolidIntegrate : public Fix {
  public:
   void init() override;
+  void setup(int) override;
   double memory_usage() override;
 
  protected:

@@ -220,8 +220,6 @@ typedef struct rate_call {
     double *partial;      /* if set: the pair pass only, its sums for all
                                n_total particles written here (ghosts too) */
     int pass;             /* PASS_*: the rates computed (0: all) */
-    int local_records;    /* without partial: the locals' sums in one record
-                             each in scratch, ghosts' terms dropped */
     const double *damage; /* n_total, when effect damage is on (else NULL) */
 } rate_call;
 enum {
