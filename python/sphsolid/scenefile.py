@@ -277,6 +277,8 @@ class SceneFile:
                                kernel=kernel or "cubic_spline", **kwargs)
         except ValueError as error:
             raise SceneFileError(f"{name}: {error}") from None
+        except MemoryError as error:      # the large-run guard's refusal
+            raise MemoryError(f"{name}: {error}") from None
 
     @staticmethod
     def _output(output, name) -> dict:
