@@ -151,4 +151,14 @@ def test_a_refusal_says_what_the_request_would_cost(fake, tmp_path):
     assert b["pilot_seconds"] == pytest.approx(
         40 * sum(1e-6 * d ** -3 for d in b["pilot_ladder"]), rel=1e-6)
     assert f"{b['predicted_seconds']:.3g} CPU s" in plan.reason
+    # the statistical error alone at the finest allowed spacing (2 mm):
+    # the fewest N with t s_rel / sqrt(N) <= 2 %, and their cost
+    alone = b["statistics_alone"]
+    n = alone["seeds"]
+    assert alone["dx"] == pytest.approx(2e-3)
+    assert student_quantile(0.975, n - 1) * s_rel / math.sqrt(n) <= error
+    assert student_quantile(0.975, n - 2) * s_rel / math.sqrt(n - 1) > error
+    assert alone["predicted_seconds"] == pytest.approx(n * 1e-6 * 2e-3 ** -3,
+                                                       rel=1e-6)
+    assert f"{n} seeds at dx = 2 mm" in plan.reason
     assert plan.to_dict()["beyond"] == b

@@ -221,6 +221,21 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
 
     z = NormalDist().inv_cdf(0.5 + confidence / 2)
 
+    def statistical(n: int) -> float:
+        return student_quantile(0.5 + confidence / 2, n - 1) * s_rel \
+            / math.sqrt(n)
+
+    def seeds_for(room: float) -> int | None:
+        """The fewest members whose statistical error is within room:
+        from the normal quantile's count (t exceeds z, so never too
+        many) up one at a time (None beyond 100,000)."""
+        n = max(MIN_MEMBERS, math.ceil((z * s_rel / room) ** 2))
+        if n > 100000:
+            return None
+        while statistical(n) > room:
+            n += 1
+        return n
+
     def cheapest(spacings, limit):
         best = None
         for dx in spacings:
@@ -228,17 +243,10 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
             room = error - e_d
             if room <= 0:
                 continue
-            # the fewest members: from the normal quantile's count (t
-            # exceeds z, so never too many) up one at a time
-            n = max(MIN_MEMBERS, math.ceil((z * s_rel / room) ** 2))
-            if n > 100000:
+            n = seeds_for(room)
+            if n is None:
                 continue
-            while True:
-                e_s = student_quantile(0.5 + confidence / 2, n - 1) \
-                    * s_rel / math.sqrt(n)
-                if e_s <= room:
-                    break
-                n += 1
+            e_s = statistical(n)
             seconds = n * cost(float(dx))
             if limit is not None and seconds > limit:
                 continue
@@ -255,8 +263,8 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
                   ladder_resolved=resolved, ladder_seconds=ladder_seconds)
     if best is None:
         floor = model.upper(smallest)
-        beyond = _beyond(cheapest, smallest, ladder, pilot, cost,
-                         max_refinement)
+        beyond = _beyond(cheapest, seeds_for, error, smallest, ladder,
+                         pilot, cost, max_refinement)
         return StrengthPlan(
             beyond=beyond, dx=None, seeds=None, predicted_seconds=None,
             predicted_error=None, discretisation_error=None,
@@ -282,7 +290,7 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
 BEYOND_REFINEMENT = 16.0
 
 
-def _beyond(cheapest, smallest, ladder, pilot, cost,
+def _beyond(cheapest, seeds_for, error, smallest, ladder, pilot, cost,
             max_refinement) -> dict:
     """What a refused request would take if the ladder's error model held
     below the finest spacing it allows: the cheapest (dx, seeds) down to
@@ -290,11 +298,16 @@ def _beyond(cheapest, smallest, ladder, pilot, cost,
     pilot ladder that reaches it (three levels at the ladder's last ratio,
     the finest ``dx * max_refinement``, ``pilot`` members each).  Empty
     when no spacing is predicted to meet the request (an error model that
-    does not shrink with dx)."""
+    does not shrink with dx).  Either way ``statistics_alone``: the seeds
+    and CPU seconds that the statistical error alone needs at the finest
+    spacing the ladder allows (a lower bound on any plan's cost there)."""
+    alone = {"dx": smallest, "seeds": seeds_for(error),
+             "cpu_s_per_member": cost(smallest)}
+    alone["predicted_seconds"] = alone["seeds"] * alone["cpu_s_per_member"]
     best = cheapest(np.geomspace(smallest, smallest / BEYOND_REFINEMENT, 60),
                     None)
     if best is None:
-        return {}
+        return {"statistics_alone": alone}
     seconds, dx, n, e_d, e_s = best
     ratio = ladder[-2] / ladder[-1]
     finest = dx * max_refinement
@@ -302,14 +315,20 @@ def _beyond(cheapest, smallest, ladder, pilot, cost,
     return {"dx": dx, "seeds": n, "discretisation_error": e_d,
             "statistical_error": e_s, "predicted_seconds": seconds,
             "cpu_s_per_member": cost(dx), "pilot_ladder": pilots,
-            "pilot_seconds": float(sum(pilot * cost(d) for d in pilots))}
+            "pilot_seconds": float(sum(pilot * cost(d) for d in pilots)),
+            "statistics_alone": alone}
 
 
 def _beyond_text(beyond: dict, pilot: int) -> str:
-    if not beyond:
-        return ("; no finer spacing is predicted to meet it (the error "
-                "model does not shrink with dx)")
-    return (f"; if the error model held below the ladder, dx = "
+    alone = beyond["statistics_alone"]
+    text = (f"; the statistical error alone needs {alone['seeds']} seeds at "
+            f"dx = {alone['dx'] * 1e3:.3g} mm "
+            f"({alone['cpu_s_per_member']:.3g} CPU s per member, "
+            f"{alone['predicted_seconds']:.3g} CPU s)")
+    if "dx" not in beyond:
+        return text + ("; no finer spacing is predicted to meet the request "
+                       "(the error model does not shrink with dx)")
+    return text + (f"; if the error model held below the ladder, dx = "
             f"{beyond['dx'] * 1e3:.3g} mm with {beyond['seeds']} seeds would "
             f"meet it (discretisation {beyond['discretisation_error']:.3g} "
             f"+ statistical {beyond['statistical_error']:.3g}) for about "
