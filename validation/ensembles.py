@@ -410,7 +410,7 @@ def plan_table(data: dict) -> str:
              "| dx [mm] | members | mean [MPa] | std [MPa] |",
              "|---|---|---|---|"]
     for lv in data["levels"]:
-        lines.append(f"| {lv['dx'] * 1e3:g} | {lv['members']} | "
+        lines.append(f"| {lv['dx'] * 1e3:.3g} | {lv['members']} | "
                      f"{lv['mean'] / 1e6:.3f} | {lv['std'] / 1e6:.3f} |")
     return "\n".join(lines)
 
