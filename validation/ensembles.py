@@ -1,12 +1,16 @@
 """The ensembles' studies (docs/ensembles.md): the size effect, the rate
 effect, and a confident strength planned and achieved.
 
-    python -m validation.ensembles --size  [--seeds 30] [--dx 4mm]
+    python -m validation.ensembles --size  [--seeds 30] [--dx 4mm] [--flaws 10]
+                                           [--m 9 6] [--strain-rate 1]
     python -m validation.ensembles --rate  [--seeds 16] [--dx 4mm] [--rates ...]
-    python -m validation.ensembles --plan  [--error 5%] [--reference 20]
+    python -m validation.ensembles --plan  [--error 0.05] [--reference 20]
+                                           [--scene ucs] [--ladder ...] [--pilot 10]
+                                           [--finer 3mm ...]
     python -m validation.ensembles --coverage [--repeats 2000]
     python -m validation.ensembles --anatomy (where the bars start to fail)
-    python -m validation.ensembles --doc     (docs/ensembles.md's tables)
+    python -m validation.ensembles --doc [--tables NAME ...]
+                                             (docs/ensembles.md's tables)
     (common: [--jobs 1] [--runs DIR] [--out docs/ensembles])
 
 Each runs its ensembles with sphsolid.ensemble into ``--runs`` (default
@@ -21,6 +25,11 @@ one flaw at strain 3e-3 for both m.  Weakest link: the mean strengths'
 ratio is (V2/V1)^(1/m) (Weibull 1939; the mean of a Weibull minimum
 scales as V^(-1/m)).
 
+``--flaws F`` (the damage effect's expected flaws per particle, default
+10), ``--m M ...`` (default 9 6) and ``--strain-rate R`` (default 1/s)
+vary the size study; their results are ``OUT/size_flawsF_mM_rateR.json``
+(each part only when off its default).
+
 --rate: the 20 x 80 mm bar (m = 9) at strain rates 1, 10, 100 and
 1000 /s (``--rates``); the fitted exponent of strength against rate, to compare with
 Grady & Kipp's 3/(m + 3).
@@ -30,9 +39,10 @@ Grady & Kipp's 3/(m + 3).
 ensembles' bootstrap-t interval and for the plain percentile interval.
 
 --doc: writes the tables of the saved results (OUT/*.json) and the cost
-of every ensemble in ``--runs`` between the markers of docs/ensembles.md.
+of every ensemble in ``--runs`` between the markers of docs/ensembles.md
+(``--tables``: only those named, as the markers name them).
 
---plan: ``sphsolid plan ucs --quantity strength --error E``, the planned
+--plan: ``sphsolid plan SCENE --quantity strength --error E``, the planned
 ensemble run, and reference ensembles at the plan's ladder spacings, at
 the planned dx and finer; the converged mean is the extrapolation
 mu(dx) = mu_inf + C dx^q fitted to every level's mean.
@@ -73,14 +83,16 @@ def _bar(runs: Path, name: str, seeds: int, dx: float, jobs: int,
 
 def size_study(args) -> dict:
     rows = []
-    for m in (9.0, 6.0):
+    for m in args.m:
         per = {}
         for name, scale in (("small", 1.0), ("large", math.sqrt(8.0))):
             width, length = 0.020 * scale, 0.080 * scale
-            result = _bar(args.runs, f"size_m{m:g}_{name}_{args.dx * 1e3:g}mm",
-                          args.seeds, args.dx, args.jobs,
+            result = _bar(args.runs, f"size_m{m:g}_{name}_{args.dx * 1e3:g}mm"
+                          + _size_tag(args, m=False), args.seeds, args.dx,
+                          args.jobs,
                           weibull_k=weibull_k(m), weibull_m=m, width=width,
-                          length=length, strain_rate=1.0)
+                          length=length, strain_rate=args.strain_rate,
+                          flaws=args.flaws)
             s = result.summary
             n_x, n_y = round(width / args.dx), round(length / args.dx)
             onset = s["others"]["onset_stress"]
@@ -103,15 +115,31 @@ def size_study(args) -> dict:
             ratio = small[mean] / large[mean]
             # the ratio's 95 % interval: each mean's bootstrap-t interval,
             # combined in log space (independent ensembles)
+            # (none when an interval reaches zero: onsets at the first
+            # damaged sample can fall after the drop, see the doc)
+            row[what] = ratio
+            if min(p[ci][0] for p in (small, large)) <= 0:
+                row[what + "_ci95"] = None
+                continue
             half = math.hypot(*(
                 (math.log(p[ci][1]) - math.log(p[ci][0])) / 2
                 for p in (small, large)))
-            row[what] = ratio
             row[what + "_ci95"] = [ratio * math.exp(-half),
                                    ratio * math.exp(half)]
         rows.append(row)
-    return {"dx_m": args.dx, "seeds": args.seeds, "strain_rate": 1.0,
+    return {"dx_m": args.dx, "seeds": args.seeds,
+            "strain_rate": args.strain_rate, "flaws": args.flaws,
             "rows": rows}
+
+
+def _size_tag(args, m: bool = True) -> str:
+    """The name suffix of a size study off the default flaws, exponents
+    (``m``: whether to name them) and rate."""
+    tag = "" if args.flaws == 10.0 else f"_flaws{args.flaws:g}"
+    if m and list(args.m) != [9.0, 6.0]:
+        tag += "_m" + "_".join(f"{m:g}" for m in args.m)
+    return tag + ("" if args.strain_rate == 1.0
+                  else f"_rate{args.strain_rate:g}")
 
 
 def weakest_link_onset(k: float, m: float, volume: float) -> float:
@@ -145,13 +173,19 @@ def size_table(data: dict) -> str:
         for label, what, mean, ci in (
                 ("peak (strength)", "ratio", "mean", "ci95"),
                 ("damage onset", "onset_ratio", "onset_mean", "onset_ci95")):
+            band = r[what + "_ci95"]
+            band = ("(-)" if band is None else
+                    f"({band[0]:.3f}-{band[1]:.3f})")
             lines.append(
                 f"| {r['m']:g} | {label} | {r['volume_ratio']:.3f} | "
                 f"{mpa(s, mean, ci)} | {mpa(g, mean, ci)} | {r[what]:.3f} "
-                f"({r[what + '_ci95'][0]:.3f}-{r[what + '_ci95'][1]:.3f}) | "
-                f"{r['weakest_link']:.3f} |")
+                f"{band} | {r['weakest_link']:.3f} |")
     lines.append("")
-    lines.append("Weakest-link onset under uniform stress, E/(1 - nu^2) "
+    lines.append(f"dx = {data['dx_m'] * 1e3:g} mm, "
+                 f"{data.get('flaws', 10.0):g} expected flaws per particle, "
+                 f"strain rate {data.get('strain_rate', 1.0):g}/s, "
+                 f"{data['seeds']} seeds per ensemble.  "
+                 "Weakest-link onset under uniform stress, E/(1 - nu^2) "
                  "Gamma(1 + 1/m) (k V)^(-1/m): "
                  + "; ".join(f"m = {r['m']:g}: small "
                              f"{r['small']['weakest_link_onset'] / 1e6:.2f}"
@@ -284,15 +318,20 @@ def rate_figure(data: dict, path: Path) -> None:
 
 def plan_study(args) -> dict:
     from sphsolid.planner.strength import plan_strength
-    plan = plan_strength("ucs", args.error, work=args.runs / "plan_cache",
+    scene = args.scene
+    plan = plan_strength(scene, args.error, work=args.runs / "plan_cache",
+                         ladder=args.ladder, pilot=args.pilot,
                          jobs=args.jobs, log=print)
     print(plan.summary())
     if not plan.feasible:
         return {"plan": plan.to_dict()}
-    achieved = sphsolid.ensemble("ucs", plan.seeds, args.runs / "plan_run",
+    tag = "" if scene == "ucs" else f"_{scene}"
+    achieved = sphsolid.ensemble(scene, plan.seeds,
+                                 args.runs / f"plan_run{tag}"
+                                 f"_{plan.dx * 1e3:.4g}mm",
                                  dx=plan.dx, jobs=args.jobs, progress=True,
                                  figure=False)
-    sphsolid.ensemble.histogram(args.out / "plan_histogram.png",
+    sphsolid.ensemble.histogram(args.out / f"plan{tag}_histogram.png",
                                 achieved.summary)
     # references: the ladder (pilot members) and finer levels
     levels = [(lv["dx"], lv["mean"], lv["std"], lv["members"])
@@ -300,8 +339,8 @@ def plan_study(args) -> dict:
     s = achieved.summary
     levels.append((plan.dx, s["mean"], s["std"], s["members"]))
     for dx in args.finer:
-        ref = sphsolid.ensemble("ucs", args.reference,
-                                args.runs / f"plan_ref_{dx * 1e3:g}mm",
+        ref = sphsolid.ensemble(scene, args.reference,
+                                args.runs / f"plan_ref{tag}_{dx * 1e3:g}mm",
                                 dx=dx, jobs=args.jobs, progress=True,
                                 figure=False)
         r = ref.summary
@@ -344,6 +383,7 @@ def plan_table(data: dict) -> str:
                                          key=lambda lv: -lv["dx"])]
     steps = np.sign(np.diff(means))
     monotone = bool(np.all(steps == steps[0]))
+    inside = a["ci95"][0] <= c["mean"] <= a["ci95"][1]
     lines = ["| | dx [mm] | seeds | error | CPU s |", "|---|---|---|---|---|",
              f"| plan (--error {p['error']:.3g}) | "
              f"{p['settings']['dx'] * 1e3:.3g} | {p['seeds']} | "
@@ -358,7 +398,9 @@ def plan_table(data: dict) -> str:
              f"{a['ci95'][0] / 1e6:.3f}-{a['ci95'][1] / 1e6:.3f} MPa; "
              f"converged mean {c['mean'] / 1e6:.3f} MPa (mu_inf + C dx^q "
              f"fitted to every level, q = {c['order']:.2f}); request "
-             f"{'met' if data['met'] else 'NOT met'} against it.  Against "
+             f"{'met' if data['met'] else 'NOT met'} against it, and the "
+             f"interval {'contains' if inside else 'does NOT contain'} "
+             "it.  Against "
              f"the finest reference ({finest['dx'] * 1e3:g} mm, "
              f"{finest['members']} members, {finest['mean'] / 1e6:.3f} MPa):"
              f" {off:.4f}, request "
@@ -368,7 +410,7 @@ def plan_table(data: dict) -> str:
              "| dx [mm] | members | mean [MPa] | std [MPa] |",
              "|---|---|---|---|"]
     for lv in data["levels"]:
-        lines.append(f"| {lv['dx'] * 1e3:g} | {lv['members']} | "
+        lines.append(f"| {lv['dx'] * 1e3:.3g} | {lv['members']} | "
                      f"{lv['mean'] / 1e6:.3f} | {lv['std'] / 1e6:.3f} |")
     return "\n".join(lines)
 
@@ -502,12 +544,16 @@ def cost_table(runs: Path) -> str:
 def write_doc(args) -> None:
     doc = ROOT / "docs" / "ensembles.md"
     text = doc.read_text()
-    tables = {"cost": cost_table(args.runs)}
+    wanted = set(args.tables or ())
+    tables = {} if wanted and "cost" not in wanted else \
+        {"cost": cost_table(args.runs)}
     makers = {"size": size_table, "anatomy": anatomy_table,
               "rate": rate_table, "plan": plan_table,
               "coverage": coverage_table}
     for path in sorted(args.out.glob("*.json")):
         make = makers.get(path.stem.split("_")[0])
+        if wanted and path.stem not in wanted:
+            continue
         if make is not None and f"<!-- {path.stem}:begin -->" in text:
             tables[path.stem] = make(json.loads(path.read_text()))
     for name, table in tables.items():
@@ -545,6 +591,23 @@ def main(argv=None) -> int:
     parser.add_argument("--finer", type=_length, nargs="*", default=[3e-3],
                         help="spacings of the reference ensembles of --plan "
                         "besides the ladder and the plan's (default 3mm)")
+    parser.add_argument("--scene", choices=("ucs", "brazilian"),
+                        default="ucs", help="the test --plan plans")
+    parser.add_argument("--ladder", type=_length, nargs="*", default=None,
+                        help="the pilot ladder of --plan (default the "
+                        "planner's)")
+    parser.add_argument("--pilot", type=int, default=10,
+                        help="members per pilot ensemble of --plan")
+    parser.add_argument("--flaws", type=float, default=10.0,
+                        help="expected flaws per particle of --size "
+                        "(the damage effect's flaws)")
+    parser.add_argument("--m", type=float, nargs="+", default=[9.0, 6.0],
+                        help="Weibull exponents of --size (default 9 6)")
+    parser.add_argument("--strain-rate", type=float, default=1.0,
+                        help="strain rate of --size [1/s]")
+    parser.add_argument("--tables", nargs="*", default=None,
+                        help="the tables --doc rewrites (default every "
+                        "marked one: cost and each OUT/*.json)")
     parser.add_argument("--jobs", type=int, default=1)
     parser.add_argument("--runs", type=Path,
                         default=ROOT / "validation_runs" / "ensembles")
@@ -557,8 +620,8 @@ def main(argv=None) -> int:
     if args.size:
         args.seeds = args.seeds or 30
         data = size_study(args)
-        name, table = "size", size_table(data)
-        size_figure(data, args.out / "size.png")
+        name, table = "size" + _size_tag(args), size_table(data)
+        size_figure(data, args.out / f"{name}.png")
     elif args.rate:
         args.seeds = args.seeds or 16
         data = rate_study(args)
@@ -573,7 +636,9 @@ def main(argv=None) -> int:
         name, table = "coverage", coverage_table(data)
     else:
         data = plan_study(args)
-        name, table = "plan", plan_table(data)
+        name = ("plan" if args.scene == "ucs" and args.error == 0.05 else
+                f"plan_{args.scene}_{args.error * 100:g}pct_check")
+        table = plan_table(data)
     (args.out / f"{name}.json").write_text(json.dumps(data, indent=2))
     print(table)
     print(f"wrote {args.out / (name + '.json')}")

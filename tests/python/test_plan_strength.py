@@ -113,3 +113,52 @@ def test_a_ladder_within_its_noise_is_reported_unresolved(fake, monkeypatch,
     assert not plan.ladder_resolved
     assert plan.model["order"] <= 1.0
     assert "not resolved" in plan.summary()
+
+
+def test_a_refusal_says_what_the_request_would_cost(fake, tmp_path):
+    """Means MU (1 + A dx), ladder 8, 6, 4 mm: at the finest spacing the
+    ladder allows (2 mm) the discretisation error alone, 1.25 A dx /
+    (1 + 4 mm A), exceeds 2 %, so the plan is refused; below it the same
+    law and the cost 1e-6 dx^-3 s per member give the cheapest (dx, N)
+    that meets the request, which the refusal reports with its CPU
+    seconds and a pilot ladder reaching it."""
+    error = 0.02
+    plan = plan_strength("ucs", error, pilot=40, work=tmp_path)
+    assert not plan.feasible
+    finest = plan.ladder[-1]["mean"]
+    assert 1.25 * MU * A * 2e-3 / finest > error
+    b = plan.beyond
+    assert b["dx"] < 2e-3
+    assert b["discretisation_error"] == pytest.approx(
+        1.25 * MU * A * b["dx"] / finest, rel=0.02)
+    s_rel = plan.ladder[-1]["std"] / finest
+    n = b["seeds"]
+    assert b["statistical_error"] == pytest.approx(
+        student_quantile(0.975, n - 1) * s_rel / math.sqrt(n))
+    assert b["discretisation_error"] + b["statistical_error"] <= error
+    assert b["predicted_seconds"] == pytest.approx(n * 1e-6 * b["dx"] ** -3,
+                                                   rel=1e-6)
+    # the fewest seeds: one fewer misses the request
+    fewer = student_quantile(0.975, n - 2) * s_rel / math.sqrt(n - 1)
+    assert b["discretisation_error"] + fewer > error
+    # the cheapest spacing: with E_d = a dx and N ~ (z s / (E - a dx))^2,
+    # N dx^-3 is least where 3 (E - a dx) = 2 a dx, dx = 3 E / (5 a)
+    # (the search's grid steps by 5 % in dx)
+    a = 1.25 * MU * A / finest
+    assert b["dx"] == pytest.approx(3 * error / (5 * a), rel=0.05)
+    # the pilot ladder reaches the planned dx (finest = dx x refinement 2)
+    assert b["pilot_ladder"][-1] == pytest.approx(2 * b["dx"])
+    assert b["pilot_seconds"] == pytest.approx(
+        40 * sum(1e-6 * d ** -3 for d in b["pilot_ladder"]), rel=1e-6)
+    assert f"{b['predicted_seconds']:.3g} CPU s" in plan.reason
+    # the statistical error alone at the finest allowed spacing (2 mm):
+    # the fewest N with t s_rel / sqrt(N) <= 2 %, and their cost
+    alone = b["statistics_alone"]
+    n = alone["seeds"]
+    assert alone["dx"] == pytest.approx(2e-3)
+    assert student_quantile(0.975, n - 1) * s_rel / math.sqrt(n) <= error
+    assert student_quantile(0.975, n - 2) * s_rel / math.sqrt(n - 1) > error
+    assert alone["predicted_seconds"] == pytest.approx(n * 1e-6 * 2e-3 ** -3,
+                                                       rel=1e-6)
+    assert f"{n} seeds at dx = 2 mm" in plan.reason
+    assert plan.to_dict()["beyond"] == b

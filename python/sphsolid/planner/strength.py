@@ -19,7 +19,14 @@ standard deviation).  :func:`plan_strength`
    seconds per member against dx (a power law over the ladder);
 4. over spacings from the coarsest level down to ``max_refinement`` times
    below the finest, picks the (dx, N) of least predicted CPU time with
-   E_d(dx) + t_c s_rel / sqrt(N) <= error.
+   E_d(dx) + t_c s_rel / sqrt(N) <= error, N the fewest members that
+   meet it.
+
+A request no spacing within that reach meets is refused, and the refusal
+says what it would take if the error model held further down (``beyond``:
+the cheapest (dx, N) down to 16 times below the reach, its CPU seconds,
+and a pilot ladder that would reach it), or that the model predicts no
+spacing meets it.
 
 Differences of means that are not larger than their own noise (t_c times
 the standard error of the difference) do not resolve a discretisation
@@ -86,6 +93,11 @@ class StrengthPlan:
     reason: str = ""
     ladder_resolved: bool = False
     ladder_seconds: float = 0.0
+    #: for a refused request: what the error and cost models predict it
+    #: would take below the finest spacing the ladder allows (dx, seeds,
+    #: CPU s of the ensemble and of a pilot ladder reaching that dx), or
+    #: empty when no spacing is predicted to meet it
+    beyond: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         return {"kind": "strength", "scene": self.scene,
@@ -99,6 +111,7 @@ class StrengthPlan:
                 "feasible": self.feasible, "reason": self.reason,
                 "ladder_resolved": self.ladder_resolved,
                 "ladder_seconds": self.ladder_seconds,
+                "beyond": self.beyond,
                 "ladder": self.ladder, "error_model": self.model,
                 "cost_model": self.cost,
                 "command": (f"sphsolid ensemble {self.scene} --dx "
@@ -206,27 +219,43 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
     def cost(dx: float) -> float:
         return float(math.exp(intercept + slope * math.log(dx)))
 
-    best = None
+    z = NormalDist().inv_cdf(0.5 + confidence / 2)
+
+    def statistical(n: int) -> float:
+        return student_quantile(0.5 + confidence / 2, n - 1) * s_rel \
+            / math.sqrt(n)
+
+    def seeds_for(room: float) -> int | None:
+        """The fewest members whose statistical error is within room:
+        from the normal quantile's count (t exceeds z, so never too
+        many) up one at a time (None beyond 100,000)."""
+        n = max(MIN_MEMBERS, math.ceil((z * s_rel / room) ** 2))
+        if n > 100000:
+            return None
+        while statistical(n) > room:
+            n += 1
+        return n
+
+    def cheapest(spacings, limit):
+        best = None
+        for dx in spacings:
+            e_d = model.upper(float(dx))
+            room = error - e_d
+            if room <= 0:
+                continue
+            n = seeds_for(room)
+            if n is None:
+                continue
+            e_s = statistical(n)
+            seconds = n * cost(float(dx))
+            if limit is not None and seconds > limit:
+                continue
+            if best is None or seconds < best[0]:
+                best = (seconds, float(dx), n, e_d, e_s)
+        return best
+
     smallest = ladder[-1] / max_refinement
-    for dx in np.geomspace(ladder[0], smallest, 60):
-        e_d = model.upper(float(dx))
-        room = error - e_d
-        if room <= 0:
-            continue
-        n = MIN_MEMBERS
-        while True:
-            e_s = student_quantile(0.5 + confidence / 2, n - 1) * s_rel \
-                / math.sqrt(n)
-            if e_s <= room or n > 100000:
-                break
-            n = max(n + 1, int(n * (e_s / room) ** 2))
-        if e_s > room:
-            continue
-        seconds = n * cost(float(dx))
-        if max_seconds is not None and seconds > max_seconds:
-            continue
-        if best is None or seconds < best[0]:
-            best = (seconds, float(dx), n, e_d, e_s)
+    best = cheapest(np.geomspace(ladder[0], smallest, 60), max_seconds)
     common = dict(scene=scene, error=float(error), confidence=confidence,
                   ladder=levels, model=model.to_dict(),
                   cost={"cpu_s_per_member": "exp(a) dx^b", "a": intercept,
@@ -234,8 +263,10 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
                   ladder_resolved=resolved, ladder_seconds=ladder_seconds)
     if best is None:
         floor = model.upper(smallest)
+        beyond = _beyond(cheapest, seeds_for, error, smallest, ladder,
+                         pilot, cost, max_refinement)
         return StrengthPlan(
-            dx=None, seeds=None, predicted_seconds=None,
+            beyond=beyond, dx=None, seeds=None, predicted_seconds=None,
             predicted_error=None, discretisation_error=None,
             statistical_error=None, feasible=False,
             reason=(f"the discretisation error alone is {floor:.3g} at dx "
@@ -245,9 +276,65 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
                                  f"{max_seconds:g}")
                     + ("" if resolved else "; the ladder's differences are "
                        "within their noise: more --pilot members or "
-                       "another --ladder may resolve them")),
+                       "another --ladder may resolve them")
+                    + _beyond_text(beyond, pilot)),
             **common)
     seconds, dx, n, e_d, e_s = best
     return StrengthPlan(dx=dx, seeds=n, predicted_seconds=seconds,
                         predicted_error=e_d + e_s, discretisation_error=e_d,
                         statistical_error=e_s, feasible=True, **common)
+
+
+#: How far below the ladder's reach a refusal looks for the spacing that
+#: the error model predicts would meet the request (a factor on dx).
+BEYOND_REFINEMENT = 16.0
+
+
+def _beyond(cheapest, seeds_for, error, smallest, ladder, pilot, cost,
+            max_refinement) -> dict:
+    """What a refused request would take if the ladder's error model held
+    below the finest spacing it allows: the cheapest (dx, seeds) down to
+    ``smallest / BEYOND_REFINEMENT`` and its CPU seconds, and those of a
+    pilot ladder that reaches it (three levels at the ladder's last ratio,
+    the finest ``dx * max_refinement``, ``pilot`` members each).  Empty
+    when no spacing is predicted to meet the request (an error model that
+    does not shrink with dx).  Either way ``statistics_alone``: the seeds
+    and CPU seconds that the statistical error alone needs at the finest
+    spacing the ladder allows (a lower bound on any plan's cost there)."""
+    alone = {"dx": smallest, "seeds": seeds_for(error),
+             "cpu_s_per_member": cost(smallest)}
+    alone["predicted_seconds"] = alone["seeds"] * alone["cpu_s_per_member"]
+    best = cheapest(np.geomspace(smallest, smallest / BEYOND_REFINEMENT, 60),
+                    None)
+    if best is None:
+        return {"statistics_alone": alone}
+    seconds, dx, n, e_d, e_s = best
+    ratio = ladder[-2] / ladder[-1]
+    finest = dx * max_refinement
+    pilots = [finest * ratio ** 2, finest * ratio, finest]
+    return {"dx": dx, "seeds": n, "discretisation_error": e_d,
+            "statistical_error": e_s, "predicted_seconds": seconds,
+            "cpu_s_per_member": cost(dx), "pilot_ladder": pilots,
+            "pilot_seconds": float(sum(pilot * cost(d) for d in pilots)),
+            "statistics_alone": alone}
+
+
+def _beyond_text(beyond: dict, pilot: int) -> str:
+    alone = beyond["statistics_alone"]
+    text = (f"; the statistical error alone needs {alone['seeds']} seeds at "
+            f"dx = {alone['dx'] * 1e3:.3g} mm "
+            f"({alone['cpu_s_per_member']:.3g} CPU s per member, "
+            f"{alone['predicted_seconds']:.3g} CPU s)")
+    if "dx" not in beyond:
+        return text + ("; no finer spacing is predicted to meet the request "
+                       "(the error model does not shrink with dx)")
+    return text + (f"; if the error model held below the ladder, dx = "
+            f"{beyond['dx'] * 1e3:.3g} mm with {beyond['seeds']} seeds would "
+            f"meet it (discretisation {beyond['discretisation_error']:.3g} "
+            f"+ statistical {beyond['statistical_error']:.3g}) for about "
+            f"{beyond['predicted_seconds']:.3g} CPU s "
+            f"({beyond['cpu_s_per_member']:.3g} per member), after a pilot "
+            f"ladder --ladder "
+            + ",".join(f"{d * 1e3:.3g}mm" for d in beyond["pilot_ladder"])
+            + f" of {pilot} members each ({beyond['pilot_seconds']:.3g} CPU "
+            "s) to check it")
