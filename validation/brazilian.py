@@ -1,6 +1,7 @@
 """The Brazilian disc against its derived truths (docs/fracture.md).
 
     python validation/brazilian.py [--quick] [--seeds N] [--out DIR]
+        [--strength-only] [--artificial-stress]
 
 prints three checks and writes them to ``DIR/brazilian.json``:
 
@@ -221,12 +222,16 @@ def centre_strain_rate(dx: float, until: float = 2e-3) -> tuple:
     return centre / scene.time, centre * YOUNG / ref
 
 
-def strengths(dx: float, seeds, rate: float) -> dict:
-    """Disc and bar to failure for each seed: strengths [Pa], where the
-    disc's first damaged particles lie."""
+def strengths(dx: float, seeds, rate: float,
+              artificial_stress: bool = False) -> dict:
+    """Disc and bar to failure for each seed (with the
+    ``artificial_stress`` effect at its defaults if asked): strengths
+    [Pa], where the disc's first damaged particles lie."""
     out = {"disc": [], "bar": [], "disc_onset": []}
     for seed in seeds:
         scene = fracture.brazilian_disc(dx, seed=seed)
+        if artificial_stress:
+            scene.effect("artificial_stress")
         sl = scene.body_slice("specimen")
         first = {}
 
@@ -243,6 +248,8 @@ def strengths(dx: float, seeds, rate: float) -> dict:
         out["disc"].append(run.strength_Pa)
         out["disc_onset"].append(first)
         bar = fracture.tensile_bar(dx, strain_rate=rate, seed=seed)
+        if artificial_stress:
+            bar.effect("artificial_stress")
         out["bar"].append(fracture.load_to_failure(
             bar, max_strain=0.01).strength_Pa)
     return out
@@ -253,10 +260,24 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true",
                     help="dx 2 and 1 mm for Hondros, strengths at 2 mm")
     ap.add_argument("--seeds", type=int, default=3)
+    ap.add_argument("--artificial-stress", action="store_true",
+                    help="strengths with the artificial_stress effect on")
+    ap.add_argument("--strength-only", action="store_true",
+                    help="check 3 only")
     ap.add_argument("--out", type=Path, default=None)
     args = ap.parse_args(argv)
     result = {}
     dxs = (2e-3, 1e-3) if args.quick else (2e-3, 1e-3, 5e-4)
+    if not args.strength_only:
+        checks_1_2(dxs, result)
+    check_3(args, result)
+    if args.out:
+        args.out.mkdir(parents=True, exist_ok=True)
+        (args.out / "brazilian.json").write_text(json.dumps(result, indent=1))
+    return 0
+
+
+def checks_1_2(dxs, result: dict) -> None:
     print("1. Hondros: centre stress / (2P/(pi D t)) before damage")
     result["hondros"] = hondros(dxs)
     for row in result["hondros"]:
@@ -269,7 +290,7 @@ def main(argv=None) -> int:
               f" {row['cpu_s']:.0f} s CPU")
     print("2. where the first flaw activates (elastic field, m = 9)")
     result["onset"] = []
-    for dx in ((2e-3, 1e-3) if args.quick else (2e-3, 1e-3, 5e-4)):
+    for dx in dxs:
         result["onset"] += onset_weights(dx, (0.0, 40.0, 60.0))
     for row in result["onset"]:
         a, b = row["strain_rule"], row["stress_rule"]
@@ -280,6 +301,9 @@ def main(argv=None) -> int:
               f" {a['central_third']:.3f}; principal stress / E: max/centre"
               f" {b['max_over_centre']:.2f} at {b['max_at_mm']} mm,"
               f" P(central third) {b['central_third']:.3f}")
+
+
+def check_3(args, result: dict) -> None:
     dx = 2e-3 if args.quick else 1e-3
     rate, c_disc = centre_strain_rate(dx)
     c_bar = 1.0 - POISSON ** 2
@@ -294,7 +318,7 @@ def main(argv=None) -> int:
           f" {v_bar:.3e} (bar) m^3; first-flaw ratio disc/bar predicted"
           f" {predicted:.3f}")
     seeds = range(1, args.seeds + 1)
-    s = strengths(dx, seeds, rate)
+    s = strengths(dx, seeds, rate, args.artificial_stress)
     ratio = np.array(s["disc"]) / np.array(s["bar"])
     for seed, a, b, o in zip(seeds, s["disc"], s["bar"], s["disc_onset"]):
         print(f"  seed {seed}: disc 2P/(pi D t) {a / 1e6:.2f} MPa, bar"
@@ -303,11 +327,8 @@ def main(argv=None) -> int:
     print(f"  mean ratio {ratio.mean():.3f} (predicted {predicted:.3f})")
     result["strength"] = {"dx": dx, "rate": rate, "c_disc": c_disc,
                           "c_bar": c_bar, "predicted_ratio": predicted,
+                          "artificial_stress": args.artificial_stress,
                           **s, "ratio": ratio.tolist()}
-    if args.out:
-        args.out.mkdir(parents=True, exist_ok=True)
-        (args.out / "brazilian.json").write_text(json.dumps(result, indent=1))
-    return 0
 
 
 if __name__ == "__main__":
