@@ -27,7 +27,7 @@ from .scene import Scene
 
 __all__ = ["ucs", "brazilian_disc", "tensile_bar", "load_to_failure",
            "FailureRun", "fracture_material", "UCS_STRAIN_RATE", "DISC_SPEED",
-           "TENSILE_STRAIN_RATE", "DISC_FLAT_ANGLE", "TESTS", "test_scene"]
+           "TENSILE_STRAIN_RATE", "TESTS", "test_scene"]
 
 #: Axial strain rate of the compression test [1/s]: the load rises over
 #: ~50 wave transits of the specimen (0.14 m / 2300 m/s = 61 us) before the
@@ -35,10 +35,6 @@ __all__ = ["ucs", "brazilian_disc", "tensile_bar", "load_to_failure",
 UCS_STRAIN_RATE = 1.0
 #: Piston speed of the Brazilian disc [m/s] (the plate below is fixed).
 DISC_SPEED = 0.02
-#: Angle 2 alpha [degrees] that each flat loading end of the Brazilian
-#: disc subtends at the centre (Wang et al. 2004: 2 alpha >= 20 degrees
-#: starts the crack at the centre).
-DISC_FLAT_ANGLE = 20.0
 #: Strain rate of the tensile bar [1/s] (each end moves at half of
 #: rate x length).
 TENSILE_STRAIN_RATE = 1.0
@@ -124,7 +120,7 @@ def brazilian_disc(dx: float = 1e-3, diameter: float = 0.05,
                    speed: float = DISC_SPEED, seed: int = 1,
                    flaws: float = 10.0, viscosity=_VISCOSITY,
                    member: int = 0,
-                   flat_angle: float = DISC_FLAT_ANGLE) -> Scene:
+                   flat_angle: float = 0.0) -> Scene:
     """The Brazilian (indirect tensile) test: a disc of ``diameter`` [m]
     (2D plane strain, 1 m deep) between a fixed flat plate and a flat
     piston moving down at ``speed`` [m/s], with the ``damage`` effect on.
@@ -132,9 +128,11 @@ def brazilian_disc(dx: float = 1e-3, diameter: float = 0.05,
     ``flat_angle`` [degrees] is the angle 2 alpha that each of the two flat
     loading ends subtends at the centre (the flattened Brazilian disc of
     Wang et al. 2004): the disc keeps its lattice points with
-    |y| < R cos(alpha), and the platens are bonded to the flats. 0 is the
-    round disc, which touches each platen at one row. The default, 20
-    degrees, makes the crack start at the centre (docs/fracture.md).
+    |y| < R cos(alpha), and the platens are bonded to the flats. 0, the
+    default, is the round disc, which touches each platen along its top
+    lattice row. With the damage model's strain rule and bonded platens
+    neither starts the crack at the centre (docs/fracture.md, "The
+    Brazilian disc checked").
 
     The indirect tensile strength is 2P / (pi D t) with P the peak load
     and t the depth (1 m in 2D: P in N per metre).

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from sphsolid import fracture
+from sphsolid.build import disc
 from validation import brazilian
 
 R = 0.025
@@ -60,10 +61,13 @@ def test_flat_ends_cut_the_disc_and_bad_angles_are_named():
     # the platens touch the flats: one lattice step above the top row
     piston = flat.positions[flat.body_slice("piston")]
     assert piston[:, 1].min() == pytest.approx(b[:, 1].max() + 2e-3)
-    # the default is the round disc of before
-    default = fracture.brazilian_disc(2e-3)
+    # the default is the round disc of before: every lattice point inside
+    # the circle (at 0.5 mm the top rows lie at 24.75 mm, above the cut of
+    # any flat of 2 alpha > 16 degrees)
+    default = fracture.brazilian_disc(5e-4)
+    whole = disc((0.0, 0.0), R, 5e-4, fracture.fracture_material()).points
     np.testing.assert_array_equal(
-        default.positions[default.body_slice("specimen")], a)
+        default.positions[default.body_slice("specimen")], whole)
     for bad in (-5.0, 90.0, "20", True, float("nan")):
         with pytest.raises(ValueError, match="flat_angle"):
             fracture.brazilian_disc(2e-3, flat_angle=bad)
