@@ -9,6 +9,9 @@ For each spacing, one invocation runs each of
             OpenMP thread, probes A-D sampled every 10 steps;
   plugin-1  examples/uniaxial_cylinder/in.uniaxial_cylinder in ``lmp``, 1 rank;
   plugin-2  the same deck under ``mpirun -np 2``;
+  library-leapfrog, plugin-1-leapfrog
+            the library and the deck (``-var integrator leapfrog``, 1 rank)
+            with the leapfrog at its default step h/c0;
   smd       bench/in.smd_ulsph_cylinder: smd/ulsph on the same particles,
             time step and piston, ``lmp`` on 1 rank;
 
@@ -21,7 +24,9 @@ is half), loop and process times, peak resident memory, and bytes per
 particle: the library's own sph_memory_bytes(), and for every case the
 marginal peak RSS between the two spacings, (RSS_1mm - RSS_2mm) /
 (N_1mm - N_2mm), which removes the fixed cost of the interpreter and
-LAMMPS.  Medians over --repeats.
+LAMMPS.  Medians over --repeats.  For each plugin case on one rank, where
+its loop goes (pair sphsolid's timers, as in bench_lammps.py) against the
+library case with the same integrator.
 
     .venv/bin/python bench/bench_cylinder3d.py [--fine] [--dxs 0.002] [--steps 20]
         [--repeats 3] [--skip smd] [--json out.json]
@@ -50,11 +55,12 @@ import bench_lammps as common  # noqa: E402
 REPOSITORY = HERE.parent
 DECK = REPOSITORY / "examples" / "uniaxial_cylinder" / "in.uniaxial_cylinder"
 SMD_DECK = HERE / "in.smd_ulsph_cylinder"
-CASES = ("library", "plugin-1", "plugin-2", "smd")
+CASES = ("library", "plugin-1", "plugin-2", "smd", "library-leapfrog", "plugin-1-leapfrog")
 PROBE_EVERY = 10
 
 
-def library_worker(library: Path, dx: float, steps: int) -> dict:
+def library_worker(library: Path, dx: float, steps: int,
+                   integrator: str = "improved_euler") -> dict:
     """The cylinder scene on the library alone, in this process."""
     import ctypes
     from ctypes import POINTER, byref, c_char_p, c_double, c_int, c_long, c_void_p
@@ -69,6 +75,7 @@ def library_worker(library: Path, dx: float, steps: int) -> dict:
                                    POINTER(c_int)]
     lib.sph_add_probe.argtypes = [c_void_p, c_char_p, POINTER(c_double), POINTER(c_int)]
     lib.sph_effect.argtypes = [c_void_p, c_char_p, c_char_p]
+    lib.sph_set_integrator.argtypes = [c_void_p, c_char_p]
     lib.sph_run.argtypes = [c_void_p, c_long]
     lib.sph_probe_sample.argtypes = [c_void_p, c_int, POINTER(c_double)]
     lib.sph_particle_count.argtypes = [c_void_p]
@@ -99,6 +106,7 @@ def library_worker(library: Path, dx: float, steps: int) -> dict:
     check(lib.sph_add_plate(sim, b"plate", -1, specimen, 0, byref(plate)))
     check(lib.sph_add_piston(sim, b"piston", -1, specimen, 0, 1.5e-3, byref(piston)))
     check(lib.sph_effect(sim, b"artificial_viscosity", b"alpha=1 beta=0"))
+    check(lib.sph_set_integrator(sim, integrator.encode()))
     points = [(0, L / 2, 0), (D / 4, 0.75 * L, 0), (D / 4, L / 2, 0), (0, 0.75 * L, 0)]
     for k, p in enumerate(points):
         check(lib.sph_add_probe(sim, f"{'ABCD'[k]}".encode(), (c_double * 3)(*p), None))
@@ -159,17 +167,19 @@ def run_case(case: str, dx: float, args, work: Path) -> dict:
     bindir = Path(sys.executable).parent
     lmp = [str(bindir / "lmp"), "-log", "log.lammps", "-screen", "none", "-nocite"]
     variables = ["-var", "dx", repr(dx), "-var", "steps", str(args.steps)]
-    if case == "library":
+    integrator = "leapfrog" if case.endswith("leapfrog") else "improved_euler"
+    if case.startswith("library"):
         cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", "--library",
-               str(args.library), "--dxs", repr(dx), "--steps", str(args.steps)]
+               str(args.library), "--dxs", repr(dx), "--steps", str(args.steps),
+               "--integrator", integrator]
         _, figures = common.run_process(cmd, work)
         figures.update(json.loads((work / "stdout.txt").read_text().strip().splitlines()[-1]))
         figures["ranks"] = 1
         return figures
     if case.startswith("plugin"):
-        ranks = 1 if case == "plugin-1" else 2
+        ranks = 2 if case == "plugin-2" else 1
         cmd = lmp + ["-in", str(DECK), "-var", "plugin", str(args.plugin),
-                     "-var", "probes", "probes.txt"] + variables
+                     "-var", "probes", "probes.txt", "-var", "integrator", integrator] + variables
         if ranks > 1:
             import sphsolid_lammps
             mpirun = (sphsolid_lammps.mpi_bin_dir() or bindir) / "mpirun"
@@ -182,7 +192,8 @@ def run_case(case: str, dx: float, args, work: Path) -> dict:
 
 
 LABELS = {"library": "library, 1 thread", "plugin-1": "plugin, 1 rank",
-          "plugin-2": "plugin, mpirun -np 2", "smd": "smd/ulsph, 1 rank"}
+          "plugin-2": "plugin, mpirun -np 2", "smd": "smd/ulsph, 1 rank",
+          "library-leapfrog": "library leapfrog", "plugin-1-leapfrog": "plugin leapfrog, 1 r."}
 
 
 def report(summary: dict, pairs: dict, memory: dict, args) -> str:
@@ -199,7 +210,8 @@ def report(summary: dict, pairs: dict, memory: dict, args) -> str:
             if not s:
                 continue
             ranks = s.get("ranks", 1)
-            evaluations = 1 if case == "smd" else 2
+            # the leapfrog's two passes make one evaluation's pair terms
+            evaluations = 1 if case == "smd" or case.endswith("leapfrog") else 2
             per_core = s["particles"] * s["steps"] / s["loop_seconds"] / ranks
             pair_rate = pairs.get(dx, float("nan")) * evaluations * s["steps"] / s["loop_seconds"] / ranks
             per_cpu = s["particles"] * s["steps"] / (s["loop_cpu_seconds"] * ranks)
@@ -211,15 +223,26 @@ def report(summary: dict, pairs: dict, memory: dict, args) -> str:
     for dx in args.dxs:
         def get(case):
             return summary.get((dx, case), {}).get("loop_seconds")
-        lib, p1, p2, smd = (get(c) for c in CASES)
+        lib, p1, p2, smd, lib_lf, p1_lf = (get(c) for c in CASES)
         if lib and p1:
-            lines.append(f"  {dx * 1e3:g} mm  plugin 1 rank / library       {p1 / lib:6.3f}"
-                         "   (target <= 1.10)")
+            lines.append(f"  {dx * 1e3:g} mm  plugin 1 rank / library       {p1 / lib:6.3f}")
+        for name, plugin, alone in (("", "plugin-1", "library"),
+                                    (" leapfrog", "plugin-1-leapfrog", "library-leapfrog")):
+            a, b = summary.get((dx, plugin)), summary.get((dx, alone))
+            if a and b:
+                lines.append(f"  {dx * 1e3:g} mm  plugin{name} 1 rank / library{name} (loop CPU) "
+                             f"{a['loop_cpu_seconds'] / b['loop_cpu_seconds']:6.3f}"
+                             "   (target <= 1.05)")
         if p1 and p2:
             lines.append(f"  {dx * 1e3:g} mm  plugin 1 rank / 2 ranks       {p1 / p2:6.3f}"
                          "   (target >= 1.8)")
         if smd and p1:
             lines.append(f"  {dx * 1e3:g} mm  smd/ulsph / plugin 1 rank     {smd / p1:6.3f}")
+    for dx in args.dxs:
+        by_case = {case: s for (d, case), s in summary.items() if d == dx}
+        parts = common.plugin_parts(by_case, 2, LABELS)
+        if len(parts) > 1:
+            lines += [f"{dx * 1e3:g} mm, " + parts[0]] + parts[1:]
     lines.append("bytes per particle (library, sph_memory_parts / particles, after the "
                  "first steps):")
     for dx in sorted(memory, reverse=True):
@@ -259,9 +282,11 @@ def main(argv=None) -> int:
     parser.add_argument("--json", type=Path, default=None)
     parser.add_argument("--keep", type=Path, default=None)
     parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--integrator", default="improved_euler", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.worker:
-        print(json.dumps(library_worker(args.library, args.dxs[0], args.steps)))
+        print(json.dumps(library_worker(args.library, args.dxs[0], args.steps,
+                                        args.integrator)))
         return 0
     if args.fine and 0.001 not in args.dxs:
         args.dxs.append(0.001)
@@ -294,9 +319,17 @@ def main(argv=None) -> int:
         s = {k: statistics.median(r[k] for r in rows) for k in
              ("loop_seconds", "loop_cpu_seconds", "wall_seconds", "cpu_seconds",
               "peak_rss_mb")}
-        for k in ("steps", "particles", "ranks", "memory_bytes", "pairs", "sections_seconds"):
+        for k in ("steps", "particles", "ranks", "memory_bytes", "pairs"):
             if k in rows[0]:
                 s[k] = rows[0][k]
+        if "sections_seconds" in rows[0]:
+            s["sections_seconds"] = {name: statistics.median(r["sections_seconds"][name]
+                                                             for r in rows)
+                                     for name in rows[0]["sections_seconds"]}
+        if rows[0].get("plugin_parts_seconds"):
+            s["plugin_parts_seconds"] = {
+                name: statistics.median(r["plugin_parts_seconds"][name] for r in rows)
+                for name in common.PART_NAMES}
         summary[key] = s
     pairs = {dx: summary[(dx, "library")]["pairs"] for dx in args.dxs
              if (dx, "library") in summary}

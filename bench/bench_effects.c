@@ -29,24 +29,35 @@ typedef struct bench_case {
     int probes;                  /* sample A, B, C after every step */
     int output;                  /* HDF5 snapshot every 10 steps */
     double weibull_k, weibull_m; /* the specimen's flaws (damage) */
+    int account;                 /* the energy account on (sph_set_energy_account) */
 } bench_case;
 
 static const bench_case CASES[] = {
-    {"none", NULL, NULL, 0, 0, 0, 0},
-    {"artificial_viscosity", "artificial_viscosity", "alpha=1 beta=0", 0, 0, 0, 0},
-    {"artificial_stress", "artificial_stress", "epsilon=0.3 n=4", 0, 0, 0, 0},
-    {"xsph", "xsph", "epsilon=0.5", 0, 0, 0, 0},
-    {"kernel_correction", "kernel_correction", "", 0, 0, 0, 0},
-    {"gravity", "gravity", "gx=0 gy=-9.81", 0, 0, 0, 0},
-    {"damping", "damping", "rate=1000", 0, 0, 0, 0},
+    {"none", NULL, NULL, 0, 0, 0, 0, 0},
+    {"artificial_viscosity", "artificial_viscosity", "alpha=1 beta=0", 0, 0, 0, 0, 0},
+    {"artificial_stress", "artificial_stress", "epsilon=0.3 n=4", 0, 0, 0, 0, 0},
+    {"xsph", "xsph", "epsilon=0.5", 0, 0, 0, 0, 0},
+    {"kernel_correction", "kernel_correction", "", 0, 0, 0, 0, 0},
+    {"gravity", "gravity", "gx=0 gy=-9.81", 0, 0, 0, 0, 0},
+    {"damping", "damping", "rate=1000", 0, 0, 0, 0, 0},
     /* damage: flaws that this run's strains (below 1e-6) never reach,
      * then the ~10 flaws of every particle below 1e-7 (k V = 1e66): the
      * particles strained at all (1,280 of 12,040 after 50 steps) count
      * their active flaws again each step and grow D */
-    {"damage (no flaw active)", "damage", "seed=1", 0, 0, 1e28, 9.0},
-    {"damage (flaws active)", "damage", "seed=1", 0, 0, 1e72, 9.0},
-    {"probes A, B, C every step", NULL, NULL, 1, 0, 0, 0},
-    {"HDF5 snapshot every 10 steps", NULL, NULL, 0, 1, 0, 0},
+    {"damage (no flaw active)", "damage", "seed=1", 0, 0, 1e28, 9.0, 0},
+    {"damage (flaws active)", "damage", "seed=1", 0, 0, 1e72, 9.0, 0},
+    /* drucker_prager: a cone no stress of this run reaches, then one that
+     * the strained particles leave (cohesion 1 Pa, no friction: 6,998 of
+     * the 12,040 return to a nearly zero deviator at step 101) */
+    {"drucker_prager (elastic)", "drucker_prager", "cohesion=1e9 friction_angle=30", 0, 0, 0, 0, 0},
+    {"drucker_prager (returning)", "drucker_prager", "cohesion=1 friction_angle=0", 0, 0, 0, 0, 0},
+    /* the energy account: a pass over the prescribed particles per rate
+     * evaluation, and with viscosity on one over the pairs */
+    {"energy account", NULL, NULL, 0, 0, 0, 0, 1},
+    {"artificial_viscosity + energy account", "artificial_viscosity", "alpha=1 beta=0", 0, 0, 0, 0,
+     1},
+    {"probes A, B, C every step", NULL, NULL, 1, 0, 0, 0, 0},
+    {"HDF5 snapshot every 10 steps", NULL, NULL, 0, 1, 0, 0, 0},
 };
 
 static void fail(sph_sim *sim, const char *what)
@@ -77,6 +88,8 @@ static double per_step(const bench_case *c, double dx, long steps, int threads, 
                                sph_material_set(sim, paper.material, "weibull_m", c->weibull_m)))
         fail(sim, c->label);
     if (c->effect && sph_effect(sim, c->effect, c->parameters))
+        fail(sim, c->label);
+    if (c->account && sph_set_energy_account(sim, 1))
         fail(sim, c->label);
     if (c->output && sph_output_open(sim, h5, 10, 0)) {
         sph_destroy(sim);

@@ -70,9 +70,11 @@ void FixSPHSolidImprovedEuler::initial_integrate(int /*vflag*/)
   stage.resize((size_t) std::max(nlocal, 1) * nsaved);
 
   FixSPHSolidState *state = pair->state();
+  const double start = PairSPHSolid::cpu_seconds();
   const sph_status status = sph_improved_euler_predict_strided(
       pair->handle(), nlocal, update->dt, xv(atom->x), xv(atom->v), 3, state->rho, state->S_data(),
       &rates, integrate_motion.data(), stage.data());
+  pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - start);
   if (status != SPH_OK)
     error->one(FLERR, "fix {}: predictor at step {}: {} ({})", style, update->ntimestep,
                sph_errmsg(pair->handle()), sph_status_name(status));
@@ -154,9 +156,11 @@ void FixSPHSolidImprovedEuler::final_integrate()
   // (runaway speed or density), in one pass
   FixSPHSolidState *state = pair->state();
   long bad = -1;
+  const double start = PairSPHSolid::cpu_seconds();
   const sph_status status = sph_improved_euler_correct_strided(
       pair->handle(), nlocal, update->dt, xv(atom->x), xv(atom->v), 3, state->rho, state->S_data(),
       &rates, integrate_motion.data(), pair->atom_materials(), stage.data(), &bad);
+  pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - start);
   if (status == SPH_ERR_NONFINITE) check_finite();    // names the atom by its ID
   if (status == SPH_ERR_UNSTABLE)
     error->one(FLERR,
@@ -172,7 +176,7 @@ void FixSPHSolidImprovedEuler::final_integrate()
   // effect damage: flaws activate and D grows on the step's end state,
   // before the rates of the next step are evaluated there (which they are
   // whether D grew or not: no collective needed)
-  pair->grow_damage(update->dt, false);
+  pair->grow_damage(update->dt, false, pair->drucker_prager_on() ? free_atoms() : nullptr);
 
   // The first rate evaluation of the next step, at y_{n+1}.  Forces from
   // other fixes (gravity) are kept as they were added to f(y*): they do not

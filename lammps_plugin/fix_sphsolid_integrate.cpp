@@ -131,15 +131,21 @@ void FixSPHSolidIntegrate::init_rigid_bodies()
 void FixSPHSolidIntegrate::draw_flaws()
 {
   if (!pair->damage_on()) return;
+  pair->draw_flaws(free_atoms());
+}
+
+/* the atoms in the group and in no fix sphsolid/force body */
+const unsigned char *FixSPHSolidIntegrate::free_atoms()
+{
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
-  std::vector<unsigned char> flawed((size_t) std::max(nlocal, 1), 0);
+  free_mask.assign((size_t) std::max(nlocal, 1), 0);
   for (int i = 0; i < nlocal; i++) {
-    flawed[i] = (mask[i] & groupbit) ? 1 : 0;
+    free_mask[i] = (mask[i] & groupbit) ? 1 : 0;
     for (FixSPHSolidForce *body : rigid)
-      if (mask[i] & body->groupbit) flawed[i] = 0;
+      if (mask[i] & body->groupbit) free_mask[i] = 0;
   }
-  pair->draw_flaws(flawed.data());
+  return free_mask.data();
 }
 
 /* every atom of a fix sphsolid/force group gets the body's acceleration */
@@ -162,6 +168,13 @@ void FixSPHSolidIntegrate::apply_rigid_bodies()
       error->all(FLERR, "fix {} (sphsolid/force) at step {}: {}", body->id, update->ntimestep,
                  sph_errmsg(pair->handle()));
   }
+}
+
+/* the end of a run's set-up: pair sphsolid's timers count the loop from
+   here on (the set-up's rate evaluation is not part of it) */
+void FixSPHSolidIntegrate::setup(int /*vflag*/)
+{
+  pair->reset_seconds();
 }
 
 /* ---------------------------------------------------------------------- */

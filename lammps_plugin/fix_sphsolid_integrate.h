@@ -32,6 +32,7 @@ class FixSPHSolidForce;
 class FixSPHSolidIntegrate : public Fix {
  public:
   void init() override;
+  void setup(int) override;
   double memory_usage() override;
 
  protected:
@@ -59,6 +60,9 @@ class FixSPHSolidIntegrate : public Fix {
   // effect damage: the flaws of the atoms this fix moves freely (in its
   // group, in no fix sphsolid/force body), none for the others
   void draw_flaws();
+  // the atoms this fix moves freely (1), the others 0 (nlocal values)
+  const unsigned char *free_atoms();
+  std::vector<unsigned char> free_mask;
 };
 
 }    // namespace LAMMPS_NS

@@ -83,21 +83,27 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
   start.dS_dt = state->carried_S_data();
   stage.resize((size_t) std::max(nlocal, 1) * saved_values());
   double *x = atom->x[0], *v = atom->v[0];
+  double begin = PairSPHSolid::cpu_seconds();
   sph_status status =
       sph_leapfrog_begin_strided(pair->handle(), nlocal, update->dt, x, v, 3, state->rho,
                                  state->S_data(), &start, integrate_motion.data(), stage.data());
+  pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - begin);
   if (status != SPH_OK) fail(status, -1, "kick");
 
   // the density and stress rates at the half step (the continuity pass):
-  // ghosts' x, v, rho and S in one exchange
-  pair->evaluate_rates(true, SPH_RATES_CONTINUITY);
-  const sph_rates half = stage_rates();
+  // ghosts' x, v, rho and S in one exchange; written where the atoms carry
+  // them, as they also predict the next half step
+  pair->evaluate_rates(true, SPH_RATES_CONTINUITY, state->carried_rho, state->carried_S_data());
+  sph_rates half = stage_rates();
+  half.drho_dt = state->carried_rho;
+  half.dS_dt = state->carried_S_data();
   long bad = -1;
+  begin = PairSPHSolid::cpu_seconds();
   status = sph_leapfrog_drift_strided(pair->handle(), nlocal, update->dt, x, v, 3, state->rho,
                                       state->S_data(), &half, integrate_motion.data(), stage.data(),
                                       pair->atom_materials(), &bad);
+  pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - begin);
   if (status != SPH_OK) fail(status, bad, "drift");
-  keep_rates(false);    // they predict the next half step
 }
 
 /* The pair's last density and stress rates into the atoms' carried ones
@@ -119,16 +125,19 @@ void FixSPHSolidLeapfrog::final_integrate()
   const int nlocal = atom->nlocal;
   pack();
   long bad = -1;
+  const double begin = PairSPHSolid::cpu_seconds();
   const sph_status status = sph_leapfrog_end_strided(
       pair->handle(), nlocal, update->dt, atom->v[0], 3, pair->state()->rho, dvbuf.data(),
       integrate_motion.data(), pair->atom_materials(), &bad);
+  pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - begin);
   if (status != SPH_OK) fail(status, bad, "kick");
 
   // effect damage: flaws activate and D grows on the step's end state.
   // If D grew the carried rates are stale: both passes again at y_{n+1}
   // (as the library's leapfrog evaluates both when it carries none), the
   // acceleration into f with the other fixes' forces kept.
-  if (!pair->grow_damage(update->dt, true)) return;
+  if (!pair->grow_damage(update->dt, true, pair->drucker_prager_on() ? free_atoms() : nullptr))
+    return;
   const int dim = pair->dimension();
   double **f = atom->f;
   const double *dv_pair = pair->dv_dt();

@@ -51,9 +51,9 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
     Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false), damage(false),
-    sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0),
-    nrates(-1), send_back(false), partial_size(0), pass_size(0), compute_pass(SPH_RATES_ALL),
-    pairs_computed(0), ghost_pairs(0)
+    drucker_prager(false), sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1),
+    nmax_scratch(0), nrates(-1), send_back(false), partial_size(0), pass_size(0),
+    compute_pass(SPH_RATES_ALL), pairs_computed(0), ghost_pairs(0), part_seconds()
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -120,6 +120,7 @@ void PairSPHSolid::settings(int narg, char **arg)
   effects.clear();
   xsph = false;
   damage = false;
+  drucker_prager = false;
 
   int iarg = 1;
   while (iarg < narg) {
@@ -153,6 +154,7 @@ void PairSPHSolid::settings(int narg, char **arg)
       effects.emplace_back(word, parameters);
       if (word == "xsph") xsph = true;
       if (word == "damage") damage = true;
+      if (word == "drucker_prager") drucker_prager = true;
     } else {
       std::string known = "h_over_dx kernel";
       for (const auto &e : effect_names)
@@ -371,6 +373,7 @@ void PairSPHSolid::init_style()
   send_back = force->newton_pair != 0;
   cached_build = -1;               // materials of the types may have changed
   compute_pass = SPH_RATES_ALL;    // until an integrator fix asks for less (its init follows)
+  reset_seconds();
 
   if (sim) sph_destroy(sim);
   sim = nullptr;
@@ -713,16 +716,20 @@ void PairSPHSolid::convert_list()
 
 /* ---------------------------------------------------------------------- */
 
-void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
+void PairSPHSolid::evaluate_rates(bool with_motion, int pass, double *drho_into, double *dS_into)
 {
   // density and deviatoric stress of the ghosts, and with_motion their
   // positions and velocities too, in one exchange (the stress only for a
   // pass that reads it: the momentum pass)
+  double start = cpu_seconds();
   state_fix->forward_motion = with_motion;
   state_fix->forward_stress = (pass & SPH_RATES_MOMENTUM) != 0;
   comm->forward_comm(state_fix);
   state_fix->forward_motion = false;
   state_fix->forward_stress = true;
+  double now = cpu_seconds();
+  part_seconds[PART_EXCHANGE] += now - start;
+  start = now;
 
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
@@ -747,6 +754,9 @@ void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
     cached_build = neighbor->ncalls;
     cached_nall = nall;
   }
+  now = cpu_seconds();
+  part_seconds[PART_REFRESH] += now - start;
+  start = now;
   const double *mp = rmass ? rmass : massbuf.data();
 
   sph_particles particles{};    // fields not set below stay zero
@@ -769,8 +779,8 @@ void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
 
   sph_rates rates;
   rates.dv_dt = rate_dv.data();
-  rates.drho_dt = rate_drho.data();
-  rates.dS_dt = rate_dS.data();
+  rates.drho_dt = drho_into ? drho_into : rate_drho.data();
+  rates.dS_dt = dS_into ? dS_into : rate_dS.data();
   rates.dx_dt = xsph ? rate_dx.data() : nullptr;
 
   // the pass over the pairs and its finish: the rates of the owned atoms.
@@ -783,12 +793,17 @@ void PairSPHSolid::evaluate_rates(bool with_motion, int pass)
     pass_size = (int) sph_rates_pass_size(sim, pass);
     status = sph_rates_pass_pairs(sim, pass, &particles, &neighbours, partial.data());
     if (status == SPH_OK) {
+      now = cpu_seconds();
+      part_seconds[PART_RATES] += now - start;
       comm->reverse_comm(this, pass_size);
+      start = cpu_seconds();
+      part_seconds[PART_EXCHANGE] += start - now;
       status = sph_rates_pass_finish(sim, pass, &particles, partial.data(), &rates);
     }
   } else {
     status = sph_rates_pass_half(sim, pass, &particles, &neighbours, &rates);
   }
+  part_seconds[PART_RATES] += cpu_seconds() - start;
   if (status != SPH_OK) {
     // name the atom by its ID (the library sees local indices)
     const double *rho = particles.rho;
@@ -864,18 +879,33 @@ void PairSPHSolid::draw_flaws(const unsigned char *flawed)
                "material with flaws: give its pair_coeff weibull_k [m^-3] and weibull_m > 0");
 }
 
-bool PairSPHSolid::grow_damage(double dt, bool any_rank)
+bool PairSPHSolid::grow_damage(double dt, bool any_rank, const unsigned char *free_atoms)
 {
-  if (!damage) return false;
-  damage_inputs();
+  if (!damage && !drucker_prager) return false;
   FixSPHSolidState *st = state_fix;
   int changed = 0, any = 0;
-  const sph_status status =
-      sph_damage_grow(sim, atom->nlocal, dt, idbuf.data(), localmass.data(), localmaterial.data(),
-                      st->rho, st->S_data(), st->flaw_count, st->flaw_strain, st->damage, &changed);
-  if (status != SPH_OK)
-    error->one(FLERR, "pair sphsolid: damage stage at step {}: {} ({})", update->ntimestep,
-               sph_errmsg(sim), sph_status_name(status));
+  if (damage) {
+    damage_inputs();
+    const sph_status status = sph_damage_grow(
+        sim, atom->nlocal, dt, idbuf.data(), localmass.data(), localmaterial.data(), st->rho,
+        st->S_data(), st->flaw_count, st->flaw_strain, st->damage, &changed);
+    if (status != SPH_OK)
+      error->one(FLERR, "pair sphsolid: damage stage at step {}: {} ({})", update->ntimestep,
+                 sph_errmsg(sim), sph_status_name(status));
+  }
+  if (drucker_prager) {
+    const int nlocal = atom->nlocal;
+    localmaterial.resize((size_t) std::max(nlocal, 1));
+    for (int i = 0; i < nlocal; i++) localmaterial[i] = type_material[atom->type[i]];
+    int returned = 0;
+    const sph_status status = sph_drucker_prager_return(sim, nlocal, localmaterial.data(), st->rho,
+                                                        damage ? st->damage : nullptr, free_atoms,
+                                                        st->S_data(), &returned);
+    if (status != SPH_OK)
+      error->one(FLERR, "pair sphsolid: drucker_prager return at step {}: {} ({})",
+                 update->ntimestep, sph_errmsg(sim), sph_status_name(status));
+    changed |= returned;
+  }
   if (!any_rank) return changed != 0;
   MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, world);
   return any != 0;
@@ -932,6 +962,16 @@ void PairSPHSolid::finish()
                                "ghosts' sums sent back"
                              : "newton off: each such pair computed on both of its ranks");
   }
+  double seconds[N_PARTS];
+  MPI_Allreduce(part_seconds, seconds, N_PARTS, MPI_DOUBLE, MPI_SUM, world);
+  if (comm->me == 0)
+    utils::logmesg(
+        lmp,
+        "pair sphsolid: CPU seconds per rank (average): library rate calls {:.6g}, library "
+        "integrator stages {:.6g}, ghost exchanges {:.6g}, refresh after "
+        "re-neighbouring {:.6g}\n",
+        seconds[PART_RATES] / comm->nprocs, seconds[PART_STAGES] / comm->nprocs,
+        seconds[PART_EXCHANGE] / comm->nprocs, seconds[PART_REFRESH] / comm->nprocs);
 }
 
 /* ---------------------------------------------------------------------- */

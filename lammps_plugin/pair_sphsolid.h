@@ -22,6 +22,7 @@ PairStyle(sphsolid,PairSPHSolid);
 
 #include "sphsolid.h"
 
+#include <ctime>
 #include <string>
 #include <utility>
 #include <vector>
@@ -62,8 +63,12 @@ class PairSPHSolid : public Pair {
   /* Rates of the owned atoms at the current state of owned and ghost atoms.
    * Density and deviatoric stress are sent to the ghosts here; with
    * with_motion their positions and velocities too (in the same message),
-   * otherwise those must be current already (Verlet's forward comm). */
-  void evaluate_rates(bool with_motion = false, int pass = SPH_RATES_ALL);
+   * otherwise those must be current already (Verlet's forward comm).
+   * drho_into and dS_into, if given, take the density and stress rates of
+   * the owned atoms (nlocal and nlocal x ncomp doubles) in place of the
+   * pair's own arrays, which then keep the rates of an earlier call. */
+  void evaluate_rates(bool with_motion = false, int pass = SPH_RATES_ALL,
+                      double *drho_into = nullptr, double *dS_into = nullptr);
   /* The rates compute() evaluates (SPH_RATES_ALL; the leapfrog, which
    * takes the density and stress rates at the half step, asks for
    * SPH_RATES_MOMENTUM). */
@@ -114,14 +119,41 @@ class PairSPHSolid : public Pair {
    * atom's flaws keyed by its ID (tag - 1, the index the library's own
    * particles use).  draw_flaws: the flaws of every owned atom, none for
    * atoms whose flawed[i] is 0 (those the integrator does not move freely:
-   * platens, rigid bodies).  grow_damage: the damage stage after a step of
-   * dt; with any_rank, true on every rank if D grew on any (a collective),
-   * else whether it grew on this rank.  active_flaws: the flaws
-   * active at the current state (nlocal values into out). */
+   * platens, rigid bodies).  grow_damage: the stages after a step of dt,
+   * the damage stage and, with effect drucker_prager, the return of the
+   * deviators of the atoms whose free_atoms[i] is 1 (those the integrator
+   * moves freely) onto the cone (sph_drucker_prager_return); with
+   * any_rank, true on every rank if D grew or a deviator was returned on
+   * any (a collective), else whether that happened on this rank.
+   * active_flaws: the flaws active at the current state (nlocal values
+   * into out). */
   bool damage_on() const { return damage; }
+  bool drucker_prager_on() const { return drucker_prager; }
   void draw_flaws(const unsigned char *flawed);
-  bool grow_damage(double dt, bool any_rank);
+  bool grow_damage(double dt, bool any_rank, const unsigned char *free_atoms);
   void active_flaws(double *out);
+  /* CPU seconds of this process (cpu_seconds(): all its threads) in each
+   * part of the plugin's work during a run's loop (from reset_seconds(),
+   * which the integrator fix calls at the end of the set-up), for the
+   * end-of-run line of finish(): the library's rate calls, the integrator
+   * fix's library stages, the ghost exchanges of evaluate_rates() (and,
+   * newton on, the sums sent back), and the refresh of masses, materials
+   * and the neighbour rows after a re-neighbouring.  What the loop holds
+   * beyond these is the plugin's own copying (f = m dv/dt, dv/dt = f/m,
+   * the carried rates) and LAMMPS's own work.  CPU time, not wall time:
+   * on a shared machine it is what the parts cost, whatever else runs. */
+  enum Part { PART_RATES, PART_STAGES, PART_EXCHANGE, PART_REFRESH, N_PARTS };
+  void add_seconds(Part part, double seconds) { part_seconds[part] += seconds; }
+  void reset_seconds()
+  {
+    for (double &t : part_seconds) t = 0.0;
+  }
+  static double cpu_seconds()
+  {
+    timespec now;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+    return (double) now.tv_sec + 1e-9 * (double) now.tv_nsec;
+  }
 
  private:
   void check_deck();
@@ -142,6 +174,8 @@ class PairSPHSolid : public Pair {
   std::vector<std::pair<std::string, std::string>> effects;    // name, "key=value ..."
   std::vector<SPHSolidMaterial> type_params;                   // per atom type (index 0 unused)
   std::vector<int> type_material;                              // library material per atom type
+  // drucker_prager effect on: the deviators are returned after a step
+  bool drucker_prager;
 
   sph_sim *sim;    // configured in init_style()
   FixSPHSolidState *state_fix;
@@ -167,6 +201,8 @@ class PairSPHSolid : public Pair {
   int compute_pass;               // the rates compute() evaluates
   bigint pairs_computed;          // pairs in this rank's rows (the last list)
   bigint ghost_pairs;             // of them, pairs with a ghost atom
+
+  double part_seconds[N_PARTS];    // add_seconds(), since reset_seconds()
 
   void allocate();
   void grow_scratch();

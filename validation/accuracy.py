@@ -35,9 +35,13 @@ from pathlib import Path
 
 import numpy as np
 
-from sphsolid import metrics, scenes
-from sphsolid import planner
-from sphsolid.probes import PAPER_PROBES
+# before the library (and its OpenMP runtime) is loaded: threads that
+# wait at a barrier sleep rather than spin on the shared machine
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+from sphsolid import metrics, scenes  # noqa: E402
+from sphsolid import planner  # noqa: E402
+from sphsolid.probes import PAPER_PROBES  # noqa: E402
 
 REQUESTS = (0.10, 0.05, 0.03, 0.02)
 #: The scenes of the checks, in the document's order (held-out ones are
@@ -1133,7 +1137,11 @@ set. The **held-out** scene (piston_nu045) never entered the verification
 record's factors (declared before they were fitted; section
 "Verification record"). **Timings were taken on a shared 2-core machine under
 load from other jobs (load averages below); wall times depend on that
-load, CPU times much less: compare the CPU predictions.**
+load, CPU times much less: compare the CPU predictions.** Threads wait
+passively at OpenMP barriers (`OMP_WAIT_POLICY=PASSIVE`, which this
+module sets unless the environment sets a policy): on the shared
+machine a spinning thread takes the core from the one it waits for
+([planner.md](planner.md)).
 
 What is checked, per request (10, 5, 3, 2 %, in the max and the RMS norm,
 on 1 and 2 threads; 2.5 % max and 1 % RMS besides):

@@ -2,6 +2,7 @@
 (:mod:`sphsolid.planner.record`; docs/accuracy.md, "Verification record").
 
     python -m validation.record [--scenes piston,strip,...] [--threads 1]
+                                [--only 'step=0.5']
 
 For every reference scene with a trusted answer, every setting the CLI's
 default path plans with (:func:`sphsolid.planner.search.candidate_settings`:
@@ -119,9 +120,13 @@ def _bias(spacings, errors, order) -> float:
     return float(candidates[int(np.argmin(costs))][1])
 
 
-def verify_scene(scene: accuracy.Scene, threads: int, log) -> dict:
+def verify_scene(scene: accuracy.Scene, threads: int, log,
+                 only: str | None = None) -> dict:
     """Per setting family and norm: the pairs (fit window, target level,
-    true error, upper prediction), the largest ratio and the bias."""
+    true error, upper prediction), the largest ratio and the bias. With
+    ``only``, the families whose key contains it: every setting still runs
+    the ladder levels (the consistency floors compare them all, as a plan
+    does), only those run the finer levels and are returned."""
     spec = scene.spec
     cache = RunCache(f"record:{scene.name}")
     ladder = sorted(spec.ladder, reverse=True)
@@ -134,7 +139,8 @@ def verify_scene(scene: accuracy.Scene, threads: int, log) -> dict:
     cands = []
     for setting in settings:
         cand = Candidate(setting, [])
-        for dx in levels:
+        chosen = only is None or only in record_module.family(setting)
+        for dx in levels if chosen else levels[:len(ladder)]:
             key = (float(f"{dx:.6g}"), setting, float(scene.until),
                    spec.quantity, threads)
             if key in cache:
@@ -167,6 +173,8 @@ def verify_scene(scene: accuracy.Scene, threads: int, log) -> dict:
         floor_of = {id(c): f for c, f in zip(complete, floors)}
         for cand in cands:
             key = record_module.family(cand.setting)
+            if only is not None and only not in key:
+                continue
             entry = out.setdefault(key, {"label": cand.setting.label()})
             errors = [scene.error(r, norm) for r in cand.runs]
             spacings = [r.dx for r in cand.runs]
@@ -329,6 +337,10 @@ def main(argv=None) -> int:
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--out", type=Path,
                         default=record_module.RECORD_FILE)
+    parser.add_argument("--only", default=None,
+                        help="verify only the families whose key contains "
+                        "this text (e.g. 'step=0.5'), keeping the other "
+                        "families' results of the raw file")
     parser.add_argument("--raw", type=Path,
                         default=Path("docs/accuracy/record_raw.json"),
                         help="every pair (window, level, true, upper)")
@@ -340,7 +352,11 @@ def main(argv=None) -> int:
     start = wallclock.perf_counter()
     for name in filter(None, args.scenes.split(",")):
         scene = reference_scene(name, Path("docs/accuracy"), log)
-        per_scene[name] = verify_scene(scene, args.threads, log)
+        result = verify_scene(scene, args.threads, log, args.only)
+        if args.only is not None:
+            result = {**{k: v for k, v in per_scene.get(name, {}).items()
+                         if args.only not in k}, **result}
+        per_scene[name] = result
         args.raw.write_text(json.dumps(per_scene, indent=1))
         log(f"{name}: done at {wallclock.perf_counter() - start:.0f} s")
     record = combine(per_scene, FITTED, HELD_OUT)

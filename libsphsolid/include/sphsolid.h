@@ -525,13 +525,32 @@ SPH_API double sph_von_mises(int dimension, const double *S);
 
 typedef struct sph_energy_info {
     double kinetic;     /* sum m v^2 / 2 */
-    double elastic;     /* sum m (u_vol(rho) + S:S/(4 mu rho)) */
+    double elastic;     /* sum m (u_vol(rho) + S:S/(4 mu rho)); with effect damage the
+                           energy of the damaged stress: (1 - D) times the shear part
+                           and, in tension (rho < rho0), the volumetric part */
     double momentum[3]; /* sum m v */
+    /* the energy account (sph_set_energy_account; 0 while it is off), over
+     * all bodies, since it was switched on: */
+    double work;                 /* done on the particles by prescribed motions (-m a.v of
+                                    the SPH force each overrides) and applied forces */
+    double dissipated_damage;    /* elastic energy released as damage grew */
+    double dissipated_plastic;   /* removed by the drucker_prager return */
+    double dissipated_viscosity; /* turned into heat by artificial viscosity */
 } sph_energy_info;
 
 /* Energy and momentum of the free bodies (or of all bodies if
- * `all_bodies` is non-zero). */
+ * `all_bodies` is non-zero), and the energy account's totals.  With the
+ * account on and no gravity or damping, an undamped run keeps
+ *   kinetic + elastic + dissipated_* - work
+ * of all bodies at its value when the account was switched on, up to the
+ * discretisation's own error (docs/fracture.md). */
 SPH_API sph_status sph_energy(sph_sim *sim, int all_bodies, sph_energy_info *info);
+/* on != 0: switch the energy account on (its totals start from 0; a pass
+ * over the pairs per rate evaluation with artificial viscosity on, a pass
+ * over the prescribed particles without); 0: off, nothing is computed.
+ * The totals are not written to checkpoints. */
+SPH_API sph_status sph_set_energy_account(sph_sim *sim, int on);
+SPH_API int sph_energy_account(const sph_sim *sim);
 
 /* Bytes of memory the handle holds (particle state, integrator and rate
  * scratch, neighbour list), for budgeting large runs. */
@@ -903,6 +922,14 @@ SPH_API sph_status sph_energy_fields(sph_sim *sim, size_t n, const double *mass,
  *    evaluated before are stale then);
  *  - sph_damage_active: the flaws active at the current state (n doubles).
  * SPH_ERR_STATE while the effect is off. */
+/* Effect drucker_prager on n external particles: the return of each
+ * deviator S (n * ncomp, changed in place) onto the cone at its pressure
+ * (rho) and damage (damage: n values, required while effect damage is on,
+ * else ignored); member[a] = 0 skips particle a (prescribed bodies; NULL:
+ * all).  *changed is 1 if a deviator was scaled. */
+SPH_API sph_status sph_drucker_prager_return(sph_sim *sim, size_t n, const int *material,
+                                             const double *rho, const double *damage,
+                                             const unsigned char *member, double *S, int *changed);
 SPH_API sph_status sph_damage_flaws(sph_sim *sim, size_t n, const uint64_t *id, const double *mass,
                                     const int *material, const unsigned char *flawed,
                                     int *flaw_count, double *flaw_strain);

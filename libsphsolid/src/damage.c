@@ -188,9 +188,23 @@ sph_status damage_stage(sph_sim *sim, double dt, int *changed)
     const double rate_h = 1.0 / (DAMAGE_CRACK_RADIUS * sim->h); /* 1 / (k_R h) */
     const long n = (long)sim->n;
     int grew = 0;
+    if (sim->energy_account) { /* the elastic energy the growth releases */
+        double released = 0.0;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(| : grew) \
+    reduction(+ : released)
+        for (long a = 0; a < n; ++a) {
+            const double before = sim->damage[a];
+            if (grow(sim, (size_t)a, dt, rate_h)) {
+                grew = 1;
+                released += energy_damage_released(sim, (size_t)a, before, sim->damage[a]);
+            }
+        }
+        sim->dissipated_damage += released;
+    } else {
 #pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(| : grew)
-    for (long a = 0; a < n; ++a)
-        grew |= grow(sim, (size_t)a, dt, rate_h);
+        for (long a = 0; a < n; ++a)
+            grew |= grow(sim, (size_t)a, dt, rate_h);
+    }
     *changed = grew;
     return SPH_OK;
 }

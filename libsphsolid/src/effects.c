@@ -184,6 +184,12 @@ static const parameter_def damage_parameters[] = {
      0.0, NON_NEGATIVE, FX(damage_member)},
 };
 
+static const parameter_def drucker_prager_parameters[] = {
+    {"cohesion", "Pa", "Mohr-Coulomb cohesion c", NAN, NON_NEGATIVE, FX(drucker_prager_cohesion)},
+    {"friction_angle", "deg", "Mohr-Coulomb friction angle phi, in [0, 90)", 30.0, 0.0, 90.0, 1, 0,
+     FX(drucker_prager_friction_angle)},
+};
+
 /* Rules beyond the ranges (values in the order of the parameters). */
 static sph_status gravity_rule(sph_sim *sim, const double *g)
 {
@@ -234,7 +240,10 @@ static sph_status damage_rule(sph_sim *sim, const double *values)
       "for linear fields, also at free surfaces")                                              \
     X(damage, PARAMETERS(damage_parameters), damage_rule,                                      \
       "Benz & Asphaug (1994, 1995) brittle damage: Weibull flaws (material keys weibull_k, "   \
-      "weibull_m) activated by tensile strain grow D, which removes tension and shear")
+      "weibull_m) activated by tensile strain grow D, which removes tension and shear")        \
+    X(drucker_prager, PARAMETERS(drucker_prager_parameters), NULL,                             \
+      "Drucker & Prager (1952) pressure-dependent strength: the deviator is returned onto "    \
+      "sqrt(J2) <= A + B P (Mohr-Coulomb's compression meridian) after each step")
 
 typedef struct effect_def {
     const char *name;

@@ -37,6 +37,9 @@ typedef struct effects {
     /* damage: Benz & Asphaug (1994, 1995), damage.h */
     int damage;
     double damage_seed, damage_flaws, damage_member;
+    /* drucker_prager: pressure-dependent strength, plasticity.h */
+    int drucker_prager;
+    double drucker_prager_cohesion, drucker_prager_friction_angle;
 } effects;
 
 /* Monaghan (1992) eqs (4.1)-(4.2): the artificial viscosity

@@ -871,7 +871,7 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     e->full = !call->half;
     e->reverse = e->full || call->far_in_both_rows;
     e->ghost_sums = call->partial != NULL;
-    e->split = call->partial != NULL || call->local_records;
+    e->split = call->partial != NULL;
     e->chunk = rates_chunk_rows(sim->dim, call->n_local);
     e->n_chunks = (long)((call->n_local + e->chunk - 1) / e->chunk);
     sums largest; /* far lists sized for the records of every pass */
@@ -972,17 +972,9 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
         sums_in_buffer(&e.acc, call->partial);
         return pairs_run(sim, &e);
     }
-    if (call->local_records) {
-        /* the sums of the locals in one record each (the pair loop reads
-         * and writes fewer cache lines than with the sums spread over the
-         * rate arrays) */
-        if ((st = grow_sum_scratch(sim, call->n_local * (size_t)e.acc.record)))
-            return st;
-        sums_in_buffer(&e.acc, sim->sum_scratch);
-    } else if ((st = sums_in_rate_arrays(sim, call, xsph, &e.acc))) {
-        return st;
-    }
-    if ((st = pairs_run(sim, &e)))
+    /* the sums of the locals in the rate arrays (a ghost's terms are
+     * dropped: only a partial-sum buffer keeps them) */
+    if ((st = sums_in_rate_arrays(sim, call, xsph, &e.acc)) || (st = pairs_run(sim, &e)))
         return st;
     pass_finish(&e);
     return SPH_OK;
@@ -1150,7 +1142,6 @@ static sph_status public_call(sph_sim *sim, int kind, int pass, const sph_partic
     rate_call call = call_on(p->n_local, p->n_total, state, stride, p->material, pass);
     call.neighbours = nb;
     call.half = kind != CALL_EVALUATE;
-    call.local_records = kind == CALL_HALF;
     call.partial = sums;
     call.damage = sim->fx.damage ? p->damage : NULL;
     if (rates)

@@ -103,6 +103,8 @@ sph_status sim_evaluate_pass(sph_sim *sim, int pass)
     sph_status st = rates_of_handle(sim, pass);
     if (st || !(pass & PASS_MOMENTUM))
         return st;
+    if (sim->energy_account) /* before the prescribed motions override dv/dt */
+        energy_account_evaluation(sim);
     /* Prescribed motions: no acceleration; force-driven bodies translate
      * rigidly under the applied force plus the SPH forces on them. */
     const int dim = sim->dim;
@@ -172,6 +174,10 @@ static void after_undo(sph_sim *sim)
 static sph_status one_step(sph_sim *sim, const integrator *in, double dt)
 {
     double moved = 0.0;
+    if (sim->energy_account) { /* the powers of this step's evaluations only */
+        sim->power_sum[0] = sim->power_sum[1] = 0.0;
+        sim->power_evals = 0;
+    }
     sph_status st = in->step(sim, dt, &moved);
     if (st) {
         after_undo(sim);
@@ -187,6 +193,17 @@ static sph_status one_step(sph_sim *sim, const integrator *in, double dt)
         if (grew)
             sim->rates_valid = 0;
     }
+    if (sim->fx.drucker_prager) {
+        /* the same split: the deviator returned onto the cone at the end
+         * state (on the damaged stress when damage is on) */
+        int returned = 0;
+        if ((st = plastic_stage(sim, &returned)))
+            return st;
+        if (returned)
+            sim->rates_valid = 0;
+    }
+    if (sim->energy_account)
+        energy_account_step(sim, dt);
     sim->t += dt;
     sim->step++;
     if ((st = wrap_and_check_domain(sim)))

@@ -154,6 +154,16 @@ struct sph_sim {
     int *flaw_count;
     size_t damage_n; /* particles the arrays were drawn for */
 
+    /* energy account (sph_set_energy_account, energy.c): on, and the
+     * totals since it was switched on: work of the prescribed motions and
+     * applied forces, energy dissipated by damage, by the drucker_prager
+     * return and by artificial viscosity [J; J/m in 2D]; the powers summed
+     * over the rate evaluations of the current step */
+    int energy_account;
+    double work_boundary, dissipated_damage, dissipated_plastic, dissipated_viscosity;
+    double power_sum[2], power_last[2];
+    int power_evals;
+
     struct output_file *out;
 };
 
@@ -210,8 +220,6 @@ typedef struct rate_call {
     double *partial;      /* if set: the pair pass only, its sums for all
                                n_total particles written here (ghosts too) */
     int pass;             /* PASS_*: the rates computed (0: all) */
-    int local_records;    /* without partial: the locals' sums in one record
-                             each in scratch, ghosts' terms dropped */
     const double *damage; /* n_total, when effect damage is on (else NULL) */
 } rate_call;
 enum {
@@ -283,6 +291,21 @@ void damage_redraw(sph_sim *sim);
 /* Fragment id of each particle (connected regions of free-body particles
  * with D < 1 within the kernel support; -1 elsewhere), and their number. */
 sph_status damage_fragments(sph_sim *sim, double *out, long *count);
+
+/* plasticity.c */
+/* The drucker_prager return of every free-body particle at the current
+ * state; *changed is set when some deviator was scaled. */
+sph_status plastic_stage(sph_sim *sim, int *changed);
+
+/* energy.c (the energy account) */
+/* Adds the boundary power and the viscous dissipation rate of the current
+ * rate evaluation (called before the prescribed accelerations are zeroed). */
+void energy_account_evaluation(sph_sim *sim);
+/* Integrates the step's powers over dt. */
+void energy_account_step(sph_sim *sim, double dt);
+/* The elastic energy particle a releases when its damage grows from
+ * D_before to D_after at its current state. */
+double energy_damage_released(const sph_sim *sim, size_t a, double D_before, double D_after);
 
 /* probe.c */
 sph_status probe_sample_point(sph_sim *sim, probe *p, double *values, int in_run);

@@ -113,7 +113,10 @@ class BodyInfo(Structure):
 
 class EnergyInfo(Structure):
     _fields_ = [("kinetic", c_double), ("elastic", c_double),
-                ("momentum", c_double * 3)]
+                ("momentum", c_double * 3), ("work", c_double),
+                ("dissipated_damage", c_double),
+                ("dissipated_plastic", c_double),
+                ("dissipated_viscosity", c_double)]
 
 
 class IntegratorInfo(Structure):
@@ -235,6 +238,8 @@ _PROTOTYPES = {
     "sph_body_ids": (c_int, [_sim, POINTER(c_int)]),
     "sph_von_mises": (c_double, [c_int, _dp]),
     "sph_energy": (c_int, [_sim, c_int, POINTER(EnergyInfo)]),
+    "sph_set_energy_account": (c_int, [_sim, c_int]),
+    "sph_energy_account": (c_int, [_sim]),
     "sph_add_probe": (c_int, [_sim, c_char_p, _dp, POINTER(c_int)]),
     "sph_probe_count": (c_int, [_sim]),
     "sph_probe_name": (c_char_p, [_sim, c_int]),

@@ -558,13 +558,30 @@ class Scene:
 
     def energy(self, all_bodies: bool = False) -> dict:
         """Kinetic and elastic energy [J; J/m in 2D] and momentum of the free
-        bodies (or all bodies)."""
+        bodies (or all bodies), and the library's energy account
+        (:meth:`energy_account`): ``work`` done by prescribed motions and
+        applied forces, energy ``dissipated_damage``,
+        ``dissipated_plastic`` (drucker_prager) and
+        ``dissipated_viscosity`` since the account was switched on (0 while
+        it is off)."""
         self.calc.sync()
         info = _lib.EnergyInfo()
         self._check(lib.sph_energy(self._handle, int(bool(all_bodies)),
                                    ctypes.byref(info)), "energy")
         return {"kinetic": info.kinetic, "elastic": info.elastic,
-                "momentum": np.array(info.momentum[:self.dimension])}
+                "momentum": np.array(info.momentum[:self.dimension]),
+                "work": info.work,
+                "dissipated_damage": info.dissipated_damage,
+                "dissipated_plastic": info.dissipated_plastic,
+                "dissipated_viscosity": info.dissipated_viscosity}
+
+    def energy_account(self, on: bool = True) -> None:
+        """Switch the library's energy account on (its totals restart from
+        0) or off (``sph_set_energy_account``): with it, kinetic + elastic
+        + dissipated - work of all bodies stays constant in a run without
+        gravity or damping (docs/fracture.md)."""
+        self._check(lib.sph_set_energy_account(self._handle, int(bool(on))),
+                    "energy account")
 
     # -------------------------------------------------------- checkpoints
     def write_checkpoint(self, path) -> None:

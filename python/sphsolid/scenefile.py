@@ -488,8 +488,8 @@ def run_file(path, out=None, until=None, progress=None, log=print,
             raise ValueError(f"{plan} plans the scene {loaded.scene!r}, not "
                              f"{Path(path).name!r}")
         spec.scene = loaded.build(scene_file(path).factory)
-        # the plan's integrator at its default step (a --dt still applies)
-        integrator, step = loaded.setting.integrator, 1.0
+        # the plan's integrator at the plan's step (a --dt still applies)
+        integrator, step = loaded.setting.integrator, loaded.setting.step
         dt = given_dt
         if until is None and loaded.request.get("until"):
             until = time(loaded.request["until"], f"{plan}: request.until")

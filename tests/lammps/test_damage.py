@@ -205,9 +205,11 @@ def test_restart_file_carries_the_damage(tmp_path, plugin):
     np.testing.assert_array_equal(a[:, 11:14], b[:, 11:14])
 
 
-def library_run(initial: np.ndarray, steps: int, dt: float, integrator: str = "improved_euler"):
+def library_run(initial: np.ndarray, steps: int, dt: float, integrator: str = "improved_euler",
+                extra: dict | None = None, scene_out: list | None = None):
     """The same particles in the library (Python front end): specimen in ID
-    order (library index = ID - 1), fixed plate, piston at SPEED."""
+    order (library index = ID - 1), fixed plate, piston at SPEED; `extra`
+    effects on top, the scene appended to `scene_out`."""
     from sphsolid import Scene
     from sphsolid.build import Velocity, particles
     from sphsolid.dynamics import dynamics_for
@@ -219,7 +221,8 @@ def library_run(initial: np.ndarray, steps: int, dt: float, integrator: str = "i
     assert (spec[:, 0] == np.arange(1, len(spec) + 1)).all()
     scene = Scene(2, [particles(spec[:, 2:4], DX, rock, name="specimen")],
                   effects={"damage": {"seed": 5},
-                           "artificial_viscosity": {"alpha": 1.0, "beta": 0.0}})
+                           "artificial_viscosity": {"alpha": 1.0, "beta": 0.0},
+                           **(extra or {})})
     scene.add(particles(initial[initial[:, 1] == 2][:, 2:4], DX, rock, name="plate",
                         motion="fixed"))
     scene.add(particles(initial[initial[:, 1] == 3][:, 2:4], DX, rock, name="piston",
@@ -230,6 +233,8 @@ def library_run(initial: np.ndarray, steps: int, dt: float, integrator: str = "i
     # differ in the last bit, and so would the flaws (k m / rho0)
     scene.masses[:] = 2300.0 * DX * DX
     dyn.run(steps=steps)
+    if scene_out is not None:
+        scene_out.append(scene)
     n = len(spec)
     return (scene.damage[:n].copy(), scene.positions[:n].copy(), scene.flaws[:n].copy(),
             scene.flaw_strain[:n].copy(), scene.fragments[:n].copy())
@@ -254,6 +259,45 @@ def test_library_gives_the_same_damage_field(tmp_path, plugin, fix):
         spec[:, 15], [first[f] + 1 if f >= 0 else -1 for f in fragment])
     np.testing.assert_array_equal(spec[:, 12], flaws)
     np.testing.assert_array_equal(spec[:, 13], strain)
+    np.testing.assert_array_equal(spec[:, 11], D)
+    np.testing.assert_allclose(spec[:, 2:4], x, rtol=0, atol=1e-12)
+
+
+COHESION, FRICTION = 2e6, 30.0     # a cone the compressed specimen reaches
+
+
+@pytest.mark.parametrize("fix", ["improved_euler", "leapfrog"])
+def test_drucker_prager_returns_the_stress_as_the_library_does(tmp_path, plugin, fix):
+    """pair_style ... drucker_prager: the plugin returns the deviators of
+    the atoms its integrator moves onto the cone after each step, as the
+    library does: the same damage field and positions to round-off, with
+    tens of specimen particles on the cone (sqrt(J2) of the damaged stress
+    = A + B P_d) and the platens' stress not limited."""
+    dp = f"drucker_prager cohesion {COHESION!r} friction_angle {FRICTION!r}"
+    text = deck().replace("damage seed 5", "damage seed 5 " + dp)
+    (tmp_path / "in.deck").write_text(text + 'print "dt $(dt:%.17g)"\n')
+    run_deck(tmp_path / "in.deck", tmp_path, dict(VARIABLES, px=1, fix=fix), plugin)
+    dt = float((tmp_path / "log.lammps").read_text().split("\ndt ")[1].split()[0])
+    initial = np.loadtxt(tmp_path / "initial.txt", skiprows=9)
+    spec = specimen(final(tmp_path / "final.txt"))
+    scenes = []
+    D, x, *_ = library_run(initial, STEPS, dt, fix,
+                           {"drucker_prager": {"cohesion": COHESION,
+                                               "friction_angle": FRICTION}}, scenes)
+    scene = scenes[0]
+    n = len(spec)
+    phi = np.radians(FRICTION)
+    A = 6 * COHESION * np.cos(phi) / (np.sqrt(3) * (3 - np.sin(phi)))
+    B = 6 * np.sin(phi) / (np.sqrt(3) * (3 - np.sin(phi)))
+    S = scene.deviatoric_stress
+    j2 = np.sqrt(0.5 * (S[:, 0] ** 2 + S[:, 1] ** 2 + S[:, 2] ** 2 + 2 * S[:, 3] ** 2))
+    P = scene.pressure
+    Dall = scene.damage
+    Pd = np.where(P < 0, (1 - Dall) * P, P)
+    on_cone = np.abs((1 - Dall) * j2 - (A + B * Pd)) < 1e-9 * A
+    assert 20 < on_cone[:n].sum() < n
+    assert not on_cone[n:].any()          # the platens are not limited
+    assert ((1 - Dall[:n]) * j2[:n] <= (A + B * Pd[:n]) * (1 + 1e-9) + 1e-9 * A).all()
     np.testing.assert_array_equal(spec[:, 11], D)
     np.testing.assert_allclose(spec[:, 2:4], x, rtol=0, atol=1e-12)
 

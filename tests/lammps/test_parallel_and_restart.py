@@ -9,12 +9,14 @@
 from __future__ import annotations
 
 import re
+import sys
 import textwrap
 
 import numpy as np
 import pytest
 
-from conftest import PISTON_DECK, read_probes, run_deck, run_on_one_and_two_ranks, sphsolid_lammps
+from conftest import (PISTON_DECK, REPOSITORY, read_probes, run_deck, run_on_one_and_two_ranks,
+                      sphsolid_lammps)
 
 
 @pytest.mark.parametrize("load,tolerance", [({}, 1e-12),
@@ -100,6 +102,26 @@ def test_pairs_with_ghosts_follow_the_newton_setting(tmp_path, plugin):
             peak = np.abs(a[:, cols]).max()
             assert peak > 0.0
             assert np.abs(a[:, cols] - b[:, cols]).max() / peak < 1e-12, name
+
+
+@pytest.mark.parametrize("integrator,ranks", [("improved_euler", 1), ("leapfrog", 2)])
+def test_end_of_run_line_says_where_the_plugin_spends_its_time(tmp_path, plugin, integrator,
+                                                                ranks):
+    # bench/bench_lammps.py reads pair sphsolid's timers from this line (its
+    # PLUGIN_PARTS) to split LAMMPS's Pair and Modify sections between the
+    # library's work, the ghost exchanges and the plugin's own copies.
+    # Every step of either integrator calls the library's pair pass and its
+    # stages, so those parts took some time; none is negative.
+    sys.path.insert(0, str(REPOSITORY / "bench"))
+    import bench_lammps
+    variables = {"dx": 0.002, "t_end": 5.0e-5, "every": 10, "probes": "p.txt",
+                 "integrator": integrator}
+    run_deck(PISTON_DECK, tmp_path, variables, plugin, ranks=ranks)
+    found = bench_lammps.PLUGIN_PARTS.search((tmp_path / "log.lammps").read_text())
+    assert found, "no end-of-run line of pair sphsolid's timers"
+    parts = dict(zip(bench_lammps.PART_NAMES, map(float, found.groups())))
+    assert min(parts.values()) >= 0.0, parts
+    assert parts["rates"] > 0.0 and parts["stages"] > 0.0, parts
 
 
 SPINNING_BLOCK = textwrap.dedent("""\

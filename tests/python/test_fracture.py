@@ -154,3 +154,65 @@ def test_bad_fracture_arguments_are_named(tmp_path):
         fracture.tensile_bar(5e-3, member=2.5)
     with pytest.raises(SystemExit):
         main(["ucs", "--max-strain", "2", "--out", str(tmp_path)])
+
+
+def _broken_bar(steps, energy_account=True, dt_factor=None):
+    """The tensile bar at a coarse 4 mm (damage on, artificial viscosity
+    alpha 1, no damping) run ``steps`` steps; it breaks near step 2500."""
+    from sphsolid import fracture
+    scene = fracture.tensile_bar(4e-3)
+    scene.energy_account(energy_account)
+    dyn = ImprovedEuler(scene, progress=False)
+    if dt_factor is not None:
+        dyn = ImprovedEuler(scene, dt=dt_factor * dyn.dt,
+                            allow_unstable=True, progress=False)
+    e0 = scene.energy(all_bodies=True)
+    dyn.run(steps=steps)
+    return scene, e0
+
+
+def test_energy_balances_within_1_percent_past_failure():
+    """Undamped (no damping effect): kinetic + elastic + the energy
+    dissipated by damage and by artificial viscosity, less the work of the
+    moving platens, stays at its initial value within 1 % of the work
+    through the bar's failure; without the damage's share (the elastic
+    energy released as stiffness is lost) it does not."""
+    scene, e0 = _broken_bar(3200)
+    e = scene.energy(all_bodies=True)
+    assert scene.damage.max() == 1.0 and scene.fragments.max() >= 1
+    initial = e0["kinetic"] + e0["elastic"]
+    held = e["kinetic"] + e["elastic"]
+    dissipated = e["dissipated_damage"] + e["dissipated_viscosity"]
+    scale = max(e["work"], held + dissipated)
+    assert e["work"] > 0 and e["dissipated_plastic"] == 0.0
+    balance = held + dissipated - e["work"] - initial
+    assert abs(balance) < 0.01 * scale
+    without_damage = balance - e["dissipated_damage"]
+    assert abs(without_damage) > 0.01 * scale
+    # most of the work is gone from the elastic energy once it broke
+    assert e["elastic"] < 0.05 * e["work"]
+
+
+def test_energy_account_is_zero_while_off():
+    scene, _ = _broken_bar(20, energy_account=False)
+    e = scene.energy(all_bodies=True)
+    assert (e["work"], e["dissipated_damage"], e["dissipated_viscosity"],
+            e["dissipated_plastic"]) == (0.0, 0.0, 0.0, 0.0)
+
+
+def test_watchdog_lets_fragments_fly_and_stops_a_blow_up():
+    """Past failure the halves of the bar separate (fragments move at a
+    small fraction of c_p) without tripping the watchdog; the same bar at
+    20 times the stable step blows up and the run stops with the
+    watchdog's or the non-finite report."""
+    from sphsolid._lib import SimulationError
+    scene, _ = _broken_bar(3200)
+    assert scene.fragments.max() >= 1
+    speed = np.linalg.norm(scene.velocities, axis=1).max()
+    c_p = np.sqrt((12.2e9 + 4 / 3 * 2.67e9) / 2300.0)
+    assert 0 < speed < 0.1 * c_p
+    with pytest.raises(SimulationError) as failed:
+        _broken_bar(400, dt_factor=20.0)
+    assert ("watchdog" in str(failed.value)
+            or "not finite" in str(failed.value)
+            or "non-finite" in str(failed.value))

@@ -418,13 +418,33 @@ def test_own_setting_kernels_try_effects_found_from_a_sign_both_ways(
     if not own:
         pytest.skip("the library has no kernel with its own setting")
     ratio, inset = planner.OWN_SETTING[own[0].kernel]
-    assert all(s.smoothing_ratio == ratio and s.inset == inset for s in own)
+    assert all(s.smoothing_ratio == ratio and s.inset == inset
+               and s.step == 1.0 for s in own)
     for integrator in {s.integrator for s in own}:
         variants = {frozenset(dict(s.effects)) for s in own
                     if s.integrator == integrator}
         assert frozenset() in variants or any(
             f.required for f in strip_plan.findings if f.effect)
         assert len(variants) <= 2
+
+
+def test_a_setting_runs_at_its_step():
+    half = planner.Setting.make(1.6525, "cubic_o4", "leapfrog",
+                                inset="static", step=0.5)
+    assert planner.Setting.from_dict(half.to_dict()) == half
+    assert "step=0.5" in half.label()
+    full = planner.Setting.make(1.6525, "cubic_o4", "leapfrog",
+                                inset="static")
+    assert "step" not in full.label()
+    runs = [planner.ladder_run(STRIP.factory, 2e-3, s, 20e-6, STRIP.probes,
+                               STRIP.quantity, 1) for s in (full, half)]
+    assert runs[1].dt == pytest.approx(runs[0].dt / 2, rel=1e-12)
+    assert runs[1].steps in (2 * runs[0].steps - 1, 2 * runs[0].steps,
+                             2 * runs[0].steps + 1)
+    # a plan of it runs at its step from the command line's dynamics
+    scene = planner.build_scene(STRIP.factory, 2e-3, half, 1)
+    assert half.dynamics(scene).dt == pytest.approx(runs[1].dt, rel=1e-12)
+    assert half.dynamics(scene, dt=1e-8).dt == pytest.approx(1e-8)
 
 
 def test_setting_end_placement_reaches_the_factory_or_is_refused():
@@ -847,3 +867,27 @@ def test_reference_cost_keeps_the_faster_of_two_measurements_of_a_short_run():
     assert planner.reference_cost(long, "cpu", never) == pytest.approx(
         2 * planner.REFERENCE_REPEAT_SECONDS / 100)
     assert planner.reference_cost(run(0.2, steps=0), "cpu", never) is None
+
+
+def test_the_cli_runs_a_plan_at_its_step(tmp_path):
+    # the same plan at the integrator's default step and at half of it:
+    # the run to the same end time takes twice the steps
+    import h5py
+    from sphsolid.cli import main
+    last = {}
+    for step in (1.0, 0.5):
+        setting = planner.Setting.make(1.65, "cubic_o4", "leapfrog",
+                                       inset="static", step=step)
+        fake = planner.Plan(request={"until": 0.02e-3}, feasible=True,
+                            setting=setting, dx=4e-3, threads=1,
+                            predicted_error=0.1, error_upper=0.12,
+                            predicted_seconds=1.0, scene="piston")
+        path = fake.save(tmp_path / f"plan{step}.json")
+        out = tmp_path / f"run{step}"
+        assert main(["piston", "--plan", str(path), "--out", str(out),
+                     "--times", "0.02ms"]) == 0
+        with h5py.File(out / "piston.h5") as f:
+            last[step] = (int(f["observables/probes/step"][-1]),
+                          float(f["observables/probes/time"][-1]))
+    assert last[0.5][1] == pytest.approx(last[1.0][1], rel=1e-9)
+    assert abs(last[0.5][0] - 2 * last[1.0][0]) <= 1

@@ -456,33 +456,96 @@ def test_promise_is_the_mean_log_distance_to_the_best_fitted_error():
     assert record.promise(best, "rms") is None
 
 
-def test_settings_without_an_order_are_refined_in_the_records_order(
-        monkeypatch):
+def _refine_three(monkeypatch, errors, scaling, **options):
+    """Plan the strip with three settings of the record ``errors`` whose
+    calibration runs show no order (noise that refinement does not
+    reduce); the runs' size scales as dx^-3 when ``scaling`` (else fixed).
+    Returns the settings refined, in order, and the log."""
     spec = planner.project_scenes()["strip"]
-    a = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
-    b = planner.Setting.make(1.5, "cubic_spline", "leapfrog")
-    c = planner.Setting.make(1.2, "wendland_c2", "leapfrog")
-    # c came closest to the best setting on the fitted scenes, then a
-    record = _record_with_errors({a: (0.02, 0.02), b: (0.08, 0.08),
-                                  c: (0.01, 0.01)})
+    record = _record_with_errors(errors)
     monkeypatch.setattr(planner.search, "candidate_settings",
-                        lambda *a_, **k: ([a, b, c], []))
-    ran = []
+                        lambda *a_, **k: (list(errors), []))
+    ran, said = [], []
 
     def noisy_run(factory, dx, setting, *args):
-        # errors that refinement does not reduce: no order on any ladder
         ran.append((setting, dx))
         times = np.linspace(0.0, 20e-6, 201)
         rng = np.random.default_rng(int(dx * 1e7))
         series = {n: 1e6 * (1 + 0.2 * rng.standard_normal(times.size))
                   for n in spec.probes}
-        return planner.LadderRun(setting, dx, 100, 100, 2e-7, 1.0, 20e-6,
-                                 times, series, cpu=0.1, threads=1)
+        particles, steps = ((int(0.1 / dx ** 2), int(0.1 / dx)) if scaling
+                            else (100, 100))
+        cpu = 1e-7 * particles * steps
+        return planner.LadderRun(setting, dx, particles, steps, 2e-7, cpu,
+                                 20e-6, times, series, cpu=cpu, threads=1)
     monkeypatch.setattr(planner.search, "ladder_run", noisy_run)
     ladder = (2e-3, 1.4e-3, 1e-3)
+    options.setdefault("record", record)
     planner.plan(spec.factory, error=0.03, until=20e-6, probes=spec.probes,
                  quantity=spec.quantity, threads=1, ladder=ladder,
-                 timing_checks=0, refinements=1, refine_best=2,
-                 record=record)
-    refined = [s for s, dx in ran if dx < ladder[-1] * (1 - 1e-6)]
+                 timing_checks=0, refinements=1, log=said.append, **options)
+    return [s for s, dx in ran if dx < ladder[-1] * (1 - 1e-6)], said
+
+
+def test_settings_without_an_order_are_refined_in_the_records_order(
+        monkeypatch):
+    a = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
+    b = planner.Setting.make(1.5, "cubic_spline", "leapfrog")
+    c = planner.Setting.make(1.2, "wendland_c2", "leapfrog")
+    # c came closest to the best setting on the fitted scenes, then a
+    refined, _ = _refine_three(monkeypatch, {a: (0.02, 0.02),
+                                             b: (0.08, 0.08),
+                                             c: (0.01, 0.01)},
+                               scaling=False, refine_best=2)
     assert refined == [c, a]
+
+
+def test_the_record_prunes_settings_it_prices_far_above_the_best(
+        monkeypatch):
+    a = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
+    b = planner.Setting.make(1.5, "cubic_spline", "leapfrog")
+    c = planner.Setting.make(1.2, "wendland_c2", "leapfrog")
+    # a is the best; b's error 1.2x a's costs 1.2^3 = 1.7x a's work at
+    # order 1 in 2D (particles x steps ~ dx^-3); c's 2x costs 8x
+    errors = {a: (0.01, 0.01), b: (0.012, 0.012), c: (0.02, 0.02)}
+    refined, said = _refine_three(monkeypatch, errors, scaling=True,
+                                  refine_best=3)
+    assert refined == [a, b]
+    assert any(line.startswith(f"not refining {c.label()}") and "8x" in line
+               for line in said)
+    # without the record every undetermined setting gets its level
+    refined, _ = _refine_three(monkeypatch, errors, scaling=True,
+                               refine_best=3, record=None)
+    assert set(refined) == {a, b, c}
+
+
+def test_a_scene_whose_effects_the_record_lacks_is_refused_by_name(
+        monkeypatch, tmp_path):
+    # the record verifies the plain setting; the scene calls for
+    # artificial stress, which no setting of the record has
+    spec = planner.project_scenes()["strip"]
+    plain = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
+    stressed = planner.Setting.make(
+        1.2, "cubic_spline", "leapfrog",
+        effects={"artificial_stress": {"epsilon": 0.3}})
+    record = record_module.Record({"format": 1, "settings": {
+        record_module.family(plain): {"max": {"ratio": 0.5, "bias": 0.0}}}})
+    monkeypatch.setattr(planner.search, "candidate_settings",
+                        lambda *a, **k: ([stressed], []))
+    plan = planner.plan(spec.factory, error=0.05, until=20e-6,
+                        probes=spec.probes, quantity=spec.quantity,
+                        threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
+                        timing_checks=0, record=record)
+    assert not plan.feasible
+    assert "no setting with artificial_stress" in plan.reason
+    assert "--no-record" in plan.reason and "record=None" in plan.reason
+
+
+def test_the_cli_plans_without_the_record_when_asked(monkeypatch, tmp_path):
+    from sphsolid.cli import main
+    calls = _record_plan_calls(monkeypatch)
+    for extra in ([], ["--no-record"]):
+        with pytest.raises(_Planned):
+            main(["plan", "strip", "--error", "3%", "--no-cache",
+                  "--out", str(tmp_path / "p.json")] + extra)
+    assert calls[0]["record"] is True and calls[1]["record"] is None

@@ -1,6 +1,7 @@
 """Python holds no copy of the library's rules: the enums of sphsolid.h
 are the binding's, and a bad value is judged by the library, whose
 message (naming the value) reaches the user unchanged."""
+import math
 import re
 import subprocess
 import sys
@@ -220,3 +221,21 @@ def test_a_format_1_output_is_read():
         assert probes.names == ["centre"] and len(probes.times) == 4
         assert probes["centre"]["von_mises"] == pytest.approx(np.zeros(4), abs=1e-6)
         assert "frames: 4" in old.describe()
+
+
+@pytest.mark.parametrize("ratio, kernel", [(1.2, "cubic_spline"),
+                                           (1.5, "wendland_c2"),
+                                           (1.65, "cubic_o4")])
+def test_the_planners_platens_are_the_librarys_support_rows(ratio, kernel):
+    # every kernel's support is 2h; the strip's lattice is exactly dx, so
+    # at h/dx = 1.5 the support is exactly 3 rows: the library's answer,
+    # where a rule with a margin of its own would add a fourth
+    from sphsolid.planner import scenes as planner_scenes
+    dx = 2e-3
+    scene = planner_scenes.strip_factory(dx, smoothing_ratio=ratio,
+                                         kernel=kernel)
+    strip, plate, piston = scene.bodies
+    rows = scene.support_layers(build.layer_spacing(strip))
+    assert rows == math.ceil(round(2 * ratio, 9))
+    for wall in (plate, piston):
+        assert wall.layers == rows

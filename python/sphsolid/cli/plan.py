@@ -58,6 +58,11 @@ def add_arguments(parser) -> None:
                         "default calibration runs are kept in "
                         "$SPHSOLID_CACHE, else ~/.cache/sphsolid/plan, and "
                         "reused by later plans of the same scene)")
+    parser.add_argument("--no-record", action="store_true",
+                        help="plan without the verification record: every "
+                        "default candidate, chosen by self-convergence "
+                        "alone, with no verified margin (for scenes whose "
+                        "effects the record does not verify)")
     deck = parser.add_argument_group("LAMMPS decks")
     deck.add_argument("--deck", type=Path, default=None,
                       help="plan a LAMMPS input deck through the plugin")
@@ -142,7 +147,8 @@ def run(args) -> int:
             window=spec.window(until) if spec.window else None,
             scene=(args.scene if args.scene in projects
                    else Path(args.scene).name),
-            log=log, cache=cache)
+            log=log, cache=cache,
+            record=None if args.no_record else True)
     print()
     print(result.summary())
     result.save(args.out)

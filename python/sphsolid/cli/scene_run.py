@@ -100,12 +100,17 @@ def planned_scene(args, run: Resolved, factory):
 
 
 def _dynamics(args, scene, run: Resolved, dt=None):
-    """The run's Dynamics: --dt (else ``dt``: a checkpoint's), else the
-    preset's step when the preset's integrator runs, else the
+    """The run's Dynamics: --dt (else ``dt``: a checkpoint's), else a
+    plan's step (its integrator's default times the plan's ``step``), else
+    the preset's step when the preset's integrator runs, else the
     integrator's default."""
     from ..dynamics import dynamics_for
     from ..presets import dynamics as preset_dynamics
     dt = args.dt if args.dt is not None else dt
+    if run.plan is not None:
+        # the plan's integrator at the plan's step
+        return run.plan.setting.dynamics(scene, dt=dt,
+                                         progress=args.progress)
     chosen = getattr(scene, "preset", None)
     if (dt is None and chosen is not None
             and chosen.integrator == run.integrator):

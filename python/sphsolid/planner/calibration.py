@@ -147,14 +147,17 @@ class LadderRun:
 
 def run_scene(scene, until: float, probes, quantity: str = "von_mises",
               integrator: str = DEFAULT_INTEGRATOR,
-              sample_every: float | None = None, clocks: dict | None = None):
+              sample_every: float | None = None, clocks: dict | None = None,
+              setting=None):
     """Advance ``scene`` to ``until`` [s] sampling ``probes`` every
     ``sample_every`` [s] (default: 0.5 µs or 1/2000 of the run); returns
     (times, {probe: values}, dynamics, wall seconds of stepping). The
     process CPU seconds of the stepping go to ``clocks["cpu"]`` when
-    ``clocks`` is given."""
+    ``clocks`` is given. With ``setting`` its integrator and step
+    advance the scene (:meth:`Setting.dynamics`)."""
     sample = _observer(scene, probes, quantity)
-    dyn = make_dynamics(scene, integrator, progress=False)
+    dyn = (setting.dynamics(scene, progress=False) if setting is not None
+           else make_dynamics(scene, integrator, progress=False))
     every = sample_every or min(metrics.SMOOTHING / 2, until / 2000)
     interval = max(1, int(every / dyn.dt))
     times, values = [], []
@@ -185,7 +188,7 @@ def ladder_run(scene_factory, dx, setting, until, probes, quantity,
     try:
         times, series, dyn, wall = run_scene(scene, until, probes, quantity,
                                              setting.integrator,
-                                             clocks=clocks)
+                                             clocks=clocks, setting=setting)
     except SimulationError as error:
         return LadderRun(setting, dx, len(scene), int(scene.step),
                          float(scene.calc.dt), math.nan, until,

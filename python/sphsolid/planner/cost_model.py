@@ -9,7 +9,7 @@ from typing import Callable
 
 import numpy as np
 
-from .calibration import LadderRun, build_scene, make_dynamics
+from .calibration import LadderRun, build_scene
 
 
 # ------------------------------------------------------------ cost model
@@ -141,7 +141,7 @@ def time_steps(scene_factory, dx, setting, threads, steps: int = 5,
     of ``steps`` steps until ``min_seconds`` have passed (at least one
     block)."""
     scene = build_scene(scene_factory, dx, setting, threads)
-    dyn = make_dynamics(scene, setting.integrator, progress=False)
+    dyn = setting.dynamics(scene, progress=False)
     dyn.run(steps=warmup)
     timer = (wallclock.process_time if clock == "cpu"
              else wallclock.perf_counter)
@@ -190,7 +190,8 @@ def reference_cost(run: LadderRun, clock: str,
 
 def _steps_to(scene_factory, dx, setting, until) -> tuple[int, float]:
     """(particles, steps) of a run to ``until`` at ``dx``, from the scene
-    itself (the library's default step of this setting)."""
+    itself (the library's default step of the integrator times the
+    setting's step)."""
     scene = build_scene(scene_factory, dx, setting, 1)
-    dyn = make_dynamics(scene, setting.integrator, progress=False)
+    dyn = setting.dynamics(scene, progress=False)
     return len(scene), int(math.ceil(until / dyn.dt - 1e-9))

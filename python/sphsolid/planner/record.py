@@ -47,13 +47,16 @@ MARGIN = 1.2
 
 def family(setting) -> str:
     """The record's key of a setting: kernel, h/dx, end placement,
-    integrator and the names of its effects (their parameters are the
+    integrator, its step when not the default, and the names of its
+    effects (their parameters are the
     effect detection's, which may differ from scene to scene)."""
     inset = ("" if setting.inset in (0, 0.0) else f" inset={setting.inset}"
              if isinstance(setting.inset, str) else f" inset={setting.inset:g}")
     names = sorted(name for name, _ in setting.effects)
+    step = ("" if getattr(setting, "step", 1.0) == 1.0
+            else f" step={setting.step:g}")
     return (f"{setting.kernel} h/dx={setting.smoothing_ratio:g}{inset} "
-            f"{setting.integrator}" + ("" if not names else
+            f"{setting.integrator}{step}" + ("" if not names else
                                         " + " + " + ".join(names)))
 
 

@@ -1,7 +1,6 @@
 """The project's reference scenes for ``sphsolid plan NAME``."""
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
@@ -13,28 +12,28 @@ from .settings import MANAGED_EFFECTS
 
 
 # ------------------------------------------------ the project's scenes
-def _layers(smoothing_ratio: float) -> int:
-    """Plate and piston layers: at least the kernel support 2h thick,
-    with 1 % to spare for a lattice spacing round(L/dx) makes a little
-    wider than dx (h follows the lattice)."""
-    return int(math.ceil(2 * smoothing_ratio * 1.01))
+def _platens(scene, body, speed: float | None, inset):
+    """A fixed plate under ``body`` and a piston moving down at ``speed``
+    over it (default the paper's), in ``scene``, each as many rows thick
+    as the library asks for one kernel support on the body's lattice
+    rows (``Scene.support_layers``)."""
+    from .. import build, scenes
+    layers = scene.support_layers(build.layer_spacing(body))
+    v = scenes.PISTON_SPEED if speed is None else speed
+    scene.add(build.plate(under=body, layers=layers, inset=inset))
+    scene.add(build.piston(over=body, layers=layers, velocity=(0.0, -v),
+                           inset=inset))
+    return scene
 
 
 def _between_platens(body, smoothing_ratio: float, kernel: str,
                      speed: float | None, inset, **scene_options):
-    """``body`` on a fixed plate under a piston moving down at ``speed``
-    (default the paper's), both ``ceil(2 h/dx)`` layers thick, in a 2D
-    scene with the planner's h/dx and kernel."""
-    from .. import build, scenes
+    """``body`` between a fixed plate and a piston (:func:`_platens`) in a
+    2D scene with the planner's h/dx and kernel."""
     from ..scene import Scene
-    layers = _layers(smoothing_ratio)
-    v = scenes.PISTON_SPEED if speed is None else speed
-    return Scene(2, [body, build.plate(under=body, layers=layers,
-                                       inset=inset),
-                     build.piston(over=body, layers=layers,
-                                  velocity=(0.0, -v), inset=inset)],
-                 smoothing_ratio=smoothing_ratio, kernel=kernel,
-                 **scene_options)
+    scene = Scene(2, [body], smoothing_ratio=smoothing_ratio, kernel=kernel,
+                  **scene_options)
+    return _platens(scene, body, speed, inset)
 
 
 def piston_factory(dx: float, smoothing_ratio: float = 1.2,
@@ -44,8 +43,8 @@ def piston_factory(dx: float, smoothing_ratio: float = 1.2,
     """The paper's piston scene (:func:`sphsolid.scenes.uniaxial_piston`)
     with the planner's h/dx, kernel and end placement (``inset``, see
     :func:`sphsolid.build.plate`) and no optional effect; plate and
-    piston ``ceil(2 h/dx)`` layers thick. ``material`` replaces the
-    paper's rock."""
+    piston one kernel support thick (the library's rows). ``material``
+    replaces the paper's rock."""
     from .. import build, scenes
     rock = scenes.paper_material() if material is None else material
     specimen = build.rectangle(scenes.SPECIMEN_X, scenes.SPECIMEN_Y, dx, rock,
@@ -80,11 +79,12 @@ def gravity_factory(dx: float, smoothing_ratio: float = 1.2,
     rock = scenes.paper_material()
     specimen = build.rectangle(scenes.SPECIMEN_X, scenes.SPECIMEN_Y, dx, rock,
                                "specimen")
-    layers = _layers(smoothing_ratio)
-    return Scene(2, [specimen, build.plate(under=specimen, layers=layers,
-                                           inset=inset)],
-                 effects={"gravity": {"gx": 0.0, "gy": -float(g)}},
-                 smoothing_ratio=smoothing_ratio, kernel=kernel)
+    scene = Scene(2, [specimen],
+                  effects={"gravity": {"gx": 0.0, "gy": -float(g)}},
+                  smoothing_ratio=smoothing_ratio, kernel=kernel)
+    layers = scene.support_layers(build.layer_spacing(specimen))
+    scene.add(build.plate(under=specimen, layers=layers, inset=inset))
+    return scene
 
 
 #: Laterally periodic strip under the piston: height [m] and width in dx.
@@ -102,7 +102,13 @@ def strip_factory(dx: float, smoothing_ratio: float = 1.2,
     width = STRIP_WIDTH_DX * dx
     strip = build.rectangle((-width / 2, width / 2), (0.0, STRIP_HEIGHT), dx,
                             rock, name="strip")
-    layers = _layers(smoothing_ratio)
+    # the domain reaches past the platens: their rows are the library's
+    # answer for this kernel and h/dx, asked of a scene of the strip alone
+    from ..scene import Scene
+    layers = Scene(2, [build.rectangle(
+        (-width / 2, width / 2), (0.0, STRIP_HEIGHT), dx, rock, name="strip")],
+        smoothing_ratio=smoothing_ratio, kernel=kernel).support_layers(
+            build.layer_spacing(strip))
     return _between_platens(
         strip, smoothing_ratio, kernel, speed, inset,
         domain=((-width / 2, -layers * dx - 0.01),

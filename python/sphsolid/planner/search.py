@@ -58,6 +58,11 @@ class Candidate:
 #: The plan file's format (its "format" key); files of this format are
 #: read, others are refused with their format named.
 PLAN_FORMAT = "sphsolid-plan 1"
+#: A setting whose ladder determines no order is refined only while the
+#: verification record prices the error it would reach at no more than
+#: this many times the cost of the most promising setting in play (the
+#: plan is meant to cost at most twice the cheapest sufficient setting).
+RECORD_PRUNE = 2.0
 
 
 def read_json(path: Path, what: str):
@@ -148,6 +153,8 @@ def validate_plan_data(data, source: str = "plan") -> None:
     if "smoothing_ratio" in settings:
         _number(settings["smoothing_ratio"], f"{where}smoothing_ratio'",
                 True, optional=False)
+    if "step" in settings:
+        _number(settings["step"], f"{where}step'", True, optional=False)
     _number(settings.get("threads"), f"{where}threads'", True, integer=True)
     for key in ("kernel", "integrator"):
         if key in settings and not isinstance(settings[key], str):
@@ -273,6 +280,13 @@ class Plan:
         return build_scene(scene_factory, self.dx, self.setting,
                            self.threads if threads is None else threads,
                            calculator)
+
+    def dynamics(self, scene, **kwargs):
+        """The Dynamics of the planned run: the plan's integrator at its
+        step (``kwargs`` go to it; an explicit ``dt`` wins)."""
+        if not self.feasible or self.setting is None:
+            raise ValueError(f"the plan was refused: {self.reason}")
+        return self.setting.dynamics(scene, **kwargs)
 
     def summary(self) -> str:
         """A table for people."""
@@ -524,6 +538,10 @@ class Progress:
 
     def plan(self, spacings) -> None:
         self.pending = list(spacings)
+
+    def exponent(self) -> float:
+        """Work (particle-steps) as dx^-p: p fitted on the runs so far."""
+        return self._exponent()
 
     def _exponent(self) -> float:
         if len({dx for dx, _ in self.sizes}) < 2:
@@ -818,6 +836,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
     spent = sum(r.wall for c in cands for r in c.runs if not r.failed)
     budget = (calibration_seconds if calibration_seconds is not None
               else math.inf)
+    pruned = set()
     for round_ in range(refinements):
         # a setting that needs a spacing far below its ladder, or below
         # it with the large safety factor (a fit outside the asymptotic
@@ -874,12 +893,22 @@ def plan(scene_factory: Callable, error: float = 0.03,
             return (math.inf if promise is None else promise,
                     next_cost[id(c)])
 
+        prior = _record_prior(usable, needs, record, norm, len(ladder),
+                              progress.exponent())
         undetermined = sorted(
             (c for c in usable if c not in wanted
              and (c.model.anomalous or c.model.safety > SAFETY_GOOD)
-             and next_cpu[id(c)] <= cheapest),
+             and next_cpu[id(c)] <= cheapest
+             and prior.get(id(c), 1.0) <= RECORD_PRUNE),
             key=order)[:refine_best if math.isfinite(planned) or record
                        else None]
+        for c in usable:
+            if (prior.get(id(c), 1.0) > RECORD_PRUNE
+                    and id(c) not in pruned):
+                pruned.add(id(c))
+                say(f"not refining {c.setting.label()}: the verification "
+                    f"record prices its error at {prior[id(c)]:.0f}x the "
+                    "cost of the most promising setting")
         wanted = [c for c in wanted + undetermined
                   if next_cost[id(c)] + spent <= budget
                   and next_cpu[id(c)] <= planned]
@@ -938,11 +967,64 @@ def plan(scene_factory: Callable, error: float = 0.03,
                   scene=scene)
     if affordable:
         result.adopt(affordable[0])
+    elif not cands and skipped:
+        # the record left every candidate out: say which effects made
+        # them unverified, and how to plan without the record
+        verified = ({name for key in record.families()
+                     for name in key.split(" + ")[1:]} if record else set())
+        effects = sorted({name for c in skipped for name, _ in c.setting.effects
+                          if name not in verified})
+        unverified = sum(c.note.startswith("not verified") for c in skipped)
+        result.best_reachable_error = None
+        result.reason = (
+            f"the verification record verifies none of the {len(skipped)} "
+            f"candidate settings in the {norm} norm ({unverified} not "
+            "verified" + (f"; the record has no setting with "
+                          f"{', '.join(effects)}, which this scene calls "
+                          "for" if effects else "")
+            + f"; {len(skipped) - unverified} biased at or above the "
+            "request or dominated); plan without the record (sphsolid "
+            "plan --no-record, planner.plan(..., record=None)) to choose "
+            "by self-convergence alone, without the record's margins")
     else:
         result.best_reachable_error, result.reason = _refusal(
             usable, error, max_seconds, scene_factory, until)
     result.calibration_seconds = wallclock.perf_counter() - clock
     return result
+
+
+def _record_prior(usable, needs, record, norm: str, levels: int,
+                  exponent: float) -> dict:
+    """What the verification record expects each setting to pay for one
+    error, relative to the most promising setting still in play (one that
+    is priced or whose ladder shows no convergence yet; a floor at or
+    above the request puts a setting out): by {id: ratio}.
+
+    A setting whose error at the record's finest level was R times the
+    best setting's reaches a given error, converging at the formal order,
+    at a spacing R^(1/q) finer, which costs R^(p/q) more work (p the
+    exponent of work in 1/dx: 3 in 2D), times the ratio of the two
+    settings' own calibration runs at the finest common ladder level (a
+    wider kernel, more steps). Settings the record does not place get no
+    prior."""
+    if not record:
+        return {}
+    expected = {}
+    for c in usable:
+        promise = record.promise(c.setting, norm)
+        if (promise is None or len(c.runs) < levels
+                or not (needs[id(c)] is not None or c.model.anomalous)):
+            continue
+        unit = c.runs[levels - 1].cpu
+        if not (math.isfinite(unit) and unit > 0):
+            unit = c.runs[levels - 1].wall
+        if math.isfinite(unit) and unit > 0:
+            expected[id(c)] = math.exp(
+                promise * exponent / FORMAL_ORDER) * unit
+    if not expected:
+        return {}
+    best = min(expected.values())
+    return {key: value / best for key, value in expected.items()}
 
 
 def _size_at(runs: Sequence[LadderRun], dx: float) -> tuple[int, int]:

@@ -111,14 +111,18 @@ class Setting:
     #: end placement of plates and pistons (lattice steps, or "static":
     #: see :func:`sphsolid.build.plate`); 0 puts their faces on the body
     inset: float | str = 0.0
+    #: time step as a fraction of the integrator's default step (the
+    #: presets' ``step``)
+    step: float = 1.0
 
     @classmethod
     def make(cls, smoothing_ratio=1.2, kernel="cubic_spline",
              integrator=DEFAULT_INTEGRATOR, effects=None,
-             inset=0.0) -> "Setting":
+             inset=0.0, step=1.0) -> "Setting":
         return cls(float(smoothing_ratio), str(kernel), str(integrator),
                    _freeze(effects),
-                   inset if isinstance(inset, str) else float(inset))
+                   inset if isinstance(inset, str) else float(inset),
+                   float(step))
 
     @property
     def effect_dict(self) -> dict:
@@ -126,7 +130,18 @@ class Setting:
 
     def with_effects(self, effects: Mapping) -> "Setting":
         return Setting(self.smoothing_ratio, self.kernel, self.integrator,
-                       _freeze(effects), self.inset)
+                       _freeze(effects), self.inset, self.step)
+
+    def dynamics(self, scene, **kwargs):
+        """The Dynamics that advances ``scene`` with this setting's
+        integrator at its step (``step`` times the integrator's default;
+        an explicit ``dt`` in ``kwargs`` wins)."""
+        from .calibration import make_dynamics
+        dyn = make_dynamics(scene, self.integrator, **kwargs)
+        if self.step != 1.0 and kwargs.get("dt") is None:
+            dyn = make_dynamics(scene, self.integrator,
+                                **{**kwargs, "dt": dyn.dt * self.step})
+        return dyn
 
     def label(self) -> str:
         short = {"artificial_viscosity": "visc", "artificial_stress": "AS",
@@ -140,18 +155,21 @@ class Setting:
         inset = ("" if self.inset in (0, 0.0) else
                  f" inset={self.inset}" if isinstance(self.inset, str)
                  else f" inset={self.inset:g}")
+        step = "" if self.step == 1.0 else f" step={self.step:g}"
         return (f"{self.kernel} h/dx={self.smoothing_ratio:g}{inset} "
-                f"{self.integrator}" + (" + " + " + ".join(parts)
-                                        if parts else ""))
+                f"{self.integrator}{step}" + (" + " + " + ".join(parts)
+                                              if parts else ""))
 
     def to_dict(self) -> dict:
         return {"smoothing_ratio": self.smoothing_ratio,
                 "kernel": self.kernel, "integrator": self.integrator,
-                "effects": self.effect_dict, "inset": self.inset}
+                "effects": self.effect_dict, "inset": self.inset,
+                "step": self.step}
 
     @classmethod
     def from_dict(cls, data: Mapping) -> "Setting":
         return cls.make(data.get("smoothing_ratio", 1.2),
                         data.get("kernel", "cubic_spline"),
                         data.get("integrator", DEFAULT_INTEGRATOR),
-                        data.get("effects") or {}, data.get("inset", 0.0))
+                        data.get("effects") or {}, data.get("inset", 0.0),
+                        data.get("step", 1.0))
