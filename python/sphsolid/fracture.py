@@ -264,6 +264,11 @@ class FailureRun:
         Connected regions with D < 1 at the end.
     post_peak_ratio : float
         Load at the end over the peak (the drop after the peak).
+    load_lost_before_damage : bool
+        The load fell below ``drop`` times its peak while no particle was
+        damaged: not fracture but a loss of load the damage model did not
+        cause (in tension, SPH's tensile instability: switch on
+        ``artificial_stress``); the peak is then no strength of the rock.
     """
 
     time: np.ndarray
@@ -278,6 +283,7 @@ class FailureRun:
     peak_time: float = 0.0
     damage_onset_stress_Pa: float | None = None
     frames: list = field(default_factory=list)
+    load_lost_before_damage: bool = False
 
     def summary(self) -> dict:
         """The fields of ``summary.json``."""
@@ -288,7 +294,8 @@ class FailureRun:
                 "damage_onset_s": self.damage_onset_s,
                 "damage_onset_stress_Pa": self.damage_onset_stress_Pa,
                 "post_peak_ratio": self.post_peak_ratio,
-                "peak_time_s": self.peak_time}
+                "peak_time_s": self.peak_time,
+                "load_lost_before_damage": self.load_lost_before_damage}
 
 
 def load_to_failure(scene: Scene, max_strain: float = 0.02,
@@ -318,6 +325,7 @@ def load_to_failure(scene: Scene, max_strain: float = 0.02,
     steps = max(1, int(round(interval / dyn.dt)))
     times, loads, strains = [], [], []
     onset = onset_load = None
+    lost = False
     peak, t0 = 0.0, dyn.time
     # the piston's reaction is pushed up (> 0) in compression, pulled
     # down in tension
@@ -333,6 +341,8 @@ def load_to_failure(scene: Scene, max_strain: float = 0.02,
         if onset is None and float(scene.damage.max()) > 0.0:
             onset, onset_load = t, load
         peak = max(peak, load)
+        if onset is None and peak > 0 and load < drop * peak:
+            lost = True
         if on_sample is not None:
             on_sample(scene, t, load, peak)
         if strain >= max_strain or (peak > 0 and load < drop * peak
@@ -358,4 +368,5 @@ def load_to_failure(scene: Scene, max_strain: float = 0.02,
                       post_peak_ratio=float(load[-1] / peak) if peak else 0.0,
                       peak_time=float(time[k]),
                       damage_onset_stress_Pa=(None if onset_load is None
-                                              else stress(onset_load)))
+                                              else stress(onset_load)),
+                      load_lost_before_damage=lost)

@@ -105,6 +105,28 @@ def test_ucs_runs_past_its_peak_and_reports_the_strength():
                                   "damage_onset_s"}
 
 
+def test_a_load_lost_before_any_damage_is_not_taken_for_fracture(
+        monkeypatch):
+    # the reaction of a bar whose flaws never activate (D stays 0) rises
+    # and then falls to a third of its peak: a loss of load the damage
+    # model did not cause, flagged; the real run of the same bar keeps
+    # its load and is not
+    from sphsolid import fracture
+    flawless = Material(**ROCK, weibull_k=1.0, weibull_m=9.0)
+    scene = fracture.tensile_bar(5e-3, material=flawless)
+    real = fracture.load_to_failure(scene, max_strain=2e-5, drop=0.5)
+    assert float(scene.damage.max()) == 0.0
+    assert not real.load_lost_before_damage
+    assert real.summary()["load_lost_before_damage"] is False
+    loads = iter([1e5, 2e5, 3e5, 2e5, 1e5] + [1e5] * 1000)
+    scene = fracture.tensile_bar(5e-3, material=flawless)
+    monkeypatch.setattr(scene, "reaction",
+                        lambda body: (0.0, -next(loads)))
+    lost = fracture.load_to_failure(scene, max_strain=2e-4, drop=0.5)
+    assert lost.load_lost_before_damage and lost.damage_onset_s is None
+    assert lost.peak_load_N == pytest.approx(3e5)
+
+
 def test_sphsolid_ucs_writes_summary_and_files(tmp_path):
     from sphsolid.cli import main
     assert main(["ucs", "--dx", "4mm", "--threads", "1",

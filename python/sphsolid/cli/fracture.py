@@ -126,6 +126,12 @@ def run(args, name: str) -> int:
           + (f"{onset * 1e3:.4g} ms" if onset is not None else "none")
           + f"; {run.fragments} fragment(s); load at the end "
           f"{run.post_peak_ratio:.2f} x peak")
+    if run.load_lost_before_damage:
+        print(f"warning: the load fell below {args.drop:g} x its peak "
+              "before any particle was damaged: not fracture (in tension "
+              "SPH's tensile instability; switch on artificial_stress), so "
+              f"the {label} above is no strength of the rock "
+              "(summary.json: load_lost_before_damage)")
     for path in (h5, Trajectory(h5).xdmf_path, csv, png,
                  args.out / "summary.json"):
         print(f"wrote {path}")
