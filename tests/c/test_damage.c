@@ -539,16 +539,24 @@ static void largest_principal_strain_of_a_rotated_tensor(void **state)
                  "2D largest principal strain");
 }
 
+/* A free 21 x 10 block (1 mm) with the damage effect and flaws too few to
+ * activate: its damage field is the test's to set. */
+static sph_sim *flawless_damaged_block(void)
+{
+    sph_sim *sim = free_block_2d(21, 10, 1e-3);
+    check(sim, sph_material_set(sim, 0, "weibull_k", 1.0));
+    check(sim, sph_material_set(sim, 0, "weibull_m", 1.0));
+    check(sim, sph_effect(sim, "damage", NULL));
+    return sim;
+}
+
 /* Fragments: a block cut by three fully damaged columns (wider than the
  * kernel support 2h = 2.4 dx) is two fragments; barely intact, one. */
 static void a_fully_damaged_band_splits_a_block_into_two_fragments(void **state)
 {
     (void)state;
     for (int trial = 0; trial < 2; ++trial) {
-        sph_sim *sim = free_block_2d(21, 10, 1e-3);
-        check(sim, sph_material_set(sim, 0, "weibull_k", 1.0));
-        check(sim, sph_material_set(sim, 0, "weibull_m", 1.0));
-        check(sim, sph_effect(sim, "damage", NULL));
+        sph_sim *sim = flawless_damaged_block();
         /* a copy: the run's preparation may move the arrays */
         double *x = copy_field(sim, SPH_FIELD_POSITION, 420);
         double *D = field_ptr(sim, SPH_FIELD_DAMAGE);
@@ -578,10 +586,7 @@ static void a_fully_damaged_band_splits_a_block_into_two_fragments(void **state)
 static void fragment_labels_of_external_particles_match_the_field(void **state)
 {
     (void)state;
-    sph_sim *sim = free_block_2d(21, 10, 1e-3);
-    check(sim, sph_material_set(sim, 0, "weibull_k", 1.0));
-    check(sim, sph_material_set(sim, 0, "weibull_m", 1.0));
-    check(sim, sph_effect(sim, "damage", NULL));
+    sph_sim *sim = flawless_damaged_block();
     double *x = copy_field(sim, SPH_FIELD_POSITION, 420);
     double *D = field_ptr(sim, SPH_FIELD_DAMAGE);
     for (int a = 0; a < 210; ++a)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +24,17 @@ sys.path.insert(0, str(HERE))
 import sphsolid_lammps  # noqa: E402
 import library_reference  # noqa: E402
 
+#: The atom set-up the 2D test decks share after their plugin line: SI
+#: units, a one-particle-thick periodic z slab, atoms with a map, and
+#: velocities on ghosts (the library's pair terms need them).
+ATOMS_2D = textwrap.dedent("""\
+    units si
+    dimension 2
+    boundary f f p
+    atom_style atomic
+    atom_modify map array
+    comm_modify vel yes
+    """)
 PISTON_DECK = REPOSITORY / "examples" / "uniaxial_piston" / "in.uniaxial_piston"
 GRAVITY_DECK = REPOSITORY / "examples" / "gravity" / "in.gravity"
 

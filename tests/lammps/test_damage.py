@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import PISTON_DECK, read_probes, run_deck, run_on_one_and_two_ranks, sphsolid_lammps
+from conftest import ATOMS_2D, PISTON_DECK, read_probes, run_deck, run_on_one_and_two_ranks, sphsolid_lammps
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 
@@ -40,12 +40,7 @@ STEPS = 700
 
 SETUP = textwrap.dedent("""\
     plugin load ${plugin}
-    units si
-    dimension 2
-    boundary f f p
-    atom_style atomic
-    atom_modify map array
-    comm_modify vel yes
+""") + ATOMS_2D + textwrap.dedent("""\
     processors ${px} 1 1
     region box block -0.03 0.03 -0.01 0.075 -0.001 0.001 units box
     create_box 3 box

@@ -17,15 +17,10 @@ import sys
 import textwrap
 from pathlib import Path
 
-from conftest import REPOSITORY, lmp_command
+from conftest import ATOMS_2D, REPOSITORY, lmp_command
 
 DECK_WITHOUT_PLUGIN_LOAD = textwrap.dedent("""\
-    units si
-    dimension 2
-    boundary f f p
-    atom_style atomic
-    atom_modify map array
-    comm_modify vel yes
+""") + ATOMS_2D + textwrap.dedent("""\
     region box block -0.01 0.01 -0.01 0.01 -0.001 0.001 units box
     create_box 1 box
     lattice sq 0.001 origin 0.5 0.5 0.0

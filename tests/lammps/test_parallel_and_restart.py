@@ -15,7 +15,7 @@ import textwrap
 import numpy as np
 import pytest
 
-from conftest import (PISTON_DECK, REPOSITORY, read_probes, run_deck, run_on_one_and_two_ranks,
+from conftest import (ATOMS_2D, PISTON_DECK, REPOSITORY, read_probes, run_deck, run_on_one_and_two_ranks,
                       sphsolid_lammps)
 
 
@@ -128,12 +128,7 @@ SPINNING_BLOCK = textwrap.dedent("""\
     # A free 24 x 24 block of spacing 1 mm drifting at 60 m/s across the
     # processor boundary at x = 0 while spinning at 2000 rad/s.
     plugin load ${plugin}
-    units si
-    dimension 2
-    boundary f f p
-    atom_style atomic
-    atom_modify map array
-    comm_modify vel yes
+""") + ATOMS_2D + textwrap.dedent("""\
     processors ${px} 1 1
     region box block -0.04 0.04 -0.03 0.03 -0.001 0.001 units box
     create_box 1 box

@@ -15,17 +15,12 @@ import textwrap
 
 import pytest
 
-from conftest import lmp_command
+from conftest import ATOMS_2D, lmp_command
 
 DECK = textwrap.dedent("""\
     plugin load ${{plugin}}
     variable rank getenv PMI_RANK
-    units si
-    dimension 2
-    boundary f f p
-    atom_style atomic
-    atom_modify map array
-    comm_modify vel yes
+""") + ATOMS_2D + textwrap.dedent("""\
     processors 2 1 1
     region box block -0.01 0.01 -0.01 0.01 -0.001 0.001 units box
     create_box 1 box

@@ -541,9 +541,6 @@ class Progress:
 
     def exponent(self) -> float:
         """Work (particle-steps) as dx^-p: p fitted on the runs so far."""
-        return self._exponent()
-
-    def _exponent(self) -> float:
         if len({dx for dx, _ in self.sizes}) < 2:
             return 3.0
         x = np.log([dx for dx, _ in self.sizes])
@@ -551,7 +548,7 @@ class Progress:
         return float(np.clip(-np.polyfit(x, y, 1)[0], 1.0, 5.0))
 
     def _units(self, dx: float) -> float:
-        return (self.coarsest / dx) ** self._exponent()
+        return (self.coarsest / dx) ** self.exponent()
 
     def done(self, run, cached: bool) -> None:
         if self.pending:
