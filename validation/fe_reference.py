@@ -87,14 +87,17 @@ def _stress_sampler(basis, points, lam, mu, delta=1e-5):
 
 def piston_fe(element_size: float, until: float, dt: float, grid,
               points: dict, K: float, mu: float, rho0: float,
-              speed: float = 1.5e-3, progress=None, every: int = 500) -> dict:
+              speed: float = 1.5e-3, progress=None, every: int = 500,
+              extent=((-0.043, 0.043), (0.0, 0.140))) -> dict:
     """Newmark run to ``until`` [s]; von Mises [Pa] at ``points`` sampled
-    on ``grid`` [s] (linear interpolation between steps). ``progress``,
+    on ``grid`` [s] (linear interpolation between steps), on the specimen
+    ``extent`` ((x0, x1), (y0, y1)) [m] (default the paper's). ``progress``,
     if given, is called every ``every`` steps and at the end with the
     time reached and the result so far (the series filled up to that
     time), so that a long run can report and keep its partial series."""
     from scipy.sparse.linalg import splu
-    basis, Kmat, Mmat, fixed, top_y, lam = _setup(element_size, K, mu, rho0)
+    basis, Kmat, Mmat, fixed, top_y, lam = _setup(element_size, K, mu, rho0,
+                                                  *extent)
     ndof = Kmat.shape[0]
     free = np.setdiff1d(np.arange(ndof), fixed)
     beta, gamma = 0.25, 0.5
@@ -166,7 +169,8 @@ def static_pattern(element_size: float, points: dict, K: float, mu: float,
 
 def save_series(path, grid, result) -> None:
     """Write the series of :func:`piston_fe` (``result``, possibly partial:
-    the grid up to the time reached) to ``path`` (npz: grid, A, B, C, wall,
+    the grid up to the time reached) to ``path`` (npz: grid, one array per
+    probe (A, B, C for the paper's), wall,
     dt, dofs, steps, element_size). Written to a temporary file and renamed,
     so a failed write leaves the last good file."""
     from pathlib import Path
@@ -181,15 +185,38 @@ def save_series(path, grid, result) -> None:
     tmp.replace(path)
 
 
+def _paper():
+    from sphsolid import scenes
+    from sphsolid.probes import PAPER_PROBES
+    return (scenes.paper_material(), (scenes.SPECIMEN_X, scenes.SPECIMEN_Y),
+            scenes.PISTON_SPEED, PAPER_PROBES)
+
+
+def _nu045():
+    from sphsolid.planner import scenes as planned
+    _, extent, speed, points = _paper()
+    return planned.nearly_incompressible_material(), extent, speed, points
+
+
+def _squat():
+    from sphsolid.planner import scenes as planned
+    return (planned.squat_material(), planned.SQUAT_EXTENT,
+            planned.SQUAT_SPEED, planned.SQUAT_PROBES)
+
+
+#: the scenes main() runs: material, extent, piston speed, probes
+SCENES = {"piston": _paper, "piston_nu045": _nu045, "piston_squat": _squat}
+
+
 def main(argv=None) -> int:
     """``python -m validation.fe_reference --size 5e-4 --until 1e-3 --out
     docs/accuracy/fe_piston_0.5mm.npz``: one FE series of the paper's
     piston test at A, B, C on a 0.1 us grid, with the step the other series
     use (0.25 us x size / 2 mm, times ``--dt-factor``); the partial series
-    is written every ``--every`` steps."""
+    is written every ``--every`` steps. ``--scene piston_squat`` (or
+    ``piston_nu045``) runs that planner scene's specimen, material, piston
+    speed and probes instead."""
     import argparse
-    from sphsolid import scenes
-    from sphsolid.probes import PAPER_PROBES
     parser = argparse.ArgumentParser(description=main.__doc__.split(":")[0])
     parser.add_argument("--size", type=float, required=True,
                         help="element size [m]")
@@ -197,6 +224,8 @@ def main(argv=None) -> int:
     parser.add_argument("--dt-factor", type=float, default=1.0)
     parser.add_argument("--every", type=int, default=500)
     parser.add_argument("--out", required=True)
+    parser.add_argument("--scene", default="piston",
+                        choices=sorted(SCENES))
     args = parser.parse_args(argv)
     for name in ("size", "until", "dt_factor"):
         value = getattr(args, name)
@@ -205,7 +234,7 @@ def main(argv=None) -> int:
                          f"got {value!r}")
     if not available():
         parser.error("needs scikit-fem and scipy (pip install scikit-fem)")
-    rock = scenes.paper_material()
+    rock, extent, speed, points = SCENES[args.scene]()
     grid = np.linspace(0.0, args.until, int(round(args.until / 1e-7)) + 1)
     dt = 0.25e-6 * args.size / 2e-3 * args.dt_factor
 
@@ -213,9 +242,9 @@ def main(argv=None) -> int:
         save_series(args.out, grid, result)
         print(f"t = {t * 1e6:.1f} us, {result['steps']} steps, "
               f"{result['wall']:.0f} s", flush=True)
-    r = piston_fe(args.size, args.until, dt, grid, PAPER_PROBES, rock.K,
-                  rock.mu, rock.rho0, scenes.PISTON_SPEED, progress=progress,
-                  every=args.every)
+    r = piston_fe(args.size, args.until, dt, grid, points, rock.K,
+                  rock.mu, rock.rho0, speed, progress=progress,
+                  every=args.every, extent=extent)
     print(f"{args.out}: {r['dofs']} dofs, {r['steps']} steps of "
           f"{dt * 1e6:g} us, {r['wall']:.0f} s")
     return 0

@@ -20,9 +20,9 @@ help = ("cheapest settings for a requested error (calibration runs, error "
 def add_arguments(parser) -> None:
     parser.add_argument("scene", nargs="?",
                         help="a project scene (piston, gravity, strip, "
-                        "piston_nu045), a scene file (SCENE.toml, with "
-                        "--probe), or --deck; with --quantity strength: "
-                        "ucs or brazilian")
+                        "piston_nu045, piston_squat), a scene file "
+                        "(SCENE.toml, with --probe), or --deck; with "
+                        "--quantity strength: ucs or brazilian")
     parser.add_argument("--error", type=fraction, required=True,
                         help="requested error, e.g. 3%% or 0.03")
     parser.add_argument("--until", type=positive_time, default=None,
@@ -122,8 +122,8 @@ def run(args) -> int:
     else:
         if args.scene is None:
             raise ValueError("sphsolid plan: name a scene (piston, gravity, "
-                             "strip, piston_nu045), a scene file or give "
-                             "--deck")
+                             "strip, piston_nu045, piston_squat), a scene "
+                             "file or give --deck")
         projects = planner.project_scenes()
         if args.scene in projects:
             spec, key = projects[args.scene], args.scene

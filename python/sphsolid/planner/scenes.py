@@ -39,16 +39,18 @@ def _between_platens(body, smoothing_ratio: float, kernel: str,
 def piston_factory(dx: float, smoothing_ratio: float = 1.2,
                    kernel: str = "cubic_spline",
                    speed: float | None = None, inset: float | str = 0.0,
-                   material=None):
+                   material=None, extent=None):
     """The paper's piston scene (:func:`sphsolid.scenes.uniaxial_piston`)
     with the planner's h/dx, kernel and end placement (``inset``, see
     :func:`sphsolid.build.plate`) and no optional effect; plate and
     piston one kernel support thick (the library's rows). ``material``
-    replaces the paper's rock."""
+    replaces the paper's rock, ``extent`` ((x0, x1), (y0, y1)) [m] its
+    specimen."""
     from .. import build, scenes
     rock = scenes.paper_material() if material is None else material
-    specimen = build.rectangle(scenes.SPECIMEN_X, scenes.SPECIMEN_Y, dx, rock,
-                               "specimen")
+    xs, ys = ((scenes.SPECIMEN_X, scenes.SPECIMEN_Y) if extent is None
+              else extent)
+    specimen = build.rectangle(xs, ys, dx, rock, "specimen")
     return _between_platens(specimen, smoothing_ratio, kernel, speed, inset)
 
 
@@ -67,6 +69,36 @@ def piston_nu045_factory(dx: float, smoothing_ratio: float = 1.2,
     """:func:`piston_factory` with :func:`nearly_incompressible_material`."""
     return piston_factory(dx, smoothing_ratio, kernel, inset=inset,
                           material=nearly_incompressible_material())
+
+
+def squat_material():
+    """A softer, lighter rock than the paper's (E = 10 GPa, nu = 0.25,
+    rho0 = 2200 kg/m^3: K = 6.67 GPa, mu = 4 GPa, c_p = 2335 m/s): the
+    squat piston scene's, held out of the verification record."""
+    from ..material import Material
+    E, nu = 10e9, 0.25
+    return Material(K=E / (3.0 * (1.0 - 2.0 * nu)), mu=E / (2.0 * (1.0 + nu)),
+                    rho0=2200.0, name="squat specimen")
+
+
+#: The squat piston scene: a 100 mm x 100 mm specimen, the piston at twice
+#: the paper's speed, probes off the axis and near the ends.
+SQUAT_EXTENT = ((-0.05, 0.05), (0.0, 0.1))
+SQUAT_SPEED = 3e-3
+SQUAT_PROBES = {"D": (0.0, 0.025), "E": (0.03, 0.05), "F": (-0.035, 0.08)}
+SQUAT_UNTIL = 0.25e-3
+
+
+def piston_squat_factory(dx: float, smoothing_ratio: float = 1.2,
+                         kernel: str = "cubic_spline",
+                         inset: float | str = 0.0):
+    """:func:`piston_factory` with another material
+    (:func:`squat_material`), shape (:data:`SQUAT_EXTENT`) and piston
+    speed (:data:`SQUAT_SPEED`): a held-out scene of the verification
+    record."""
+    return piston_factory(dx, smoothing_ratio, kernel, speed=SQUAT_SPEED,
+                          inset=inset, material=squat_material(),
+                          extent=SQUAT_EXTENT)
 
 
 def gravity_factory(dx: float, smoothing_ratio: float = 1.2,
@@ -185,6 +217,12 @@ def project_scenes() -> dict:
                                   description="the piston test with a "
                                   "nearly incompressible material (nu = "
                                   "0.45), von Mises at A, B, C"),
+        "piston_squat": PlanScene(piston_squat_factory, SQUAT_PROBES,
+                                  "von_mises", (3e-3, 2e-3, 1.5e-3),
+                                  SQUAT_UNTIL,
+                                  description="a squat specimen of a "
+                                  "softer rock under a faster piston, von "
+                                  "Mises at D, E, F"),
         "gravity": PlanScene(gravity_factory, gravity_sections, "sigma_yy",
                              (8e-3, 6e-3, 4e-3, 3e-3), 2.5e-3,
                              window=lambda until: (0.5 * until, until),
