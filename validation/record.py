@@ -179,6 +179,7 @@ def verify_scene(scene: accuracy.Scene, threads: int, log,
         cand.smoothed = [_smoothed(r, grid) for r in cand.runs]
         cands.append(cand)
     out = {}
+    shipped = record_module.shipped()
     for norm in NORMS:
         complete = [c for c in cands if len(c.runs) >= len(ladder)]
         # consistency floors from the ladder levels, as a plan makes them
@@ -188,9 +189,14 @@ def verify_scene(scene: accuracy.Scene, threads: int, log,
             cand.smoothed = smoothed[:len(ladder)]
             _fit_candidate(cand, norm, MAX_REFINEMENT, threads)
             cand.runs, cand.smoothed = runs, smoothed
+        # charged as a plan charges them: by the shipped record's errors
+        # (true errors at its finest levels, which this generation
+        # measures again)
         floors = planner.consistency_floors(
             [c.model for c in complete],
-            [c.smoothed[:len(ladder)] for c in complete], norm, ladder)
+            [c.smoothed[:len(ladder)] for c in complete], norm, ladder,
+            trust=[shipped.promise(c.setting, norm) if shipped else None
+                   for c in complete])
         floor_of = {id(c): f for c, f in zip(complete, floors)}
         for cand in cands:
             key = record_module.family(cand.setting)

@@ -277,6 +277,38 @@ def test_floor_is_the_limit_disagreement_of_the_odd_setting_out():
     assert planner.consistency_floors(models[:1], levels[:1]) == [0.0]
 
 
+def test_a_shared_bias_of_the_majority_is_charged_by_the_record():
+    # three settings share a limit 10 % of the peak away from the truth,
+    # the fourth converges to the truth: the vote charges the odd one
+    # out; with the record's verified errors (the fourth 1.4x the best,
+    # the others 3-5x) the three carry the floor and the fourth none
+    t = np.linspace(0, 1, 200)
+    truth = np.sin(2 * np.pi * t) + 2.0          # peak 3
+    spacings = [4e-3, 2e-3, 1e-3]
+    models, levels = [], []
+    for k, bias in enumerate((0.3, 0.3, 0.3, 0.0)):
+        series = [truth + bias + (0.02 + 0.01 * k) * dx * 1e3 * np.cos(t)
+                  for dx in spacings]
+        diffs = [metrics.deviation(a, b, scale=3.0)
+                 for a, b in zip(series, series[1:])]
+        models.append(planner.fit_error_model(spacings, diffs))
+        levels.append([{"A": s} for s in series])
+    voted = planner.consistency_floors(models, levels)
+    assert max(voted[:3]) < 0.01
+    assert voted[3] == pytest.approx(0.1, abs=0.01)
+    trust = [np.log(5.0), np.log(3.4), np.log(4.5), np.log(1.4)]
+    charged = planner.consistency_floors(models, levels, trust=trust)
+    assert charged[3] == 0.0
+    assert charged[:3] == [pytest.approx(0.1, abs=0.01)] * 3
+    # a partner less than CHARGE_RATIO times worse still charges: the
+    # vote is kept among settings the record cannot tell apart
+    close = [np.log(1.5), np.log(1.6), np.log(1.7), np.log(1.4)]
+    assert planner.consistency_floors(models, levels, trust=close) == voted
+    # an unverified setting (None) charges and is charged as before
+    assert planner.consistency_floors(
+        models, levels, trust=[None] * 4) == voted
+
+
 def test_floor_only_where_the_settings_disagreement_does_not_shrink():
     # two settings converging to one limit with differences that shrink
     # with refinement (and stay within their errors): no floor; the same
