@@ -256,20 +256,27 @@ def test_error_model_rejects_too_few_or_non_decreasing_levels():
         planner.fit_order([1e-3, 2e-3, 3e-3], [0.1, 0.05])
 
 
-def test_floor_is_the_limit_disagreement_of_the_odd_setting_out():
-    # three settings converging at order 1; the third to a limit 10 % of
-    # the peak away from the others'
+def _order_one_settings(biases):
+    """Settings converging at order 1 on 4, 2, 1 mm, each to the limit
+    sin(2 pi t) + 2 (peak 3) + its bias: their models and levels."""
     t = np.linspace(0, 1, 200)
-    base = np.sin(2 * np.pi * t) + 2.0          # peak 3
+    base = np.sin(2 * np.pi * t) + 2.0
     spacings = [4e-3, 2e-3, 1e-3]
     models, levels = [], []
-    for k, bias in enumerate((0.0, 0.0, 0.3)):
+    for k, bias in enumerate(biases):
         series = [base + bias + (0.02 + 0.01 * k) * dx * 1e3 * np.cos(t)
                   for dx in spacings]
         diffs = [metrics.deviation(a, b, scale=3.0)
                  for a, b in zip(series, series[1:])]
         models.append(planner.fit_error_model(spacings, diffs))
         levels.append([{"A": s} for s in series])
+    return models, levels
+
+
+def test_floor_is_the_limit_disagreement_of_the_odd_setting_out():
+    # three settings converging at order 1; the third to a limit 10 % of
+    # the peak away from the others'
+    models, levels = _order_one_settings((0.0, 0.0, 0.3))
     floors = planner.consistency_floors(models, levels)
     assert floors[0] < 0.01 and floors[1] < 0.01
     assert floors[2] == pytest.approx(0.1, abs=0.01)
@@ -282,17 +289,7 @@ def test_a_shared_bias_of_the_majority_is_charged_by_the_record():
     # the fourth converges to the truth: the vote charges the odd one
     # out; with the record's verified errors (the fourth 1.4x the best,
     # the others 3-5x) the three carry the floor and the fourth none
-    t = np.linspace(0, 1, 200)
-    truth = np.sin(2 * np.pi * t) + 2.0          # peak 3
-    spacings = [4e-3, 2e-3, 1e-3]
-    models, levels = [], []
-    for k, bias in enumerate((0.3, 0.3, 0.3, 0.0)):
-        series = [truth + bias + (0.02 + 0.01 * k) * dx * 1e3 * np.cos(t)
-                  for dx in spacings]
-        diffs = [metrics.deviation(a, b, scale=3.0)
-                 for a, b in zip(series, series[1:])]
-        models.append(planner.fit_error_model(spacings, diffs))
-        levels.append([{"A": s} for s in series])
+    models, levels = _order_one_settings((0.3, 0.3, 0.3, 0.0))
     voted = planner.consistency_floors(models, levels)
     assert max(voted[:3]) < 0.01
     assert voted[3] == pytest.approx(0.1, abs=0.01)
