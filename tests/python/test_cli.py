@@ -41,6 +41,20 @@ def test_the_namespace_holds_only_the_options(argv):
     assert not [k for k in vars(args) if k.startswith("_")], vars(args)
 
 
+@pytest.mark.parametrize("command", [None] + [
+    cli.command_name(m) for m in cli.COMMANDS])
+def test_every_help_prints(command, capsys):
+    # argparse %-formats each help text: a bare % (a default of 0.8 %, a
+    # 95 % interval) made --help itself fail
+    argv = ([] if command is None else [command]) + ["--help"]
+    with pytest.raises(SystemExit) as stop:
+        cli.build_parser().parse_args(argv)
+    assert stop.value.code == 0
+    out = capsys.readouterr().out
+    assert out.startswith("usage: sphsolid")
+    assert "%%" not in out
+
+
 def test_study_front_forwards_its_arguments():
     args = cli.build_parser().parse_args(
         ["study", "front", "--dx", "0.002", "0.001", "--no-doc"])

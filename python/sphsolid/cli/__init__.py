@@ -112,8 +112,9 @@ def build_parser(commands=COMMANDS) -> Parser:
                         help="the package's and the library's versions")
     sub = parser.add_subparsers(dest="command", required=True)
     for module in commands:
+        # argparse %-formats an argument's help, not a description
         command = sub.add_parser(
-            command_name(module), help=module.help,
+            command_name(module), help=module.help.replace("%", "%%"),
             description=getattr(module, "description", module.help))
         module.add_arguments(command)
         command.set_defaults(run=module.run)

@@ -50,7 +50,7 @@ def add_arguments(parser, name: str) -> None:
                         help="seed of the flaw draw, in [0, 2^53) (default 1)")
     parser.add_argument("--max-strain", type=_strain, default=max_strain,
                         help="stop at this nominal strain if the load has "
-                             f"not dropped (default {max_strain:.1%})")
+                             f"not dropped (default {max_strain * 100:.1f}%%)")
     parser.add_argument("--drop", type=_strain, default=0.5,
                         help="stop when the load falls below this share of "
                              "its peak (default 0.5)")
