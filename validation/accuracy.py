@@ -873,7 +873,7 @@ worth (`python -m validation.record`; the data ships as
 elastic Brazilian disc (not yet a reference scene); **held out**, declared
 after the piston with nu = 0.45 had shown the floors' majority vote to
 fail and before that rule changed, a squat specimen (100 mm x 100 mm,
-E = 10 GPa, nu = 0.25, the piston at 3 mm/s, probes D, E, F; FE 1 mm).
+E = 10 GPa, nu = 0.25, the piston at 3 mm/s, probes D, E, F; FE 0.5 mm).
 For each setting of
 the CLI's default candidates, at the spacings a plan uses, each window of
 consecutive levels predicts the error at every finer level within 2x, and
