@@ -870,6 +870,49 @@ def test_planner_refines_a_setting_whose_ladder_determines_no_order(
     assert model.observed_order == pytest.approx(1.0, abs=0.1)
 
 
+def test_a_setting_out_of_reach_gets_a_level_while_no_plan_is(monkeypatch):
+    # one setting whose coarse ladder (2, 1.4, 1 mm) falls at order 0.55
+    # with a good fit, and at order 1 below it (outside the asymptotic
+    # range above 1 mm): a 1 % request needs 0.04 mm at the ladder's order,
+    # far beyond what one round can bring within the extrapolation limit.
+    # With no plan in reach it still gets its finer level
+    until = STRIP.until
+    setting = planner.Setting.make(1.2, effects={
+        "artificial_viscosity": {"alpha": 1.0, "beta": 0.0}})
+    times = np.linspace(0.0, until, 400)
+    limit = {n: -1e6 * np.clip((times - i * 8e-6) / 4e-6, 0, 1)
+             for i, n in enumerate(STRIP.probes)}
+    shape = np.sin(2 * np.pi * times / until) + 0.3
+    ran, said = [], []
+
+    def fake_run(factory, dx, setting_, until_, probes, quantity, threads):
+        ran.append(dx)
+        x = dx / 1e-3
+        amplitude = 0.05e6 * (x ** 0.55 if x >= 1 else x)
+        series = {n: limit[n] + amplitude * shape for n in limit}
+        n = int(0.8 / dx)
+        steps = int(until / (0.1 * dx / 3000.0))
+        return planner.LadderRun(setting_, dx, n, steps, until / steps, 1.0,
+                                 until, times, series, cpu=n * steps * 1e-8,
+                                 threads=1)
+    monkeypatch.setattr(planner.search, "ladder_run", fake_run)
+    plan = planner.plan(STRIP.factory, error=0.01, until=until,
+                        probes=STRIP.probes, quantity=STRIP.quantity,
+                        norm="rms", threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
+                        candidates=[setting], detect=False, refinements=1,
+                        timing_checks=0, scene="strip", record=None,
+                        log=said.append)
+    # refined for its need (a good fit at order 0.55), not for want of one
+    refining = [line for line in said if line.startswith("refining")]
+    assert len(refining) == 1, refining
+    head = f"refining {setting.label()}: it needs dx "
+    assert refining[0].startswith(head)
+    need = float(refining[0][len(head):].split()[0]) * 1e-3
+    assert need < 1e-3 / (1.5 * 2.0)      # beyond one round's reach
+    assert sorted(ran, reverse=True) == [2e-3, 1.4e-3, 1e-3, 0.667e-3]
+    assert len(plan.candidates[0].runs) == 4
+
+
 def test_reference_cost_keeps_the_faster_of_two_measurements_of_a_short_run():
     # interference only slows a run down: a short anchor run is measured
     # again and the faster measurement is its cost; a long one is not
