@@ -70,8 +70,8 @@ NU045_FE = Path(__file__).resolve().parent.parent / "docs" / "accuracy"
 
 def _fe_scene(name: str, what: str, sizes=("1", "2")) -> accuracy.Scene:
     """A planner scene against its FE solution on the first of ``sizes``
-    [mm] (the second shows its convergence), files
-    docs/accuracy/fe_NAME_{size}mm.npz."""
+    [mm] (the second shows its convergence), read from the files
+    fe_<name>_<size>mm.npz of docs/accuracy."""
     spec = planner.project_scenes()[name]
     fine_size, coarse_size = sizes
     data = {s: np.load(NU045_FE / f"fe_{name}_{s}mm.npz") for s in sizes}
