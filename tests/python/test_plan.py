@@ -913,6 +913,44 @@ def test_a_setting_out_of_reach_gets_a_level_while_no_plan_is(monkeypatch):
     assert len(plan.candidates[0].runs) == 4
 
 
+def test_a_setting_that_stays_out_of_reach_gets_no_second_level(monkeypatch):
+    # order 0.55 on the ladder (2, 1.4, 1 mm) and below it: a 1 % request
+    # needs 0.04 mm at every level. With no plan in reach the setting gets
+    # one level beyond the ladder (its order might have been that of
+    # levels outside the asymptotic range); the level leaves the need
+    # where it was, so the gap of 17x to it narrows by 1.5x per level and
+    # the two rounds left cannot bring it within the extrapolation limit
+    until = STRIP.until
+    setting = planner.Setting.make(1.2, effects={
+        "artificial_viscosity": {"alpha": 1.0, "beta": 0.0}})
+    times = np.linspace(0.0, until, 400)
+    limit = {n: -1e6 * np.clip((times - i * 8e-6) / 4e-6, 0, 1)
+             for i, n in enumerate(STRIP.probes)}
+    shape = np.sin(2 * np.pi * times / until) + 0.3
+    ran, said = [], []
+
+    def fake_run(factory, dx, setting_, until_, probes, quantity, threads):
+        ran.append(dx)
+        amplitude = 0.05e6 * (dx / 1e-3) ** 0.55
+        series = {n: limit[n] + amplitude * shape for n in limit}
+        n = int(0.8 / dx)
+        steps = int(until / (0.1 * dx / 3000.0))
+        return planner.LadderRun(setting_, dx, n, steps, until / steps, 1.0,
+                                 until, times, series, cpu=n * steps * 1e-8,
+                                 threads=1)
+    monkeypatch.setattr(planner.search, "ladder_run", fake_run)
+    plan = planner.plan(STRIP.factory, error=0.01, until=until,
+                        probes=STRIP.probes, quantity=STRIP.quantity,
+                        norm="rms", threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
+                        candidates=[setting], detect=False, refinements=3,
+                        timing_checks=0, scene="strip", record=None,
+                        log=said.append)
+    assert sorted(ran, reverse=True) == [2e-3, 1.4e-3, 1e-3, 0.667e-3], said
+    assert any(line.startswith(f"not refining {setting.label()} further: "
+                               "it needs dx") for line in said), said
+    assert not plan.feasible
+
+
 def test_a_setting_whose_need_recedes_is_not_refined_further(monkeypatch):
     # order 1 on the ladder (2, 1.4, 1 mm), flattening to order 0.3 below
     # it: the 0.667 mm level moves the need for 1 % from 0.15 to 0.09 mm,

@@ -831,7 +831,33 @@ def plan(scene_factory: Callable, error: float = 0.03,
             cand.model.floor = floor
         return {id(c): price(c) for c in usable}
 
+    def power_need(cand, runs, smoothed):
+        """The spacing the power law alone gives ``error`` on these levels
+        (their finest four; no floor: the needs of one setting before and
+        after a level compare on the same terms), and the finest level."""
+        kept = cand.runs, cand.smoothed, cand.model, cand.cost
+        cand.runs, cand.smoothed = runs, smoothed
+        try:
+            _fit_candidate(cand, norm, max_refinement, threads, max_order)
+            verdict = verdicts.get(cand.setting)
+            if verdict is not None:
+                cand.model.verified = verdict["factor"]
+                cand.model.bias = verdict["bias"]
+            if cand.model.anomalous:
+                return None, cand.model.finest
+            return cand.model.spacing_for(error), cand.model.finest
+        finally:
+            cand.runs, cand.smoothed, cand.model, cand.cost = kept
+
     needs = fit_all()
+    # the last step of each setting's need: (need, finest level) before
+    # and after its finest level, from the levels of earlier plans too
+    steps_of = {}
+    for cand in usable:
+        if len(cand.runs) > len(ladder):
+            before_need = power_need(cand, cand.runs[:-1], cand.smoothed[:-1])
+            steps_of[id(cand)] = (before_need,
+                                  power_need(cand, cand.runs, cand.smoothed))
     spent = sum(r.wall for c in cands for r in c.runs if not r.failed)
     budget = (calibration_seconds if calibration_seconds is not None
               else math.inf)
@@ -843,6 +869,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
     # at levels of 0.445 and 0.297 mm; its 0.198 mm level took 800 s of
     # CPU and the request was refused after 929 s)
     receding = set()
+    stalled = set()
 
     def determined(c):
         return needs[id(c)] is not None and not c.model.anomalous
@@ -913,6 +940,34 @@ def plan(scene_factory: Callable, error: float = 0.03,
         beyond = {id(c) for c in usable
                   if not math.isfinite(planned) and needs[id(c)] is not None
                   and needs[id(c)][0] < c.model.finest / reach}
+        # ... unless its last level shows it stalled there: the gap from
+        # its finest level to its need shrank by a factor g per level,
+        # and at that pace the rounds left do not bring it within the
+        # extrapolation limit (the cubic spline on the squat piston,
+        # max 2.5 %: needs of 0.76 um at levels of 0.67 and 0.44 mm,
+        # then a 0.088 mm level of 1.3 million particles, 2280 s, and
+        # the request still refused)
+        for c in usable:
+            if id(c) not in beyond or id(c) not in steps_of:
+                continue
+            (old_need, old_finest), (new_need, new_finest) = steps_of[id(c)]
+            if old_need is None or new_need is None:
+                continue
+            gap = new_finest / new_need
+            pace = (old_finest / old_need) / gap
+            left = refinements - round_
+            if pace <= 1 or gap / pace ** left > max_refinement:
+                beyond.discard(id(c))
+                if id(c) not in stalled:
+                    stalled.add(id(c))
+                    say(f"not refining {c.setting.label()} further: it "
+                        f"needs dx {new_need * 1e3:.3g} mm, {gap:.3g}x "
+                        f"below its finest level, and its last level "
+                        f"(from {old_finest * 1e3:.3g} to "
+                        f"{new_finest * 1e3:.3g} mm) narrowed that gap by "
+                        f"{pace:.3g}x: {left} more level(s) at that pace "
+                        f"leave it beyond the extrapolation limit "
+                        f"({max_refinement:g}x)")
         undetermined = sorted(
             (c for c in usable if c not in wanted
              and (c.model.anomalous or c.model.safety > SAFETY_GOOD
@@ -949,6 +1004,10 @@ def plan(scene_factory: Callable, error: float = 0.03,
                 cand.runs.pop()
         needs = fit_all()
         for cand in wanted:
+            if cand.model.finest < cand.runs[-2].dx:
+                steps_of[id(cand)] = (
+                    power_need(cand, cand.runs[:-1], cand.smoothed[:-1]),
+                    power_need(cand, cand.runs, cand.smoothed))
             if id(cand) not in before or not determined(cand):
                 continue
             need, finest = before[id(cand)]
