@@ -939,16 +939,26 @@ def test_a_setting_that_stays_out_of_reach_gets_no_second_level(monkeypatch):
                                  until, times, series, cpu=n * steps * 1e-8,
                                  threads=1)
     monkeypatch.setattr(planner.search, "ladder_run", fake_run)
+    cache = {}
     plan = planner.plan(STRIP.factory, error=0.01, until=until,
                         probes=STRIP.probes, quantity=STRIP.quantity,
                         norm="rms", threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
                         candidates=[setting], detect=False, refinements=3,
                         timing_checks=0, scene="strip", record=None,
-                        log=said.append)
+                        cache=cache, log=said.append)
     assert sorted(ran, reverse=True) == [2e-3, 1.4e-3, 1e-3, 0.667e-3], said
     assert any(line.startswith(f"not refining {setting.label()} further: "
                                "it needs dx") for line in said), said
     assert not plan.feasible
+    # a second request on the scene reads the pace from the levels the
+    # first one left (one verdict per setting): no further level
+    ran.clear()
+    planner.plan(STRIP.factory, error=0.008, until=until, probes=STRIP.probes,
+                 quantity=STRIP.quantity, norm="rms", threads=1,
+                 ladder=(2e-3, 1.4e-3, 1e-3), candidates=[setting],
+                 detect=False, refinements=3, timing_checks=0, scene="strip",
+                 record=None, cache=cache, log=said.append)
+    assert ran == [], said
 
 
 def test_a_setting_whose_need_recedes_is_not_refined_further(monkeypatch):

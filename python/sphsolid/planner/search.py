@@ -849,6 +849,14 @@ def plan(scene_factory: Callable, error: float = 0.03,
         finally:
             cand.runs, cand.smoothed, cand.model, cand.cost = kept
 
+    # settings whose need recedes as fast as their levels approach it: the
+    # error does not follow the power law there, and a finer level costs
+    # 3.4x the last without bringing a plan closer (cubic_o4 on the
+    # piston with nu = 0.45, max 2.5 %: needs of 0.232 and then 0.132 mm
+    # at levels of 0.445 and 0.297 mm; its 0.198 mm level took 800 s of
+    # CPU and the request was refused after 929 s); and settings beyond
+    # reach whose levels stalled (below)
+    receding, stalled = set(), set()
     needs = fit_all()
     # the last step of each setting's need: (need, finest level) before
     # and after its finest level, from the levels of earlier plans too
@@ -858,18 +866,22 @@ def plan(scene_factory: Callable, error: float = 0.03,
             before_need = power_need(cand, cand.runs[:-1], cand.smoothed[:-1])
             steps_of[id(cand)] = (before_need,
                                   power_need(cand, cand.runs, cand.smoothed))
+            (old_need, old_finest), (new_need, new_finest) = steps_of[id(cand)]
+            # a need that receded as fast as an earlier plan's level
+            # approached it: no further level in this plan either
+            if (old_need is not None and new_need is not None
+                    and old_need / new_need >= old_finest / new_finest):
+                receding.add(id(cand))
+                say(f"not refining {cand.setting.label()} further: its need "
+                    f"went from {old_need * 1e3:.3g} to {new_need * 1e3:.3g}"
+                    f" mm as its finest level went from "
+                    f"{old_finest * 1e3:.3g} to {new_finest * 1e3:.3g} mm "
+                    "in an earlier plan (its error does not follow the "
+                    "power law there)")
     spent = sum(r.wall for c in cands for r in c.runs if not r.failed)
     budget = (calibration_seconds if calibration_seconds is not None
               else math.inf)
     pruned = set()
-    # settings whose need recedes as fast as their levels approach it: the
-    # error does not follow the power law there, and a finer level costs
-    # 3.4x the last without bringing a plan closer (cubic_o4 on the
-    # piston with nu = 0.45, max 2.5 %: needs of 0.232 and then 0.132 mm
-    # at levels of 0.445 and 0.297 mm; its 0.198 mm level took 800 s of
-    # CPU and the request was refused after 929 s)
-    receding = set()
-    stalled = set()
 
     def determined(c):
         return needs[id(c)] is not None and not c.model.anomalous
@@ -948,7 +960,8 @@ def plan(scene_factory: Callable, error: float = 0.03,
         # then a 0.088 mm level of 1.3 million particles, 2280 s, and
         # the request still refused)
         for c in usable:
-            if id(c) not in beyond or id(c) not in steps_of:
+            if (id(c) not in beyond or id(c) not in steps_of
+                    or id(c) in receding):
                 continue
             (old_need, old_finest), (new_need, new_finest) = steps_of[id(c)]
             if old_need is None or new_need is None:
@@ -986,7 +999,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
         wanted = [c for c in wanted + undetermined
                   if next_cost[id(c)] + spent <= budget
                   and next_cpu[id(c)] <= planned
-                  and id(c) not in receding]
+                  and id(c) not in receding and id(c) not in stalled]
         if not wanted:
             break
         before = {id(c): (needs[id(c)][0], c.model.finest) for c in wanted
