@@ -870,12 +870,11 @@ def test_planner_refines_a_setting_whose_ladder_determines_no_order(
     assert model.observed_order == pytest.approx(1.0, abs=0.1)
 
 
-def test_a_setting_out_of_reach_gets_a_level_while_no_plan_is(monkeypatch):
-    # one setting whose coarse ladder (2, 1.4, 1 mm) falls at order 0.55
-    # with a good fit, and at order 1 below it (outside the asymptotic
-    # range above 1 mm): a 1 % request needs 0.04 mm at the ladder's order,
-    # far beyond what one round can bring within the extrapolation limit.
-    # With no plan in reach it still gets its finer level
+def _one_viscous_setting_on_a_fake_strip(monkeypatch, amplitude):
+    """One setting (cubic spline, h/dx 1.2, viscosity) whose ladder runs
+    are the strip's fronts plus ``amplitude(dx / 1 mm)`` times a fixed
+    shape, costing n x steps x 1e-8 s; returns it, the spacings run and a
+    plan call on the strip (rms, threads 1, ladder 2, 1.4, 1 mm)."""
     until = STRIP.until
     setting = planner.Setting.make(1.2, effects={
         "artificial_viscosity": {"alpha": 1.0, "beta": 0.0}})
@@ -883,25 +882,39 @@ def test_a_setting_out_of_reach_gets_a_level_while_no_plan_is(monkeypatch):
     limit = {n: -1e6 * np.clip((times - i * 8e-6) / 4e-6, 0, 1)
              for i, n in enumerate(STRIP.probes)}
     shape = np.sin(2 * np.pi * times / until) + 0.3
-    ran, said = [], []
+    ran = []
 
     def fake_run(factory, dx, setting_, until_, probes, quantity, threads):
         ran.append(dx)
-        x = dx / 1e-3
-        amplitude = 0.05e6 * (x ** 0.55 if x >= 1 else x)
-        series = {n: limit[n] + amplitude * shape for n in limit}
+        series = {n: limit[n] + 0.05e6 * amplitude(dx / 1e-3) * shape
+                  for n in limit}
         n = int(0.8 / dx)
         steps = int(until / (0.1 * dx / 3000.0))
         return planner.LadderRun(setting_, dx, n, steps, until / steps, 1.0,
                                  until, times, series, cpu=n * steps * 1e-8,
                                  threads=1)
     monkeypatch.setattr(planner.search, "ladder_run", fake_run)
-    plan = planner.plan(STRIP.factory, error=0.01, until=until,
-                        probes=STRIP.probes, quantity=STRIP.quantity,
-                        norm="rms", threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
-                        candidates=[setting], detect=False, refinements=1,
-                        timing_checks=0, scene="strip", record=None,
-                        log=said.append)
+
+    def plan(error=0.01, **options):
+        return planner.plan(STRIP.factory, error=error, until=until,
+                            probes=STRIP.probes, quantity=STRIP.quantity,
+                            norm="rms", threads=1,
+                            ladder=(2e-3, 1.4e-3, 1e-3), candidates=[setting],
+                            detect=False, timing_checks=0, scene="strip",
+                            record=None, **options)
+    return setting, ran, plan
+
+
+def test_a_setting_out_of_reach_gets_a_level_while_no_plan_is(monkeypatch):
+    # one setting whose coarse ladder (2, 1.4, 1 mm) falls at order 0.55
+    # with a good fit, and at order 1 below it (outside the asymptotic
+    # range above 1 mm): a 1 % request needs 0.04 mm at the ladder's order,
+    # far beyond what one round can bring within the extrapolation limit.
+    # With no plan in reach it still gets its finer level
+    setting, ran, plan = _one_viscous_setting_on_a_fake_strip(
+        monkeypatch, lambda x: x ** 0.55 if x >= 1 else x)
+    said = []
+    result = plan(refinements=1, log=said.append)
     # refined for its need (a good fit at order 0.55), not for want of one
     refining = [line for line in said if line.startswith("refining")]
     assert len(refining) == 1, refining
@@ -910,7 +923,7 @@ def test_a_setting_out_of_reach_gets_a_level_while_no_plan_is(monkeypatch):
     need = float(refining[0][len(head):].split()[0]) * 1e-3
     assert need < 1e-3 / (1.5 * 2.0)      # beyond one round's reach
     assert sorted(ran, reverse=True) == [2e-3, 1.4e-3, 1e-3, 0.667e-3]
-    assert len(plan.candidates[0].runs) == 4
+    assert len(result.candidates[0].runs) == 4
 
 
 def test_a_setting_that_stays_out_of_reach_gets_no_second_level(monkeypatch):
@@ -920,44 +933,18 @@ def test_a_setting_that_stays_out_of_reach_gets_no_second_level(monkeypatch):
     # levels outside the asymptotic range); the level leaves the need
     # where it was, so the gap of 17x to it narrows by 1.5x per level and
     # the two rounds left cannot bring it within the extrapolation limit
-    until = STRIP.until
-    setting = planner.Setting.make(1.2, effects={
-        "artificial_viscosity": {"alpha": 1.0, "beta": 0.0}})
-    times = np.linspace(0.0, until, 400)
-    limit = {n: -1e6 * np.clip((times - i * 8e-6) / 4e-6, 0, 1)
-             for i, n in enumerate(STRIP.probes)}
-    shape = np.sin(2 * np.pi * times / until) + 0.3
-    ran, said = [], []
-
-    def fake_run(factory, dx, setting_, until_, probes, quantity, threads):
-        ran.append(dx)
-        amplitude = 0.05e6 * (dx / 1e-3) ** 0.55
-        series = {n: limit[n] + amplitude * shape for n in limit}
-        n = int(0.8 / dx)
-        steps = int(until / (0.1 * dx / 3000.0))
-        return planner.LadderRun(setting_, dx, n, steps, until / steps, 1.0,
-                                 until, times, series, cpu=n * steps * 1e-8,
-                                 threads=1)
-    monkeypatch.setattr(planner.search, "ladder_run", fake_run)
-    cache = {}
-    plan = planner.plan(STRIP.factory, error=0.01, until=until,
-                        probes=STRIP.probes, quantity=STRIP.quantity,
-                        norm="rms", threads=1, ladder=(2e-3, 1.4e-3, 1e-3),
-                        candidates=[setting], detect=False, refinements=3,
-                        timing_checks=0, scene="strip", record=None,
-                        cache=cache, log=said.append)
+    setting, ran, plan = _one_viscous_setting_on_a_fake_strip(
+        monkeypatch, lambda x: x ** 0.55)
+    said, cache = [], {}
+    result = plan(refinements=3, cache=cache, log=said.append)
     assert sorted(ran, reverse=True) == [2e-3, 1.4e-3, 1e-3, 0.667e-3], said
     assert any(line.startswith(f"not refining {setting.label()} further: "
                                "it needs dx") for line in said), said
-    assert not plan.feasible
+    assert not result.feasible
     # a second request on the scene reads the pace from the levels the
     # first one left (one verdict per setting): no further level
     ran.clear()
-    planner.plan(STRIP.factory, error=0.008, until=until, probes=STRIP.probes,
-                 quantity=STRIP.quantity, norm="rms", threads=1,
-                 ladder=(2e-3, 1.4e-3, 1e-3), candidates=[setting],
-                 detect=False, refinements=3, timing_checks=0, scene="strip",
-                 record=None, cache=cache, log=said.append)
+    plan(error=0.008, refinements=3, cache=cache, log=said.append)
     assert ran == [], said
 
 
@@ -966,31 +953,10 @@ def test_a_setting_whose_need_recedes_is_not_refined_further(monkeypatch):
     # it: the 0.667 mm level moves the need for 1 % from 0.15 to 0.09 mm,
     # as fast as the level approached it; a further level (3.4x the cost
     # of the last) would not bring a plan closer
-    until = STRIP.until
-    setting = planner.Setting.make(1.2, effects={
-        "artificial_viscosity": {"alpha": 1.0, "beta": 0.0}})
-    times = np.linspace(0.0, until, 400)
-    limit = {n: -1e6 * np.clip((times - i * 8e-6) / 4e-6, 0, 1)
-             for i, n in enumerate(STRIP.probes)}
-    shape = np.sin(2 * np.pi * times / until) + 0.3
-    ran, said = [], []
-
-    def fake_run(factory, dx, setting_, until_, probes, quantity, threads):
-        ran.append(dx)
-        x = dx / 1e-3
-        amplitude = 0.05e6 * (x if x >= 1 else x ** 0.3)
-        series = {n: limit[n] + amplitude * shape for n in limit}
-        n = int(0.8 / dx)
-        steps = int(until / (0.1 * dx / 3000.0))
-        return planner.LadderRun(setting_, dx, n, steps, until / steps, 1.0,
-                                 until, times, series, cpu=n * steps * 1e-8,
-                                 threads=1)
-    monkeypatch.setattr(planner.search, "ladder_run", fake_run)
-    planner.plan(STRIP.factory, error=0.01, until=until, probes=STRIP.probes,
-                 quantity=STRIP.quantity, norm="rms", threads=1,
-                 ladder=(2e-3, 1.4e-3, 1e-3), candidates=[setting],
-                 detect=False, refinements=3, timing_checks=0,
-                 scene="strip", record=None, log=said.append)
+    setting, ran, plan = _one_viscous_setting_on_a_fake_strip(
+        monkeypatch, lambda x: x if x >= 1 else x ** 0.3)
+    said = []
+    plan(refinements=3, log=said.append)
     assert sorted(ran, reverse=True) == [2e-3, 1.4e-3, 1e-3, 0.667e-3]
     assert any(line.startswith(f"not refining {setting.label()} further")
                for line in said), said
