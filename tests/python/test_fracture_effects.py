@@ -1,6 +1,7 @@
 """The optional effects of the tests to failure: ``drucker_prager`` (the
 builders' ``plasticity``) and ``artificial_stress`` (docs/fracture.md,
 "Pressure-dependent strength")."""
+import json
 import math
 
 import numpy as np
@@ -105,3 +106,79 @@ def test_bad_effect_options_are_named():
         fracture.ucs(4e-3, plasticity={"cohesion": 1e6, "friction_angle": 90})
     with pytest.raises(ValueError, match="epsilon=2"):
         fracture.tensile_bar(5e-3, artificial_stress={"epsilon": 2})
+
+
+# ------------------------------------------------------------ the CLI
+def _run(capsys, argv, out):
+    from sphsolid.cli import main
+    assert main(argv + ["--threads", "1", "--out", str(out)]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    return json.loads((out / "summary.json").read_text()), first
+
+
+def test_sphsolid_ucs_cohesion_reaches_the_scene_and_caps_the_ucs(
+        tmp_path, capsys):
+    summary, first = _run(capsys, ["ucs", "--dx", "4mm", "--cohesion",
+                                   "2MPa", "--friction-angle", "30"],
+                          tmp_path)
+    assert summary["effects"] == {
+        **PLAIN, "drucker_prager": {"cohesion": 2e6, "friction_angle": 30.0}}
+    assert first.endswith("optional effects: drucker_prager (cohesion 2 "
+                          "MPa, friction angle 30 deg)")
+    # the plane-strain cone (see the test above), no drop to 0.8 %
+    cone = cone_strength(2e6, 30, 0.398)
+    assert summary["strength_Pa"] == pytest.approx(cone, rel=0.2)
+    assert summary["post_peak_ratio"] > 0.8
+
+
+def test_sphsolid_ucs_defaults_leave_the_effects_as_before(tmp_path,
+                                                           capsys):
+    summary, first = _run(capsys, ["ucs", "--dx", "4mm", "--max-strain",
+                                   "0.05%"], tmp_path)
+    assert summary["effects"] == PLAIN == fracture.ucs(4e-3).effects
+    assert first.endswith("optional effects: none")
+
+
+@pytest.mark.parametrize("test, dx", [("tensile", "5mm"),
+                                      ("brazilian", "4mm")])
+def test_the_effect_options_reach_every_test(test, dx, tmp_path, capsys):
+    # --cohesion alone takes the library's friction angle, 30 degrees
+    summary, first = _run(capsys, [test, "--dx", dx, "--max-strain",
+                                   "0.02%", "--cohesion", "5e6",
+                                   "--artificial-stress", "0.3"], tmp_path)
+    assert summary["effects"] == {
+        **PLAIN, "drucker_prager": {"cohesion": 5e6, "friction_angle": 30.0},
+        "artificial_stress": {"epsilon": 0.3}}
+    assert first.endswith("drucker_prager (cohesion 5 MPa, friction angle "
+                          "30 deg), artificial_stress (epsilon 0.3)")
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--cohesion", "-1MPa"], "--cohesion: '-1MPa': must be a finite "
+     "stress >= 0"),
+    (["--cohesion", "5mm"], "'5mm' is a length"),
+    (["--cohesion", "2MPa", "--friction-angle", "90"],
+     "--friction-angle: '90': must be in [0, 90) degrees"),
+    (["--cohesion", "2MPa", "--friction-angle", "-5"],
+     "--friction-angle: '-5': must be in [0, 90) degrees"),
+    (["--artificial-stress", "1"], "--artificial-stress: '1': must be in "
+     "(0, 1)"),
+    (["--artificial-stress", "0"], "--artificial-stress: '0': must be in "
+     "(0, 1)"),
+    (["--artificial-stress", "x"], "--artificial-stress: 'x': not a "
+     "number")])
+def test_bad_effect_values_are_refused_naming_them(argv, message, capsys):
+    from sphsolid import cli
+    with pytest.raises(SystemExit) as stop:
+        cli.build_parser().parse_args(["ucs"] + argv)
+    assert stop.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_friction_angle_without_cohesion_is_refused(tmp_path, capsys):
+    from sphsolid.cli import main
+    out = tmp_path / "out"
+    assert main(["ucs", "--friction-angle", "30", "--out", str(out)]) == 2
+    assert ("--friction-angle 30 applies only with --cohesion"
+            in capsys.readouterr().err)
+    assert not out.exists()            # refused before anything is made
