@@ -1,6 +1,7 @@
 """Brittle fracture scenes: the compression test, the Brazilian disc and
 the tensile bar to failure, with the library's ``damage`` effect
-(docs/fracture.md).
+(docs/fracture.md) and, on request, its ``drucker_prager`` (the builders'
+``plasticity``) and ``artificial_stress`` effects.
 
 :func:`ucs` is the paper's specimen (86 mm x 140 mm, plane strain) between a
 fixed plate and a piston, loaded past its peak; :func:`brazilian_disc` a
@@ -15,6 +16,7 @@ runs.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -56,10 +58,24 @@ def fracture_material(weibull_k: float = 1e28, weibull_m: float = 9.0,
 
 
 def _damage_effects(seed: int, flaws: float, viscosity,
-                    member: int = 0) -> dict:
+                    member: int = 0, plasticity=None,
+                    artificial_stress=None) -> dict:
+    """The effects of a test to failure: ``damage``, the artificial
+    viscosity and, when given (None: off), ``drucker_prager`` with the
+    ``plasticity`` parameters and ``artificial_stress`` with its own (the
+    library checks their keys and ranges)."""
     effects = {"damage": {"seed": seed, "flaws": flaws, "member": member}}
     if viscosity:
         effects["artificial_viscosity"] = dict(viscosity)
+    for name, effect, parameters in (
+            ("plasticity", "drucker_prager", plasticity),
+            ("artificial_stress", "artificial_stress", artificial_stress)):
+        if parameters is None:
+            continue
+        if not isinstance(parameters, Mapping):
+            raise ValueError(f"{name}={parameters!r} must be a dict of the "
+                             f"{effect} effect's parameters or None")
+        effects[effect] = dict(parameters)
     return effects
 
 
@@ -75,7 +91,8 @@ def ucs(dx: float = 2e-3, material: Material | None = None,
         strain_rate: float = UCS_STRAIN_RATE, seed: int = 1,
         flaws: float = 10.0, viscosity=_VISCOSITY,
         width: float = 0.086, height: float = 0.140,
-        member: int = 0) -> Scene:
+        member: int = 0, plasticity: dict | None = None,
+        artificial_stress: dict | None = None) -> Scene:
     """The uniaxial compression test to failure (2D plane strain).
 
     The specimen ``width`` x ``height`` [m] (the paper's 86 mm x 140 mm)
@@ -95,6 +112,15 @@ def ucs(dx: float = 2e-3, material: Material | None = None,
         ensemble member, drawn from hash(seed, member)).
     viscosity : dict or None
         Artificial viscosity (alpha, beta); None: off.
+    plasticity : dict or None
+        The ``drucker_prager`` effect's parameters, e.g. ``{"cohesion":
+        5e6, "friction_angle": 30}`` (cohesion [Pa], required; friction
+        angle [deg] in [0, 90), default 30): the pressure-dependent shear
+        strength of docs/fracture.md. None (default): off.
+    artificial_stress : dict or None
+        The ``artificial_stress`` effect's parameters, e.g. ``{"epsilon":
+        0.3}`` ({} takes the library's defaults, epsilon 0.3, n 4): the
+        cure of SPH's tensile instability. None (default): off.
 
     The scene's ``failure`` attribute records what :func:`load_to_failure`
     needs: the loaded body, the gauge length and the loaded area.
@@ -103,7 +129,8 @@ def ucs(dx: float = 2e-3, material: Material | None = None,
     specimen = rectangle((-width / 2, width / 2), (0.0, height), dx,
                          material, "specimen")
     scene = Scene(2, [specimen],
-                  effects=_damage_effects(seed, flaws, viscosity, member))
+                  effects=_damage_effects(seed, flaws, viscosity, member,
+                                          plasticity, artificial_stress))
     layers = scene.support_layers(dx)
     scene.add(plate(under=specimen, layers=layers))
     scene.add(piston(over=specimen, layers=layers,
@@ -120,7 +147,9 @@ def brazilian_disc(dx: float = 1e-3, diameter: float = 0.05,
                    speed: float = DISC_SPEED, seed: int = 1,
                    flaws: float = 10.0, viscosity=_VISCOSITY,
                    member: int = 0,
-                   flat_angle: float = 0.0) -> Scene:
+                   flat_angle: float = 0.0,
+                   plasticity: dict | None = None,
+                   artificial_stress: dict | None = None) -> Scene:
     """The Brazilian (indirect tensile) test: a disc of ``diameter`` [m]
     (2D plane strain, 1 m deep) between a fixed flat plate and a flat
     piston moving down at ``speed`` [m/s], with the ``damage`` effect on.
@@ -135,7 +164,8 @@ def brazilian_disc(dx: float = 1e-3, diameter: float = 0.05,
     Brazilian disc checked").
 
     The indirect tensile strength is 2P / (pi D t) with P the peak load
-    and t the depth (1 m in 2D: P in N per metre).
+    and t the depth (1 m in 2D: P in N per metre). ``plasticity`` and
+    ``artificial_stress`` as for :func:`ucs`.
     """
     if not (isinstance(flat_angle, float | int)
             and not isinstance(flat_angle, bool)
@@ -149,7 +179,8 @@ def brazilian_disc(dx: float = 1e-3, diameter: float = 0.05,
         keep = np.abs(specimen.points[:, 1]) < cut
         specimen = replace(specimen, points=specimen.points[keep])
     scene = Scene(2, [specimen],
-                  effects=_damage_effects(seed, flaws, viscosity, member))
+                  effects=_damage_effects(seed, flaws, viscosity, member,
+                                          plasticity, artificial_stress))
     layers = scene.support_layers(dx)
     scene.add(plate(under=specimen, layers=layers))
     scene.add(piston(over=specimen, layers=layers, velocity=(0.0, -speed)))
@@ -164,7 +195,8 @@ def tensile_bar(dx: float = 2e-3, material: Material | None = None,
                 strain_rate: float = TENSILE_STRAIN_RATE, seed: int = 1,
                 flaws: float = 10.0, viscosity=_VISCOSITY,
                 width: float = 0.020, length: float = 0.080,
-                member: int = 0) -> Scene:
+                member: int = 0, plasticity: dict | None = None,
+                artificial_stress: dict | None = None) -> Scene:
     """The tensile bar (Benz & Asphaug 1994's test of the model), 2D plane
     strain: a ``width`` x ``length`` [m] bar (1 m deep) bonded to a plate
     below and a piston above that move apart at ``strain_rate * length / 2``
@@ -173,7 +205,7 @@ def tensile_bar(dx: float = 2e-3, material: Material | None = None,
     The strength is the peak tensile load over the cross-section
     ``width * 1 m``; the platens are one kernel support thick and bonded
     (SPH's own interaction carries the tension into them). Parameters as
-    for :func:`ucs`.
+    for :func:`ucs` (``plasticity``, ``artificial_stress`` too).
 
     The bar starts stretching everywhere at once, as Benz & Asphaug
     (1994) start theirs: its particles get the velocity
@@ -192,7 +224,8 @@ def tensile_bar(dx: float = 2e-3, material: Material | None = None,
     specimen = rectangle((-width / 2, width / 2), (0.0, length), dx,
                          material, "specimen")
     scene = Scene(2, [specimen],
-                  effects=_damage_effects(seed, flaws, viscosity, member))
+                  effects=_damage_effects(seed, flaws, viscosity, member,
+                                          plasticity, artificial_stress))
     layers = scene.support_layers(dx)
     half = 0.5 * strain_rate * length
     scene.add(plate(under=specimen, layers=layers,
@@ -223,7 +256,8 @@ def test_scene(test: str, dx: float, seed: int = 1, member: int = 0,
     (``seed``, ``member``) and the builder's keyword ``options``;
     ``weibull_k`` and ``weibull_m`` among them give the material
     :func:`fracture_material` with those flaws (plain numbers, so an
-    ensemble records its options as JSON)."""
+    ensemble records its options as JSON), and ``plasticity`` and
+    ``artificial_stress`` (dicts of numbers) switch on those effects."""
     makers = {"ucs": ucs, "brazilian": brazilian_disc,
               "tensile": tensile_bar}
     if test not in makers:

@@ -4,11 +4,19 @@ share: the fracture tests to failure (docs/fracture.md).
     sphsolid ucs       [--dx 2mm] [--seed 1] [--max-strain 0.8%] [--out DIR]
     sphsolid brazilian [--dx 1mm] [--seed 1] [--max-strain 2%] [--out DIR]
     sphsolid tensile   [--dx 2mm] [--seed 1] [--max-strain 1%] [--out DIR]
+        [--cohesion 5MPa [--friction-angle 30]] [--artificial-stress 0.3]
+
+``--cohesion`` (a stress, >= 0) switches on the ``drucker_prager`` effect,
+the pressure-dependent shear strength, with ``--friction-angle`` degrees in
+[0, 90) (default: the library's, 30); ``--artificial-stress EPS`` the
+``artificial_stress`` effect with epsilon EPS in (0, 1). Without them the
+scene is the test's own (damage and artificial viscosity only).
 
 Each writes DIR/NAME.h5 (+ .xmf: snapshots with the damage and fragment
 fields), DIR/NAME_load.csv (time, strain, load), DIR/NAME_damage.png (the
 damage field at the peak and at the end) and DIR/summary.json
-(peak_load_N, strength_Pa, strain_at_peak, fragments, damage_onset_s).
+(peak_load_N, strength_Pa, strain_at_peak, fragments, damage_onset_s, and
+``effects``: the scene's effects with their parameters).
 """
 from __future__ import annotations
 
@@ -18,7 +26,8 @@ import math
 import time as wallclock
 from pathlib import Path
 
-from .options import add_allow_large_option, output_folder, positive, whole
+from .options import (add_allow_large_option, finite, output_folder,
+                      positive, whole)
 
 __all__ = ["add_arguments", "run"]
 
@@ -37,6 +46,77 @@ def _strain(text: str) -> float:
     if not (math.isfinite(value) and 0 < value < 1):
         raise argparse.ArgumentTypeError(f"{text!r}: must be in (0, 1)")
     return value
+
+
+#: --cohesion: a stress (``5MPa``, ``5e6``: pascals), finite and >= 0.
+_cohesion = finite(0.0, "must be a finite stress >= 0 (e.g. 5MPa)",
+                   "pressure")
+
+
+def _friction_angle(text: str) -> float:
+    """'30' -> 30.0 degrees, in [0, 90)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: not a number of "
+                                         "degrees (e.g. 30)") from None
+    if not (math.isfinite(value) and 0 <= value < 90):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be in [0, 90) "
+                                         "degrees")
+    return value
+
+
+def _epsilon(text: str) -> float:
+    """The artificial stress's epsilon, in (0, 1)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: not a number (e.g. "
+                                         "0.3)") from None
+    if not (math.isfinite(value) and 0 < value < 1):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be in (0, 1)")
+    return value
+
+
+def _default_friction_angle() -> float:
+    """The drucker_prager effect's default friction angle (the library's
+    registry)."""
+    from .._lib import effect_registry
+    parameters = effect_registry()["drucker_prager"]["parameters"]
+    return parameters["friction_angle"]["default"]
+
+
+def scene_options(args) -> dict:
+    """The builder options of the optional effects the arguments ask for:
+    ``plasticity`` (drucker_prager) and ``artificial_stress``; {} for
+    none. A ValueError names --friction-angle given without --cohesion."""
+    options = {}
+    if args.cohesion is not None:
+        angle = (args.friction_angle if args.friction_angle is not None
+                 else _default_friction_angle())
+        options["plasticity"] = {"cohesion": args.cohesion,
+                                 "friction_angle": angle}
+    elif args.friction_angle is not None:
+        raise ValueError(f"--friction-angle {args.friction_angle:g} applies "
+                         "only with --cohesion (the drucker_prager effect "
+                         "needs its cohesion)")
+    if args.artificial_stress is not None:
+        options["artificial_stress"] = {"epsilon": args.artificial_stress}
+    return options
+
+
+def _optional_effects_text(effects: dict) -> str:
+    """'drucker_prager (cohesion 2 MPa, friction angle 30 deg)', ... or
+    'none'."""
+    words = []
+    if "drucker_prager" in effects:
+        dp = effects["drucker_prager"]
+        words.append(f"drucker_prager (cohesion {dp['cohesion'] / 1e6:g} "
+                     f"MPa, friction angle {dp['friction_angle']:g} deg)")
+    if "artificial_stress" in effects:
+        words.append("artificial_stress (epsilon "
+                     f"{effects['artificial_stress']['epsilon']:g})")
+    return ", ".join(words) or "none"
 
 
 def add_arguments(parser, name: str) -> None:
@@ -58,6 +138,25 @@ def add_arguments(parser, name: str) -> None:
                         help="OpenMP threads (default: OpenMP's)")
     parser.add_argument("--out", type=Path, default=Path("."),
                         help="output directory (default: current)")
+    parser.add_argument("--cohesion", type=_cohesion, default=None,
+                        metavar="STRESS",
+                        help="switch on the drucker_prager effect (a shear "
+                             "strength rising with the pressure, "
+                             "docs/fracture.md) with this Mohr-Coulomb "
+                             "cohesion, a stress >= 0 (e.g. 5MPa; a plain "
+                             "number is pascals; default: off)")
+    parser.add_argument("--friction-angle", type=_friction_angle,
+                        default=None, metavar="DEG",
+                        help="Mohr-Coulomb friction angle of the "
+                             "drucker_prager effect, degrees in [0, 90); "
+                             "only with --cohesion (default: the library's,"
+                             " 30)")
+    parser.add_argument("--artificial-stress", type=_epsilon, default=None,
+                        metavar="EPS",
+                        help="switch on the artificial_stress effect (the "
+                             "cure of SPH's tensile instability) with "
+                             "epsilon EPS in (0, 1), e.g. 0.3 (default: "
+                             "off)")
     add_allow_large_option(parser)
 
 
@@ -74,15 +173,17 @@ def run(args, name: str) -> int:
     from ..calculators import CLibrary
     from ..trajectory import Trajectory
 
+    options = scene_options(args)
     output_folder(args.out)
-    scene = fracture.test_scene(name, args.dx, seed=args.seed)
+    scene = fracture.test_scene(name, args.dx, seed=args.seed, **options)
     if args.threads is not None:
         scene.calc = CLibrary(threads=args.threads)
     info = scene.failure
     print(f"{name}: dx = {args.dx * 1e3:g} mm, "
           + ", ".join(f"{k} {v}" for k, v in scene.body_counts().items())
           + f" particles, platen speed {info['speed'] * 1e3:g} mm/s, "
-          f"seed {args.seed}")
+          f"seed {args.seed}; optional effects: "
+          + _optional_effects_text(scene.effects))
     h5 = args.out / f"{name}.h5"
     specimen = scene.body_slice("specimen")
     state = {"peak": None, "samples": 0}
@@ -106,7 +207,8 @@ def run(args, name: str) -> int:
         wall = wallclock.perf_counter() - start
     summary = run.summary()
     summary.update(scene=name, dx_m=args.dx, seed=args.seed,
-                   steps=int(scene.step), wall_s=wall)
+                   steps=int(scene.step), wall_s=wall,
+                   effects=scene.effects)
     (args.out / "summary.json").write_text(json.dumps(summary, indent=2))
     csv = args.out / f"{name}_load.csv"
     with open(csv, "w") as f:
