@@ -160,14 +160,6 @@ def add_arguments(parser, name: str) -> None:
     add_allow_large_option(parser)
 
 
-def build_scene(name: str, dx: float, seed: int, member: int = 0):
-    """The scene of test ``name`` (ucs, brazilian, tensile)."""
-    from .. import fracture
-    make = {"ucs": fracture.ucs, "brazilian": fracture.brazilian_disc,
-            "tensile": fracture.tensile_bar}[name]
-    return make(dx, seed=seed, member=member)
-
-
 def run(args, name: str) -> int:
     from .. import fracture
     from ..calculators import CLibrary
