@@ -81,7 +81,8 @@ def run_member(config: dict, member: int, out: Path | None = None) -> dict:
     summary.update(test=config["test"], dx_m=config["dx_m"],
                    seed=config["seed"], member=member,
                    steps=int(scene.step), wall_s=wall, cpu_s=cpu,
-                   particles=int(sum(scene.body_counts().values())))
+                   particles=int(sum(scene.body_counts().values())),
+                   effects=scene.effects)
     if out is not None:
         where = _member_dir(Path(out), member)
         where.mkdir(parents=True, exist_ok=True)

@@ -153,3 +153,108 @@ def test_cli_writes_summary_and_histogram(tmp_path, capsys):
     with pytest.raises(SystemExit):
         cli_main(["ensemble", "tensile", "--seeds", "1", "--out", str(out)])
     assert "'1': must be >= 2" in capsys.readouterr().err
+
+
+# ----------------------------------- the optional effects (sphsolid ucs's)
+def _cli_ensemble(capsys, argv, out):
+    assert cli_main(["ensemble"] + argv + ["--seeds", "2", "--out",
+                                           str(out)]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    config = json.loads((out / "ensemble.json").read_text())
+    members = [json.loads((out / f"member_{i:04d}" / "summary.json")
+                          .read_text()) for i in range(2)]
+    return config, members, first
+
+
+@pytest.fixture(scope="module")
+def brittle_ucs(tmp_path_factory):
+    """A 2-member UCS ensemble at 4 mm with the defaults: damage only
+    (strengths 26.5 and 25.6 MPa, peaks at 0.31 % strain)."""
+    out = tmp_path_factory.mktemp("brittle") / "ucs"
+    assert cli_main(["ensemble", "ucs", "--dx", "4mm", "--seeds", "2",
+                     "--out", str(out)]) == 0
+    config = json.loads((out / "ensemble.json").read_text())
+    members = [json.loads((out / f"member_{i:04d}" / "summary.json")
+                          .read_text()) for i in range(2)]
+    return config, members
+
+
+def test_ensemble_defaults_record_the_options_as_before(brittle_ucs):
+    config, members = brittle_ucs
+    assert config == {"test": "ucs", "dx_m": 0.004, "seed": 1,
+                      "max_strain": 0.008, "drop": 0.5,
+                      "samples_per_strain": 20000.0, "scene_options": {}}
+    for i, member in enumerate(members):
+        assert member["effects"] == {
+            "damage": {"seed": 1.0, "flaws": 10.0, "member": float(i)},
+            "artificial_viscosity": {"alpha": 1.0, "beta": 0.0}}
+
+
+def test_ensemble_cohesion_reaches_every_members_scene(brittle_ucs,
+                                                       tmp_path, capsys):
+    """--cohesion 2MPa caps each member at the plane-strain cone (12.7
+    MPa at 4 mm, reached by 0.2 % strain: test_fracture_effects), about
+    half the damage-only strengths."""
+    _, brittle = brittle_ucs
+    config, members, first = _cli_ensemble(
+        capsys, ["ucs", "--dx", "4mm", "--max-strain", "0.2%",
+                 "--cohesion", "2MPa"], tmp_path / "plastic")
+    plasticity = {"cohesion": 2e6, "friction_angle": 30.0}
+    assert config["scene_options"] == {"plasticity": plasticity}
+    assert first.endswith("optional effects: drucker_prager (cohesion 2 "
+                          "MPa, friction angle 30 deg)")
+    weakest = min(m["strength_Pa"] for m in brittle)
+    for i, member in enumerate(members):
+        assert member["effects"]["drucker_prager"] == plasticity, i
+        assert member["strength_Pa"] < 0.6 * weakest, i
+
+
+def test_ensemble_effects_survive_a_resume_and_a_reread(tmp_path, capsys):
+    out = tmp_path / "tensile"
+    argv = ["tensile", "--dx", "5mm", "--seed", "4", "--max-strain",
+            "0.02%", "--cohesion", "5e6", "--friction-angle", "40",
+            "--artificial-stress", "0.3"]
+    config, members, _ = _cli_ensemble(capsys, argv, out)
+    effects = {"drucker_prager": {"cohesion": 5e6, "friction_angle": 40.0},
+               "artificial_stress": {"epsilon": 0.3}}
+    assert config["scene_options"] == {
+        "plasticity": effects["drucker_prager"],
+        "artificial_stress": effects["artificial_stress"]}
+    for member in members:
+        assert effects.items() <= member["effects"].items()
+    # a member rerun from ensemble.json is bitwise the one in the ensemble
+    _, again = _member_files(out, 1)
+    rerun = run_member(config, 1)
+    for key in ("wall_s", "cpu_s"):
+        rerun.pop(key)
+    assert rerun == again
+    # the same options resume it; others are another ensemble
+    assert cli_main(["ensemble"] + argv + ["--seeds", "2", "--out",
+                                           str(out)]) == 0
+    assert "(2 kept from an earlier run)" in capsys.readouterr().out
+    assert cli_main(["ensemble", "tensile", "--dx", "5mm", "--seed", "4",
+                     "--max-strain", "0.02%", "--seeds", "2", "--out",
+                     str(out)]) == 2
+    assert "holds an ensemble with scene_options=" in capsys.readouterr().err
+
+
+def test_ensemble_refuses_friction_angle_without_cohesion(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert cli_main(["ensemble", "ucs", "--seeds", "2", "--dx", "4mm",
+                     "--max-strain", "0.02%", "--friction-angle", "30",
+                     "--out", str(out)]) == 2
+    assert ("--friction-angle 30 applies only with --cohesion"
+            in capsys.readouterr().err)
+    assert not out.exists()            # refused before anything is made
+    # the values are those of sphsolid ucs's parsers, with their messages
+    for argv, message in (
+            (["--cohesion", "-1MPa"], "--cohesion: '-1MPa': must be a "
+             "finite stress >= 0"),
+            (["--cohesion", "2MPa", "--friction-angle", "90"],
+             "--friction-angle: '90': must be in [0, 90) degrees"),
+            (["--artificial-stress", "1"], "--artificial-stress: '1': must "
+             "be in (0, 1)")):
+        with pytest.raises(SystemExit):
+            cli_main(["ensemble", "ucs", "--seeds", "2", "--out", str(out)]
+                     + argv)
+        assert message in capsys.readouterr().err

@@ -162,3 +162,53 @@ def test_a_refusal_says_what_the_request_would_cost(fake, tmp_path):
                                                        rel=1e-6)
     assert f"{n} seeds at dx = 2 mm" in plan.reason
     assert plan.to_dict()["beyond"] == b
+
+
+def test_the_effect_options_reach_the_pilots_and_the_command(
+        monkeypatch, tmp_path, capsys):
+    """--cohesion and --artificial-stress reach every pilot ensemble's
+    scene options (sphsolid ensemble's) and the planned command, which
+    asks for the same scenes; a plan without them is as before."""
+    import shlex
+    import sys
+
+    from sphsolid.cli import build_parser, main
+    from sphsolid.cli.fracture import scene_options
+    pilots = []
+
+    def recording(*args, scene_options=None, **kw):
+        pilots.append(scene_options)
+        return _fake_ensemble(*args, **kw)
+    # (sphsolid.ensemble is the function; the module is in sys.modules)
+    monkeypatch.setattr(sys.modules["sphsolid.ensemble"], "ensemble",
+                        recording)
+    out = tmp_path / "plan.json"
+    assert main(["plan", "ucs", "--quantity", "strength", "--error", "6%",
+                 "--cohesion", "2MPa", "--artificial-stress", "0.3",
+                 "--no-cache", "--out", str(out)]) == 0
+    options = {"plasticity": {"cohesion": 2e6, "friction_angle": 30.0},
+               "artificial_stress": {"epsilon": 0.3}}
+    assert pilots == [options] * 3
+    plan = json.loads(out.read_text())
+    assert plan["scene_options"] == options
+    assert plan["command"].endswith("--cohesion 2MPa --friction-angle 30 "
+                                    "--artificial-stress 0.3 --out DIR")
+    args = build_parser().parse_args(shlex.split(plan["command"])[1:])
+    assert scene_options(args) == options
+    pilots.clear()
+    assert main(["plan", "ucs", "--quantity", "strength", "--error", "6%",
+                 "--no-cache", "--out", str(out)]) == 0
+    assert pilots == [{}] * 3
+    assert "scene_options" not in json.loads(out.read_text())
+    pilots.clear()
+    capsys.readouterr()
+    # refused: without --cohesion, and for the wave planner's scenes
+    assert main(["plan", "ucs", "--quantity", "strength", "--error", "6%",
+                 "--friction-angle", "30", "--out", str(out)]) == 2
+    assert ("--friction-angle 30 applies only with --cohesion"
+            in capsys.readouterr().err)
+    assert main(["plan", "piston", "--error", "3%", "--cohesion", "2MPa",
+                 "--out", str(out)]) == 2
+    assert ("--cohesion applies only to the strength plans"
+            in capsys.readouterr().err)
+    assert pilots == []

@@ -3,18 +3,25 @@ with error bars (docs/ensembles.md; the runs are sphsolid.ensemble's).
 
     sphsolid ensemble {ucs,brazilian,tensile} --seeds N [--dx D] [--jobs J]
                       [--seed BASE] [--quantity strength] --out DIR
+                      [--cohesion 5MPa [--friction-angle 30]]
+                      [--artificial-stress 0.3]
 
 Runs members 0 .. N-1 (member i's flaws drawn from hash(BASE, i)) in J
 processes with a progress bar; a rerun into DIR keeps the finished
-members.  Writes DIR/member_XXXX/{load.csv,summary.json},
-DIR/summary.json (quantity, members, mean, std, ci95_low, ci95_high in SI
-units, the members' values) and DIR/histogram.png.
+members.  ``--cohesion``, ``--friction-angle`` and ``--artificial-stress``
+switch on the drucker_prager and artificial_stress effects in every
+member, as for ``sphsolid ucs`` (DIR/ensemble.json records them among its
+scene_options, each member's summary.json its ``effects``).  Writes
+DIR/member_XXXX/{load.csv,summary.json}, DIR/summary.json (quantity,
+members, mean, std, ci95_low, ci95_high in SI units, the members' values)
+and DIR/histogram.png.
 """
 from __future__ import annotations
 
 from pathlib import Path
 
-from .fracture import _strain
+from .fracture import (_optional_effects_text, _strain, add_effect_arguments,
+                       scene_options)
 from .options import positive, positive_length, whole
 
 help = "an ensemble of flaw draws of a fracture test: mean and 95% interval"
@@ -50,12 +57,13 @@ def add_arguments(parser) -> None:
                              "(default: the test's, 1/s)")
     parser.add_argument("--out", type=Path, required=True,
                         help="output directory (a rerun resumes it)")
+    add_effect_arguments(parser)
 
 
 def run(args) -> int:
     import sphsolid
 
-    options = {}
+    options = scene_options(args)
     if args.strain_rate is not None:
         if args.test == "brazilian":
             raise SystemExit("sphsolid ensemble: --strain-rate applies to "
@@ -70,7 +78,8 @@ def run(args) -> int:
     scale, unit = (1e-6, "MPa") if s["unit"] == "Pa" else (1.0, s["unit"])
     kept = s["members"] - len(result.ran)
     print(f"{args.test}: {s['members']} members ({kept} kept from an earlier "
-          f"run), dx = {s['dx_m'] * 1e3:g} mm, seed {args.seed}")
+          f"run), dx = {s['dx_m'] * 1e3:g} mm, seed {args.seed}; optional "
+          "effects: " + _optional_effects_text(_effects(options)))
     print(f"{s['quantity']}: mean {s['mean'] * scale:.5g} {unit}, std "
           f"{s['std'] * scale:.4g} {unit}, 95% interval of the mean "
           f"[{s['ci95_low'] * scale:.5g}, {s['ci95_high'] * scale:.5g}] "
@@ -78,3 +87,12 @@ def run(args) -> int:
     for name in ("summary.json", "histogram.png"):
         print(f"wrote {args.out / name}")
     return 0
+
+
+def _effects(options: dict) -> dict:
+    """The optional effects the scene options switch on, named as in the
+    scene's ``effects``."""
+    names = {"plasticity": "drucker_prager",
+             "artificial_stress": "artificial_stress"}
+    return {names[key]: value for key, value in options.items()
+            if key in names}

@@ -29,7 +29,8 @@ from pathlib import Path
 from .options import (add_allow_large_option, finite, output_folder,
                       positive, whole)
 
-__all__ = ["add_arguments", "run"]
+__all__ = ["add_arguments", "add_effect_arguments", "scene_options",
+           "run"]
 
 #: Snapshots written to the HDF5 file over a run.
 _SNAPSHOTS = 12
@@ -119,25 +120,10 @@ def _optional_effects_text(effects: dict) -> str:
     return ", ".join(words) or "none"
 
 
-def add_arguments(parser, name: str) -> None:
-    """The options of ``sphsolid ucs`` (name "ucs"), ``brazilian`` or
-    ``tensile``."""
-    from ..fracture import TESTS
-    dx, max_strain, _ = TESTS[name]
-    parser.add_argument("--dx", type=positive, default=dx,
-                        help=f"particle spacing (default {dx * 1e3:g}mm)")
-    parser.add_argument("--seed", type=int, default=1,
-                        help="seed of the flaw draw, in [0, 2^53) (default 1)")
-    parser.add_argument("--max-strain", type=_strain, default=max_strain,
-                        help="stop at this nominal strain if the load has "
-                             f"not dropped (default {max_strain * 100:.1f}%%)")
-    parser.add_argument("--drop", type=_strain, default=0.5,
-                        help="stop when the load falls below this share of "
-                             "its peak (default 0.5)")
-    parser.add_argument("--threads", type=whole(1), default=None,
-                        help="OpenMP threads (default: OpenMP's)")
-    parser.add_argument("--out", type=Path, default=Path("."),
-                        help="output directory (default: current)")
+def add_effect_arguments(parser) -> None:
+    """--cohesion, --friction-angle and --artificial-stress, the optional
+    effects :func:`scene_options` turns into builder options (shared with
+    ``sphsolid ensemble`` and ``sphsolid plan``)."""
     parser.add_argument("--cohesion", type=_cohesion, default=None,
                         metavar="STRESS",
                         help="switch on the drucker_prager effect (a shear "
@@ -157,6 +143,28 @@ def add_arguments(parser, name: str) -> None:
                              "cure of SPH's tensile instability) with "
                              "epsilon EPS in (0, 1), e.g. 0.3 (default: "
                              "off)")
+
+
+def add_arguments(parser, name: str) -> None:
+    """The options of ``sphsolid ucs`` (name "ucs"), ``brazilian`` or
+    ``tensile``."""
+    from ..fracture import TESTS
+    dx, max_strain, _ = TESTS[name]
+    parser.add_argument("--dx", type=positive, default=dx,
+                        help=f"particle spacing (default {dx * 1e3:g}mm)")
+    parser.add_argument("--seed", type=int, default=1,
+                        help="seed of the flaw draw, in [0, 2^53) (default 1)")
+    parser.add_argument("--max-strain", type=_strain, default=max_strain,
+                        help="stop at this nominal strain if the load has "
+                             f"not dropped (default {max_strain * 100:.1f}%%)")
+    parser.add_argument("--drop", type=_strain, default=0.5,
+                        help="stop when the load falls below this share of "
+                             "its peak (default 0.5)")
+    parser.add_argument("--threads", type=whole(1), default=None,
+                        help="OpenMP threads (default: OpenMP's)")
+    parser.add_argument("--out", type=Path, default=Path("."),
+                        help="output directory (default: current)")
+    add_effect_arguments(parser)
     add_allow_large_option(parser)
 
 

@@ -4,13 +4,17 @@ writes plan.json.
 
     sphsolid plan ucs|brazilian --quantity strength --error 2% \
                   [--confidence 0.95] [--pilot 10] [--jobs J] --out plan.json
+                  [--cohesion 5MPa [--friction-angle 30]]
+                  [--artificial-stress 0.3]
 
 plans a confident strength instead: dx and the number of flaw draws
-together (sphsolid.planner.strength, docs/ensembles.md)."""
+together (sphsolid.planner.strength, docs/ensembles.md), with the optional
+effects of ``sphsolid ensemble`` in every pilot member."""
 from __future__ import annotations
 
 from pathlib import Path
 
+from .fracture import add_effect_arguments, scene_options
 from .options import finite, fraction, length_list, positive_time, whole
 
 help = ("cheapest settings for a requested error (calibration runs, error "
@@ -53,6 +57,7 @@ def add_arguments(parser) -> None:
     strength.add_argument("--jobs", type=whole(1), default=1,
                           help="processes running the pilot members "
                           "(default 1)")
+    add_effect_arguments(strength)
     parser.add_argument("--no-cache", action="store_true",
                         help="calibrate anew and keep no runs on disk (by "
                         "default calibration runs are kept in "
@@ -112,6 +117,14 @@ def run(args) -> int:
     writable(args.out)
     if args.quantity == "strength" or args.scene in ("ucs", "brazilian"):
         return _plan_strength(args, log)
+    given = [option for option, value in (
+        ("--cohesion", args.cohesion),
+        ("--friction-angle", args.friction_angle),
+        ("--artificial-stress", args.artificial_stress)) if value is not None]
+    if given:
+        raise ValueError(f"sphsolid plan: {', '.join(given)} applies only "
+                         "to the strength plans (ucs, brazilian --quantity "
+                         "strength)")
     if args.deck is not None:
         from ..planner.deck import plan_deck
         result = plan_deck(args.deck, error=args.error, until=args.until,
@@ -160,6 +173,7 @@ def _plan_strength(args, log) -> int:
     import tempfile
 
     from ..planner.strength import LADDERS, plan_strength
+    options = scene_options(args)
     if args.scene not in LADDERS or args.quantity != "strength":
         raise ValueError(f"sphsolid plan {args.scene}: the strength is "
                          f"planned with --quantity strength for "
@@ -171,7 +185,7 @@ def _plan_strength(args, log) -> int:
                                ladder=args.ladder, pilot=args.pilot,
                                jobs=args.jobs, max_seconds=args.max_seconds,
                                work=scratch if args.no_cache else None,
-                               log=log)
+                               log=log, scene_options=options)
     print()
     print(result.summary())
     result.save(args.out)

@@ -98,8 +98,13 @@ class StrengthPlan:
     #: CPU s of the ensemble and of a pilot ladder reaching that dx), or
     #: empty when no spacing is predicted to meet it
     beyond: dict = field(default_factory=dict)
+    #: the pilot ensembles' scene options (sphsolid.ensemble's), e.g. the
+    #: drucker_prager effect's ``plasticity``; the planned ensemble's too
+    scene_options: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
+        extra = ({"scene_options": self.scene_options}
+                 if self.scene_options else {})
         return {"kind": "strength", "scene": self.scene,
                 "quantity": "strength", "error": self.error,
                 "confidence": self.confidence,
@@ -116,7 +121,9 @@ class StrengthPlan:
                 "cost_model": self.cost,
                 "command": (f"sphsolid ensemble {self.scene} --dx "
                             f"{self.dx * 1e3:.4g}mm --seeds {self.seeds} "
-                            "--out DIR" if self.feasible else None)}
+                            + _options_text(self.scene_options)
+                            + "--out DIR" if self.feasible else None),
+                **extra}
 
     def save(self, path) -> None:
         Path(path).write_text(json.dumps(self.to_dict(), indent=2))
@@ -146,11 +153,30 @@ class StrengthPlan:
         return "\n".join(lines)
 
 
-def _work_dir(scene: str, root) -> Path:
+def _options_text(options: dict) -> str:
+    """The ``sphsolid ensemble`` options of the scene options ``options``
+    (plasticity, artificial_stress), each followed by a space."""
+    words = []
+    if "plasticity" in options:
+        dp = options["plasticity"]
+        words.append(f"--cohesion {dp['cohesion'] / 1e6:.15g}MPa")
+        if "friction_angle" in dp:
+            words.append(f"--friction-angle {dp['friction_angle']:.15g}")
+    if "artificial_stress" in options:
+        words.append("--artificial-stress "
+                     f"{options['artificial_stress']['epsilon']:.15g}")
+    return "".join(word + " " for word in words)
+
+
+def _work_dir(scene: str, root, scene_options: dict | None = None) -> Path:
     from .cache import _digest, _library_digest, cache_root
     from .._lib import version
     base = Path(root) if root is not None else cache_root()
     scope = f"strength|{scene}|{version()}|{_library_digest()}"
+    if scene_options:
+        # pilots with other effects are other ensembles (the plain ones
+        # keep their folder)
+        scope += "|" + json.dumps(scene_options, sort_keys=True)
     return base / "strength" / _digest(scope)
 
 
@@ -158,11 +184,15 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
                   ladder=None, pilot: int = 10, seed: int = 1,
                   jobs: int = 1, max_refinement: float = 2.0,
                   max_seconds: float | None = None, work=None,
-                  log=None) -> StrengthPlan:
+                  log=None, scene_options: dict | None = None
+                  ) -> StrengthPlan:
     """Plans the strength of test ``scene`` (ucs, brazilian) within the
     relative ``error`` at ``confidence``: the spacing and the number of
     seeds of least predicted CPU time (module text).  ``work``: where the
-    pilot ensembles are kept (default under the planner's cache)."""
+    pilot ensembles are kept (default under the planner's cache);
+    ``scene_options``: the pilot members' scene options (as
+    sphsolid.ensemble's, e.g. ``plasticity``), which the plan and its
+    command carry."""
     from ..ensemble import ensemble
     if scene not in LADDERS:
         raise ValueError(f"scene {scene!r}: the strength is planned for "
@@ -178,14 +208,16 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
     if len(ladder) < 3 or len(set(ladder)) != len(ladder):
         raise ValueError(f"ladder={ladder!r}: needs 3 or more distinct "
                          "spacings")
-    folder = _work_dir(scene, work)
+    scene_options = dict(scene_options or {})
+    folder = _work_dir(scene, work, scene_options)
     levels = []
     for dx in ladder:
         if log:
             log(f"pilot ensemble: {scene}, dx = {dx * 1e3:g} mm, "
                 f"{pilot} members")
         result = ensemble(scene, pilot, folder / f"dx_{dx * 1e3:g}mm",
-                          dx=dx, jobs=jobs, seed=seed, figure=False)
+                          dx=dx, jobs=jobs, seed=seed, figure=False,
+                          scene_options=scene_options)
         s = result.summary
         cpu = float(np.mean(s["member_cpu_s"]))
         levels.append({"dx": dx, "members": s["members"], "mean": s["mean"],
@@ -260,7 +292,8 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
                   ladder=levels, model=model.to_dict(),
                   cost={"cpu_s_per_member": "exp(a) dx^b", "a": intercept,
                         "b": slope},
-                  ladder_resolved=resolved, ladder_seconds=ladder_seconds)
+                  ladder_resolved=resolved, ladder_seconds=ladder_seconds,
+                  scene_options=scene_options)
     if best is None:
         floor = model.upper(smallest)
         beyond = _beyond(cheapest, seeds_for, error, smallest, ladder,
