@@ -10,6 +10,8 @@ file inspection.
     sphsolid ucs [--dx 2mm] [--seed 1] [--out DIR]       (fracture tests,
     sphsolid brazilian [--dx 1mm] [--seed 1] [--out DIR]  docs/fracture.md)
     sphsolid tensile [--dx 2mm] [--seed 1] [--out DIR]
+        each also [--cohesion 5MPa [--friction-angle 30]] (drucker_prager)
+        [--artificial-stress 0.3]
     sphsolid ensemble ucs|brazilian|tensile --seeds N [--dx D] [--jobs J]
                       [--seed BASE] --out DIR     (docs/ensembles.md)
     sphsolid run SCENE.toml [--out DIR] [--until 1ms]   (a scene file)
