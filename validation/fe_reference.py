@@ -204,8 +204,15 @@ def _squat():
             planned.SQUAT_SPEED, planned.SQUAT_PROBES)
 
 
+def _slender():
+    from sphsolid.planner import scenes as planned
+    return (planned.slender_material(), planned.SLENDER_EXTENT,
+            planned.SLENDER_SPEED, planned.SLENDER_PROBES)
+
+
 #: the scenes main() runs: material, extent, piston speed, probes
-SCENES = {"piston": _paper, "piston_nu045": _nu045, "piston_squat": _squat}
+SCENES = {"piston": _paper, "piston_nu045": _nu045, "piston_squat": _squat,
+          "piston_slender": _slender}
 
 
 def main(argv=None) -> int:

@@ -24,7 +24,8 @@ help = ("cheapest settings for a requested error (calibration runs, error "
 def add_arguments(parser) -> None:
     parser.add_argument("scene", nargs="?",
                         help="a project scene (piston, gravity, strip, "
-                        "piston_nu045, piston_squat), a scene file "
+                        "piston_nu045, piston_squat, piston_slender), a "
+                        "scene file "
                         "(SCENE.toml, with --probe), or --deck; with "
                         "--quantity strength: ucs or brazilian")
     parser.add_argument("--error", type=fraction, required=True,

@@ -101,6 +101,36 @@ def piston_squat_factory(dx: float, smoothing_ratio: float = 1.2,
                           extent=SQUAT_EXTENT)
 
 
+def slender_material():
+    """A stiffer, denser rock than the paper's (E = 50 GPa, nu = 0.2,
+    rho0 = 2650 kg/m^3: K = 27.8 GPa, mu = 20.8 GPa, c_p = 4578 m/s): the
+    slender piston scene's, held out of the verification record."""
+    from ..material import Material
+    E, nu = 50e9, 0.2
+    return Material(K=E / (3.0 * (1.0 - 2.0 * nu)), mu=E / (2.0 * (1.0 + nu)),
+                    rho0=2650.0, name="slender specimen")
+
+
+#: The slender piston scene: a 40 mm x 120 mm specimen of a stiff rock,
+#: the piston at two thirds of the paper's speed, probes near the free
+#: sides (8 and 5 mm from them) and the ends.
+SLENDER_EXTENT = ((-0.02, 0.02), (0.0, 0.12))
+SLENDER_SPEED = 1e-3
+SLENDER_PROBES = {"G": (0.0, 0.03), "H": (0.012, 0.07), "I": (-0.015, 0.105)}
+SLENDER_UNTIL = 0.2e-3
+
+
+def piston_slender_factory(dx: float, smoothing_ratio: float = 1.2,
+                           kernel: str = "cubic_spline",
+                           inset: float | str = 0.0):
+    """:func:`piston_factory` with :func:`slender_material`, the shape
+    :data:`SLENDER_EXTENT` and the piston speed :data:`SLENDER_SPEED`: a
+    held-out scene of the verification record."""
+    return piston_factory(dx, smoothing_ratio, kernel, speed=SLENDER_SPEED,
+                          inset=inset, material=slender_material(),
+                          extent=SLENDER_EXTENT)
+
+
 def gravity_factory(dx: float, smoothing_ratio: float = 1.2,
                     kernel: str = "cubic_spline", g: float = 9.81,
                     inset: float | str = 0.0):
@@ -223,6 +253,12 @@ def project_scenes() -> dict:
                                   description="a squat specimen of a "
                                   "softer rock under a faster piston, von "
                                   "Mises at D, E, F"),
+        "piston_slender": PlanScene(piston_slender_factory, SLENDER_PROBES,
+                                    "von_mises", (3e-3, 2e-3, 1.5e-3),
+                                    SLENDER_UNTIL,
+                                    description="a slender specimen of a "
+                                    "stiff rock under a slower piston, von "
+                                    "Mises at G, H, I"),
         "gravity": PlanScene(gravity_factory, gravity_sections, "sigma_yy",
                              (8e-3, 6e-3, 4e-3, 3e-3), 2.5e-3,
                              window=lambda until: (0.5 * until, until),
