@@ -885,7 +885,10 @@ consecutive levels predicts the error at every finer level within 2x, and
 the true error there is measured; a scene's column is the largest ratio of
 true to predicted (upper) error. The planner multiplies the setting's
 upper prediction by *factor* = max(1, 1.2 x the largest fitted ratio) and
-never plans it at or below *bias* (the error refinement did not remove).
+never plans it at or below *bias* (the error refinement did not remove); a
+setting whose largest fitted ratio exceeds 1 is not planned at all (its
+prediction under-stated its true error on a fitted scene; a margin fitted
+there did not carry to the held-out slender specimen).
 A held-out ratio above the factor would be a promise broken on a scene the
 factors never saw.
 

@@ -380,8 +380,11 @@ def record_text(record: dict, raw: dict) -> str:
         for norm in NORMS:
             if norm not in entry:
                 continue
-            factor = max(1.0, margin * entry[norm]["ratio"])
-            cells = [family, norm, f"{factor:.2f}",
+            ratio = entry[norm]["ratio"]
+            factor = max(1.0, margin * ratio)
+            cells = [family, norm,
+                     f"{factor:.2f}" if ratio <= 1.0 else
+                     f"not planned ({ratio:.2f} > 1)",
                      f"{entry[norm]['bias'] * 100:.2f} %"]
             for name in scenes:
                 verdict = raw.get(name, {}).get(family, {}).get(norm)

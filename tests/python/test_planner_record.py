@@ -168,12 +168,17 @@ def test_the_planner_calibrates_only_what_the_record_verifies(monkeypatch):
     kept = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
     unverified = planner.Setting.make(1.5, "cubic_spline", "leapfrog")
     biased = planner.Setting.make(1.2, "wendland_c2", "leapfrog")
+    # its prediction under-stated its true error on a fitted scene
+    under = planner.Setting.make(1.5, "wendland_c2", "leapfrog")
     record = record_module.Record({"format": 1, "settings": {
-        record_module.family(kept): {"max": {"ratio": 2.0, "bias": 0.0}},
+        record_module.family(kept): {"max": {"ratio": 0.95, "bias": 0.0}},
         record_module.family(biased): {"max": {"ratio": 0.5,
-                                               "bias": 0.05}}}})
+                                               "bias": 0.05}},
+        record_module.family(under): {"max": {"ratio": 1.05,
+                                              "bias": 0.0}}}})
     monkeypatch.setattr(planner.search, "candidate_settings",
-                        lambda *a, **k: ([kept, unverified, biased], []))
+                        lambda *a, **k: ([kept, unverified, biased, under],
+                                         []))
     until = UNTIL
     ran = []
     monkeypatch.setattr(planner.search, "ladder_run",
@@ -187,8 +192,9 @@ def test_the_planner_calibrates_only_what_the_record_verifies(monkeypatch):
     by = {c.setting: c for c in plan.candidates}
     assert "not verified" in by[unverified].note
     assert "bias" in by[biased].note
-    # the kept setting's bound carries the record's factor (2 x 1.2)
-    assert by[kept].model.verified == pytest.approx(2.4)
+    assert "under-stated its true error 1.05x" in by[under].note
+    # the kept setting's bound carries the record's factor (0.95 x 1.2)
+    assert by[kept].model.verified == pytest.approx(1.14)
     if plan.feasible:
         assert plan.error_upper <= 0.03 + 1e-12
 

@@ -18,10 +18,12 @@ each setting and norm
   least-squares fit ``e(dx) = a dx^q + b`` of the true errors, at the
   order the levels' differences show), the largest over the fitted scenes.
 
-The planner then multiplies a setting's upper prediction by
-``factor = max(1, MARGIN x ratio)`` and never plans it for a request at or
-below its bias; a setting the record does not list (never verified) is not
-planned. The record also lists, per setting, the settings that dominated
+The planner does not plan a setting whose ratio exceeds 1 (its
+prediction under-stated its true error on a fitted scene: a margin fitted
+there need not hold on another scene), multiplies the others' upper
+prediction by ``factor = max(1, MARGIN x ratio)`` and never plans them for
+a request at or below their bias; a setting the record does not list
+(never verified) is not planned. The record also lists, per setting, the settings that dominated
 it on every fitted scene that verified it (errors at most 1.05 times its
 own at every level in both norms, for at most 0.8 times its CPU time):
 when one of those is among a plan's candidates, the dominated one is not

@@ -707,6 +707,18 @@ def plan(scene_factory: Callable, error: float = 0.03,
             skipped.append(Candidate(setting, [], note=(
                 f"its verified bias {verdict['bias'] * 100:.2f} % is at or "
                 f"above the request")))
+        elif (verdict is not None and verdict["ratio"] > 1.0
+              and candidates is None):
+            # its prediction under-stated its true error on a fitted
+            # scene: a margin fitted there does not carry to other
+            # scenes (the cubic spline at h/dx 1.2 in the RMS norm: 1.32
+            # on the piston, a factor of 1.58; on the held-out slender
+            # piston its 3 % plan achieved 3.67 %, 1.93x its own
+            # prediction)
+            skipped.append(Candidate(setting, [], note=(
+                f"its prediction under-stated its true error "
+                f"{verdict['ratio']:.2f}x on a fitted scene of the "
+                "verification record: not planned")))
         else:
             cands.append(Candidate(setting, []))
     if record and candidates is None:
@@ -722,8 +734,8 @@ def plan(scene_factory: Callable, error: float = 0.03,
                     "verification record: not planned")))
     if skipped:
         say(f"verification record: {len(cands)} of {len(settings)} "
-            f"settings calibrated ({len(skipped)} unverified or biased "
-            "above the request)")
+            f"settings calibrated ({len(skipped)} unverified, under-"
+            "predicted, biased above the request or dominated)")
 
     # 2. calibration ladder -----------------------------------------
     total = len(cands) * len(ladder)
