@@ -54,29 +54,30 @@ _cohesion = finite(0.0, "must be a finite stress >= 0 (e.g. 5MPa)",
                    "pressure")
 
 
-def _friction_angle(text: str) -> float:
-    """'30' -> 30.0 degrees, in [0, 90)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: not a number of "
-                                         "degrees (e.g. 30)") from None
-    if not (math.isfinite(value) and 0 <= value < 90):
-        raise argparse.ArgumentTypeError(f"{text!r}: must be in [0, 90) "
-                                         "degrees")
-    return value
+def _number_in(low: float, high: float, closed_low: bool, what: str,
+               example: str):
+    """An argparse type: a finite number in [low, high) (``closed_low``)
+    or (low, high), refused with the text given and the range."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{text!r}: not a number{what} (e.g. {example})") from None
+        inside = (low <= value if closed_low else low < value) and value < high
+        if not (math.isfinite(value) and inside):
+            bracket = "[" if closed_low else "("
+            raise argparse.ArgumentTypeError(
+                f"{text!r}: must be in {bracket}{low:g}, {high:g})"
+                + (" degrees" if what else ""))
+        return value
+    return parse
 
 
-def _epsilon(text: str) -> float:
-    """The artificial stress's epsilon, in (0, 1)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: not a number (e.g. "
-                                         "0.3)") from None
-    if not (math.isfinite(value) and 0 < value < 1):
-        raise argparse.ArgumentTypeError(f"{text!r}: must be in (0, 1)")
-    return value
+#: --friction-angle: degrees in [0, 90).
+_friction_angle = _number_in(0.0, 90.0, True, " of degrees", "30")
+#: --artificial-stress: the artificial stress's epsilon, in (0, 1).
+_epsilon = _number_in(0.0, 1.0, False, "", "0.3")
 
 
 def _default_friction_angle() -> float:

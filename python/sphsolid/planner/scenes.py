@@ -71,14 +71,19 @@ def piston_nu045_factory(dx: float, smoothing_ratio: float = 1.2,
                           material=nearly_incompressible_material())
 
 
+def _rock(E: float, nu: float, rho0: float, name: str):
+    """The elastic material of Young's modulus E [Pa] and Poisson's ratio
+    nu (K = E / (3 (1 - 2 nu)), mu = E / (2 (1 + nu)))."""
+    from ..material import Material
+    return Material(K=E / (3.0 * (1.0 - 2.0 * nu)), mu=E / (2.0 * (1.0 + nu)),
+                    rho0=rho0, name=name)
+
+
 def squat_material():
     """A softer, lighter rock than the paper's (E = 10 GPa, nu = 0.25,
     rho0 = 2200 kg/m^3: K = 6.67 GPa, mu = 4 GPa, c_p = 2335 m/s): the
     squat piston scene's, held out of the verification record."""
-    from ..material import Material
-    E, nu = 10e9, 0.25
-    return Material(K=E / (3.0 * (1.0 - 2.0 * nu)), mu=E / (2.0 * (1.0 + nu)),
-                    rho0=2200.0, name="squat specimen")
+    return _rock(10e9, 0.25, 2200.0, "squat specimen")
 
 
 #: The squat piston scene: a 100 mm x 100 mm specimen, the piston at twice
@@ -105,10 +110,7 @@ def slender_material():
     """A stiffer, denser rock than the paper's (E = 50 GPa, nu = 0.2,
     rho0 = 2650 kg/m^3: K = 27.8 GPa, mu = 20.8 GPa, c_p = 4578 m/s): the
     slender piston scene's, held out of the verification record."""
-    from ..material import Material
-    E, nu = 50e9, 0.2
-    return Material(K=E / (3.0 * (1.0 - 2.0 * nu)), mu=E / (2.0 * (1.0 + nu)),
-                    rho0=2650.0, name="slender specimen")
+    return _rock(50e9, 0.2, 2650.0, "slender specimen")
 
 
 #: The slender piston scene: a 40 mm x 120 mm specimen of a stiff rock,
