@@ -57,6 +57,12 @@ def fracture_material(weibull_k: float = 1e28, weibull_m: float = 9.0,
                     weibull_k=weibull_k, weibull_m=weibull_m)
 
 
+#: The builders' options of optional effects and the effects they switch
+#: on.
+OPTIONAL_EFFECTS = {"plasticity": "drucker_prager",
+                    "artificial_stress": "artificial_stress"}
+
+
 def _damage_effects(seed: int, flaws: float, viscosity,
                     member: int = 0, plasticity=None,
                     artificial_stress=None) -> dict:
@@ -67,9 +73,9 @@ def _damage_effects(seed: int, flaws: float, viscosity,
     effects = {"damage": {"seed": seed, "flaws": flaws, "member": member}}
     if viscosity:
         effects["artificial_viscosity"] = dict(viscosity)
-    for name, effect, parameters in (
-            ("plasticity", "drucker_prager", plasticity),
-            ("artificial_stress", "artificial_stress", artificial_stress)):
+    given = {"plasticity": plasticity, "artificial_stress": artificial_stress}
+    for name, effect in OPTIONAL_EFFECTS.items():
+        parameters = given[name]
         if parameters is None:
             continue
         if not isinstance(parameters, Mapping):

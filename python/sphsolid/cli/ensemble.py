@@ -92,7 +92,6 @@ def run(args) -> int:
 def _effects(options: dict) -> dict:
     """The optional effects the scene options switch on, named as in the
     scene's ``effects``."""
-    names = {"plasticity": "drucker_prager",
-             "artificial_stress": "artificial_stress"}
-    return {names[key]: value for key, value in options.items()
-            if key in names}
+    from ..fracture import OPTIONAL_EFFECTS
+    return {OPTIONAL_EFFECTS[key]: value for key, value in options.items()
+            if key in OPTIONAL_EFFECTS}

@@ -6,7 +6,7 @@ import itertools
 import json
 import math
 import time as wallclock
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable, Mapping, Sequence
 
@@ -827,13 +827,18 @@ def plan(scene_factory: Callable, error: float = 0.03,
         cand.cpu_seconds = cand.cost.predict_cpu(n, steps)
         return dx, cand.cpu_seconds
 
+    def fit_verified(cand):
+        """The setting's error model on its levels, with the record's
+        factor and bias (its floor is the caller's)."""
+        _fit_candidate(cand, norm, max_refinement, threads, max_order)
+        verdict = verdicts.get(cand.setting)
+        if verdict is not None:
+            cand.model.verified = verdict["factor"]
+            cand.model.bias = verdict["bias"]
+
     def fit_all():
         for cand in usable:
-            _fit_candidate(cand, norm, max_refinement, threads, max_order)
-            verdict = verdicts.get(cand.setting)
-            if verdict is not None:
-                cand.model.verified = verdict["factor"]
-                cand.model.bias = verdict["bias"]
+            fit_verified(cand)
         floors = consistency_floors(
             [c.model for c in usable],
             [c.smoothed[:len(ladder)] for c in usable], norm, ladder,
@@ -843,23 +848,25 @@ def plan(scene_factory: Callable, error: float = 0.03,
             cand.model.floor = floor
         return {id(c): price(c) for c in usable}
 
-    def power_need(cand, runs, smoothed):
-        """The spacing the power law alone gives ``error`` on these levels
-        (their finest four; no floor: the needs of one setting before and
-        after a level compare on the same terms), and the finest level."""
+    def power_need(model):
+        """The spacing the power law of ``model`` alone gives ``error``
+        (no floor: the needs of one setting before and after a level
+        compare on the same terms), and its finest level."""
+        if model.anomalous:
+            return None, model.finest
+        return replace(model, floor=0.0).spacing_for(error), model.finest
+
+    def last_step(cand):
+        """(need, finest level) without the setting's finest level and
+        with it (its current model, which fit_all has just made)."""
         kept = cand.runs, cand.smoothed, cand.model, cand.cost
-        cand.runs, cand.smoothed = runs, smoothed
+        cand.runs, cand.smoothed = cand.runs[:-1], cand.smoothed[:-1]
         try:
-            _fit_candidate(cand, norm, max_refinement, threads, max_order)
-            verdict = verdicts.get(cand.setting)
-            if verdict is not None:
-                cand.model.verified = verdict["factor"]
-                cand.model.bias = verdict["bias"]
-            if cand.model.anomalous:
-                return None, cand.model.finest
-            return cand.model.spacing_for(error), cand.model.finest
+            fit_verified(cand)
+            before = power_need(cand.model)
         finally:
             cand.runs, cand.smoothed, cand.model, cand.cost = kept
+        return before, power_need(cand.model)
 
     # settings whose need recedes as fast as their levels approach it: the
     # error does not follow the power law there, and a finer level costs
@@ -875,9 +882,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
     steps_of = {}
     for cand in usable:
         if len(cand.runs) > len(ladder):
-            before_need = power_need(cand, cand.runs[:-1], cand.smoothed[:-1])
-            steps_of[id(cand)] = (before_need,
-                                  power_need(cand, cand.runs, cand.smoothed))
+            steps_of[id(cand)] = last_step(cand)
             (old_need, old_finest), (new_need, new_finest) = steps_of[id(cand)]
             # a need that receded as fast as an earlier plan's level
             # approached it: no further level in this plan either
@@ -1016,6 +1021,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
             break
         before = {id(c): (needs[id(c)][0], c.model.finest) for c in wanted
                   if determined(c)}
+        refined = []
         for cand in wanted:
             dx = float(f"{cand.model.finest / 1.5:.3g}")
             say(f"refining {cand.setting.label()}: "
@@ -1025,14 +1031,12 @@ def plan(scene_factory: Callable, error: float = 0.03,
             if calibrate(cand, dx, counter[0] + 1):
                 cand.smoothed.append(_smoothed(cand.runs[-1], grid))
                 spent += cand.runs[-1].wall
+                refined.append(cand)
             else:
                 cand.runs.pop()
         needs = fit_all()
-        for cand in wanted:
-            if cand.model.finest < cand.runs[-2].dx:
-                steps_of[id(cand)] = (
-                    power_need(cand, cand.runs[:-1], cand.smoothed[:-1]),
-                    power_need(cand, cand.runs, cand.smoothed))
+        for cand in refined:
+            steps_of[id(cand)] = last_step(cand)
             if id(cand) not in before or not determined(cand):
                 continue
             need, finest = before[id(cand)]
