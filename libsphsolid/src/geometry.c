@@ -381,6 +381,8 @@ static double layer_gradient(const sph_sim *sim, const double step[3], double dy
     const long kx = (long)ceil(support / step[0]) + 1;
     const long kz = dim == 3 ? (long)ceil(support / step[2]) + 1 : 0;
     double sum = 0.0;
+    if (fabs(dy) >= support) /* every column lies beyond the support */
+        return sum;
     for (long iz = -kz; iz <= kz; ++iz)
         for (long ix = -kx; ix <= kx; ++ix) {
             const double x = ix * step[0], z = dim == 3 ? iz * step[2] : 0.0;
@@ -399,9 +401,16 @@ static void project_out(double *v, const double *q, int kept, int rows)
     for (int pass = 0; pass < 2; ++pass)
         for (int k = 0; k < kept; ++k) {
             const double *qk = q + (size_t)k * rows;
-            double dot = 0.0;
-            for (int r = 0; r < rows; ++r)
-                dot += qk[r] * v[r];
+            /* four partial sums: the chain of additions, not the
+             * products, bounds this loop */
+            double part[4] = {0.0, 0.0, 0.0, 0.0};
+            int r = 0;
+            for (; r + 4 <= rows; r += 4)
+                for (int l = 0; l < 4; ++l)
+                    part[l] += qk[r + l] * v[r + l];
+            for (; r < rows; ++r)
+                part[0] += qk[r] * v[r];
+            const double dot = (part[0] + part[1]) + (part[2] + part[3]);
             for (int r = 0; r < rows; ++r)
                 v[r] -= dot * qk[r];
         }
