@@ -410,9 +410,30 @@ def strip_plan():
     # the RMS norm: the max norm of a front smoothed over 1 us converges at
     # order ~0.4 on this ladder, which the planner (rightly) will not
     # extrapolate far
-    return planner.plan(STRIP.factory, error=0.2, until=STRIP.until,
-                        probes=STRIP.probes, quantity=STRIP.quantity,
-                        norm="rms", threads=1, ladder=LADDER, scene="strip")
+    real = planner.detection._effect_cost
+
+    def timed(*args, **kwargs):
+        TIMED_EFFECTS.append(args[3])
+        return real(*args, **kwargs)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(planner.detection, "_effect_cost", timed)
+        return planner.plan(STRIP.factory, error=0.2, until=STRIP.until,
+                            probes=STRIP.probes, quantity=STRIP.quantity,
+                            norm="rms", threads=1, ladder=LADDER,
+                            scene="strip")
+
+
+#: the effects whose cost strip_plan timed, in order
+TIMED_EFFECTS: list = []
+
+
+def test_an_effect_found_by_several_detection_runs_is_timed_once(strip_plan):
+    # every detection run (per integrator and kernel family) finds the
+    # viscosity for the same reason; the summary shows it once, so its
+    # cost is timed once, and the finding shown is the timed one
+    found = [f.effect for f in strip_plan.findings if f.effect]
+    assert sorted(TIMED_EFFECTS) == sorted(found)
+    assert all(f.cost is not None for f in strip_plan.findings if f.effect)
 
 
 def test_planner_settings_meet_the_request_on_the_exact_strip(strip_plan):

@@ -100,10 +100,14 @@ def detect_effects(scene_factory, dx: float, until: float, probes,
                    threads: int | None = None, steps: int | None = None,
                    log=None, kernel: str = "cubic_spline",
                    smoothing_ratio: float = 1.2,
-                   inset: float | str = 0.0) -> list[Finding]:
+                   inset: float | str = 0.0,
+                   priced=frozenset()) -> list[Finding]:
     """What the scene calls for, measured on one run at ``dx`` with no
     optional effect, ``integrator``, ``kernel``, ``smoothing_ratio`` and
     end placement ``inset``, for ``steps`` steps (default: to ``until``).
+    A finding's extra cost per step is timed unless its (effect, reason)
+    is in ``priced`` (already timed by an earlier detection run of the
+    same plan).
 
     Criteria (from the hard-case suite, docs/stability.md):
 
@@ -263,7 +267,8 @@ def detect_effects(scene_factory, dx: float, until: float, probes,
             "nothing extra at the default step (hard-case suite)",
             f"probe roughness {rough:.3f}"))
     for finding in findings:
-        if finding.effect is not None:
+        if (finding.effect is not None
+                and (finding.effect, finding.reason) not in priced):
             try:
                 finding.cost = _effect_cost(scene_factory, dx, setting,
                                             finding.effect,

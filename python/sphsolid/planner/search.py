@@ -483,11 +483,16 @@ def candidate_settings(scene_factory, until: float, probes, quantity: str,
             if cache is not None and key in cache:
                 findings_by[(integrator, family)] = cache[key]
             else:
+                # an effect's cost is timed once per plan: the summary
+                # shows each finding once
+                priced = {(f.effect, f.reason)
+                          for items in findings_by.values() for f in items
+                          if f.cost is not None}
                 findings_by[(integrator, family)] = detect_effects(
                     scene_factory, ladder[0], until, probes, quantity,
                     integrator, threads, steps=min(steps, 200000),
                     log=say, kernel=kernel, smoothing_ratio=ratio,
-                    inset=inset)
+                    inset=inset, priced=priced)
                 if cache is not None:
                     cache[key] = findings_by[(integrator, family)]
         except UnsupportedError as unsupported:
@@ -498,9 +503,12 @@ def candidate_settings(scene_factory, until: float, probes, quantity: str,
     findings = []
     for items in findings_by.values():
         for f in items:
-            if not any(f.effect == g.effect and f.reason == g.reason
-                       for g in findings):
+            same = [k for k, g in enumerate(findings)
+                    if f.effect == g.effect and f.reason == g.reason]
+            if not same:
                 findings.append(f)
+            elif findings[same[0]].cost is None and f.cost is not None:
+                findings[same[0]] = f      # the one whose cost was timed
     return settings, findings
 
 
