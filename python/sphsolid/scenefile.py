@@ -489,7 +489,10 @@ def run_file(path, out=None, until=None, progress=None, log=print,
         if loaded.scene and loaded.scene != Path(path).name:
             raise ValueError(f"{plan} plans the scene {loaded.scene!r}, not "
                              f"{Path(path).name!r}")
-        spec.scene = loaded.build(scene_file(path).factory)
+        # the calculator is attached below, with --threads if given
+        spec.scene = loaded.build(scene_file(path).factory, calculator=False)
+        if threads is None:
+            threads = loaded.threads
         # the plan's integrator at the plan's step (a --dt still applies)
         integrator, step = loaded.setting.integrator, loaded.setting.step
         dt = given_dt

@@ -369,6 +369,8 @@ def test_a_scene_file_runs_with_the_settings_of_its_plan(tmp_path):
     # the block of 40 x 60 mm at 4 mm: 10 x 15 particles
     assert any("block 150" in line for line in lines), lines
     assert any("until 0.01 ms" in line for line in lines), lines
+    # the user's thread count replaces the plan's (the CLI's --threads)
+    run_file(example, out=tmp_path, plan=path, threads=1, log=lines.append)
     data["scene"] = "other.toml"
     path.write_text(json.dumps(data))
     with pytest.raises(ValueError, match="other.toml"):
