@@ -247,14 +247,14 @@ def _damage_figure(path, at_peak, at_end, title) -> None:
     import matplotlib.pyplot as plt
     panels = [p for p in (at_peak, at_end) if p is not None]
     fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 5),
-                             squeeze=False)
+                             squeeze=False, sharey=True)
     for ax, (t, x, D), what in zip(axes[0], panels, ("peak", "end")):
         dots = ax.scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=D, s=4,
                           cmap="inferno_r", vmin=0, vmax=1)
         ax.set_aspect("equal")
         ax.set_xlabel("x [mm]")
-        ax.set_ylabel("y [mm]")
         ax.set_title(f"at the {what}: t = {t * 1e3:.3g} ms")
+    axes[0][0].set_ylabel("y [mm]")
     fig.colorbar(dots, ax=list(axes[0]), label="damage D")
     fig.suptitle(title)
     fig.savefig(path, dpi=110)
