@@ -557,3 +557,42 @@ def test_the_cli_plans_without_the_record_when_asked(monkeypatch, tmp_path):
             main(["plan", "strip", "--error", "3%", "--no-cache",
                   "--out", str(tmp_path / "p.json")] + extra)
     assert calls[0]["record"] is True and calls[1]["record"] is None
+
+
+def test_levels_of_earlier_plans_count_toward_the_refinement_depth(
+        monkeypatch, tmp_path):
+    # a setting whose levels show no order is refined while no plan is in
+    # reach, but never below `refinements` levels under its ladder: with
+    # the levels of earlier plans cached, each later request would
+    # otherwise go 3.4x deeper in cost (a pulled block's max-norm
+    # requests: levels of 0.26, 0.18, 0.12 mm for 10 %, then 0.078 mm)
+    spec = planner.project_scenes()["strip"]
+    setting = planner.Setting.make(1.2, "cubic_spline", "leapfrog")
+    monkeypatch.setattr(planner.search, "candidate_settings",
+                        lambda *a_, **k: ([setting], []))
+    ran, said = [], []
+
+    def noisy_run(factory, dx, setting_, *args):
+        ran.append(dx)
+        times = np.linspace(0.0, 20e-6, 201)
+        rng = np.random.default_rng(int(dx * 1e7))
+        series = {n: 1e6 * (1 + 0.2 * rng.standard_normal(times.size))
+                  for n in spec.probes}
+        return planner.LadderRun(setting_, dx, 100, 100, 2e-7, 1e-3, 20e-6,
+                                 times, series, cpu=1e-3, threads=1)
+    monkeypatch.setattr(planner.search, "ladder_run", noisy_run)
+    ladder = (2e-3, 1.4e-3, 1e-3)
+
+    def plan_once():
+        ran.clear()
+        planner.plan(spec.factory, error=0.03, until=20e-6,
+                     probes=spec.probes, quantity=spec.quantity, threads=1,
+                     ladder=ladder, timing_checks=0, refinements=2,
+                     record=None, log=said.append,
+                     cache=RunCache("strip-depth", tmp_path))
+        return [dx for dx in ran if dx < ladder[-1] * (1 - 1e-6)]
+    # a first plan refines twice; a second one, with those levels cached,
+    # adds none, and says why
+    assert plan_once() == pytest.approx([0.667e-3, 0.445e-3])
+    assert plan_once() == []
+    assert any("2 level(s) below its ladder" in line for line in said)

@@ -647,7 +647,10 @@ def plan(scene_factory: Callable, error: float = 0.03,
         Up to ``refinements`` rounds in which the ``refine_best`` cheapest
         settings that need a spacing below half their finest calibrated
         one, or below it with the large safety factor, get a finer level
-        (finest / 1.5) and are fitted again.
+        (finest / 1.5) and are fitted again. A setting never gets more
+        than ``refinements`` levels below ``ladder``, counting those of
+        earlier plans in ``cache``: the cache saves a plan time, it does
+        not let later plans refine deeper.
     calibration_seconds : float, optional
         Budget of the calibration runs (default: no limit); a refinement
         that would exceed it is not run.
@@ -884,6 +887,13 @@ def plan(scene_factory: Callable, error: float = 0.03,
     # CPU and the request was refused after 929 s); and settings beyond
     # reach whose levels stalled (below)
     receding, stalled = set(), set()
+    # settings at the depth limit, and each setting's levels below the
+    # ladder (an earlier plan's included)
+    deepest = set()
+
+    def depth(cand):
+        return sum(1 for r in cand.runs
+                   if not r.failed and r.dx < ladder[-1] * (1 - 1e-6))
     needs = fit_all()
     # the last step of each setting's need: (need, finest level) before
     # and after its finest level, from the levels of earlier plans too
@@ -1021,10 +1031,18 @@ def plan(scene_factory: Callable, error: float = 0.03,
                 say(f"not refining {c.setting.label()}: the verification "
                     f"record prices its error at {prior[id(c)]:.0f}x the "
                     "cost of the most promising setting")
+        for c in wanted + undetermined:
+            if depth(c) >= refinements and id(c) not in deepest:
+                deepest.add(id(c))
+                say(f"not refining {c.setting.label()} further: it has "
+                    f"{depth(c)} level(s) below its ladder (down to "
+                    f"{c.model.finest * 1e3:.3g} mm, earlier plans' "
+                    f"included), the most a plan refines ({refinements})")
         wanted = [c for c in wanted + undetermined
                   if next_cost[id(c)] + spent <= budget
                   and next_cpu[id(c)] <= planned
-                  and id(c) not in receding and id(c) not in stalled]
+                  and id(c) not in receding and id(c) not in stalled
+                  and depth(c) < refinements]
         if not wanted:
             break
         before = {id(c): (needs[id(c)][0], c.model.finest) for c in wanted
