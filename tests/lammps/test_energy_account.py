@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import REPOSITORY, run_deck
+from conftest import ATOMS_2D, REPOSITORY, run_deck
 
 UCS = REPOSITORY / "examples" / "ucs" / "in.ucs"
 DX = 0.006
@@ -98,3 +98,60 @@ def test_account_is_the_library_account_of_the_same_scene(runs):
     for key in COLUMNS:
         assert ours[key] == pytest.approx(theirs[key], rel=0, abs=tolerance), key
     assert rows[0, 1] + rows[0, 2] == pytest.approx(start, rel=1e-12)
+
+
+RESTART_SETTINGS = """\
+pair_style sphsolid 0.001 energy_account yes artificial_viscosity alpha 1.0 beta 0.0
+pair_coeff * * K 12.2e9 mu 2.67e9 rho0 2300.0
+fix integrate all sphsolid/improved_euler
+timestep 1e-7
+compute e all sphsolid/energy
+thermo_style custom step c_e[*]
+thermo_modify format float %.17g
+thermo 200
+"""
+FIRST = """\
+plugin clear
+plugin load ${plugin}
+""" + ATOMS_2D + """\
+region box block -0.01 0.01 -0.01 0.01 -0.001 0.001 units box
+create_box 1 box
+lattice sq 0.001 origin 0.5 0.5 0.0
+region block block -0.006 0.006 -0.004 0.004 -0.001 0.001 units box
+create_atoms 1 region block
+mass 1 0.0023
+velocity all create 1e18 4 dist gaussian
+""" + RESTART_SETTINGS + """\
+run 200
+write_restart state.restart
+run 200
+"""
+SECOND = """\
+plugin clear
+plugin load ${plugin}
+read_restart state.restart
+comm_modify vel yes
+""" + RESTART_SETTINGS + """\
+run 200
+"""
+
+
+def last_thermo(log_text: str) -> list[float]:
+    rows = [line.split() for line in log_text.splitlines()
+            if line.split() and line.split()[0] == "400"]
+    return [float(v) for v in rows[-1][1:]]
+
+
+def test_restart_continues_the_account(tmp_path, plugin):
+    """The totals and the starting energy are in the restart file (fix
+    SPHSOLID/STATE's global restart): 200 steps after a restart give the
+    uninterrupted run's account bit for bit (a block of random velocities
+    whose motion artificial viscosity turns into heat)."""
+    for name, text in (("first", FIRST), ("second", SECOND)):
+        (tmp_path / f"in.{name}").write_text(text)
+        run_deck(tmp_path / f"in.{name}", tmp_path, {}, plugin)
+        (tmp_path / f"log.{name}").write_text((tmp_path / "log.lammps").read_text())
+    straight = last_thermo((tmp_path / "log.first").read_text())
+    restarted = last_thermo((tmp_path / "log.second").read_text())
+    assert straight[5] > 0.5 * 0.00131    # most of the kinetic energy is heat
+    assert restarted == straight
