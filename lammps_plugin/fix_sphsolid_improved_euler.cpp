@@ -65,6 +65,7 @@ void FixSPHSolidImprovedEuler::initial_integrate(int /*vflag*/)
     error->one(FLERR, "fix {}: the stored rates are for {} atoms, this rank owns {}", style,
                pair->rates_count(), nlocal);
   pack();
+  account_evaluation();    // energy account: the evaluation at y_n
   const sph_rates rates = stage_rates();
   const int nsaved = saved_values();
   stage.resize((size_t) std::max(nlocal, 1) * nsaved);
@@ -137,6 +138,7 @@ void FixSPHSolidImprovedEuler::final_integrate()
   const int nlocal = atom->nlocal;
   const int dim = pair->dimension();
   pack();
+  account_evaluation();    // energy account: the evaluation at y*
   const sph_rates rates = stage_rates();
   const int nsaved = saved_values();
   stage.resize((size_t) std::max(nlocal, 1) * nsaved);
@@ -177,6 +179,7 @@ void FixSPHSolidImprovedEuler::final_integrate()
   // before the rates of the next step are evaluated there (which they are
   // whether D grew or not: no collective needed)
   pair->grow_damage(update->dt, false, pair->drucker_prager_on() ? free_atoms() : nullptr);
+  if (pair->energy_account_on()) pair->account_step(update->dt);    // the trapezoid of the two
 
   // The first rate evaluation of the next step, at y_{n+1}.  Forces from
   // other fixes (gravity) are kept as they were added to f(y*): they do not

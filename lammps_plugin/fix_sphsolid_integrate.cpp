@@ -175,6 +175,15 @@ void FixSPHSolidIntegrate::apply_rigid_bodies()
 void FixSPHSolidIntegrate::setup(int /*vflag*/)
 {
   pair->reset_seconds();
+  // the energy account's starting energy, the first time it runs
+  if (pair->energy_account_on()) pair->account_start();
+}
+
+/* energy account: the powers of the rate evaluation whose accelerations
+   pack() just put into dvbuf */
+void FixSPHSolidIntegrate::account_evaluation()
+{
+  if (pair->energy_account_on()) pair->account_evaluation(dvbuf.data(), integrate_motion.data());
 }
 
 /* ---------------------------------------------------------------------- */

@@ -13,7 +13,9 @@
  * integrator when it is defined.  With pair sphsolid's damage effect on,
  * the atoms it moves freely get flaws at init, and the derived fix runs
  * the library's damage stage after each step (an operator split, as the
- * library's own runs do).
+ * library's own runs do).  With pair sphsolid's energy account on, the
+ * derived fix hands it the powers of each rate evaluation and closes its
+ * steps.
  */
 #ifndef SPHSOLID_FIX_SPHSOLID_INTEGRATE_H
 #define SPHSOLID_FIX_SPHSOLID_INTEGRATE_H
@@ -57,6 +59,11 @@ class FixSPHSolidIntegrate : public Fix {
   double default_factor();     // default step / (h/c0) of the integrator
   sph_rates stage_rates();
   void check_finite();
+  // pair sphsolid's energy account on: the powers of the evaluation whose
+  // accelerations pack() put into dvbuf (after each pack() of an
+  // evaluation the account has not seen); the step is closed with
+  // pair->account_step() once its stages are done
+  void account_evaluation();
   // effect damage: the flaws of the atoms this fix moves freely (in its
   // group, in no fix sphsolid/force body), none for the others
   void draw_flaws();

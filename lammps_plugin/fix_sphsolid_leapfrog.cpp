@@ -124,6 +124,7 @@ void FixSPHSolidLeapfrog::final_integrate()
 {
   const int nlocal = atom->nlocal;
   pack();
+  account_evaluation();    // energy account: the step's momentum pass
   long bad = -1;
   const double begin = PairSPHSolid::cpu_seconds();
   const sph_status status = sph_leapfrog_end_strided(
@@ -136,8 +137,10 @@ void FixSPHSolidLeapfrog::final_integrate()
   // If D grew the carried rates are stale: both passes again at y_{n+1}
   // (as the library's leapfrog evaluates both when it carries none), the
   // acceleration into f with the other fixes' forces kept.
-  if (!pair->grow_damage(update->dt, true, pair->drucker_prager_on() ? free_atoms() : nullptr))
-    return;
+  const bool grew =
+      pair->grow_damage(update->dt, true, pair->drucker_prager_on() ? free_atoms() : nullptr);
+  if (pair->energy_account_on()) pair->account_step(update->dt);
+  if (!grew) return;
   const int dim = pair->dimension();
   double **f = atom->f;
   const double *dv_pair = pair->dv_dt();

@@ -6,6 +6,7 @@
 #include "sphsolid.h"
 
 #include "atom.h"
+#include "comm.h"
 #include "domain.h"
 #include "error.h"
 #include "memory.h"
@@ -46,7 +47,9 @@ FixSPHSolidState::FixSPHSolidState(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, "fix SPHSOLID/STATE: cannot ask libsphsolid for its integrators' stage size");
 
   restart_peratom = 1;
+  restart_global = 1;    // the energy account's totals
   create_attribute = 1;
+  reset_account();
   forward_motion = false;
   forward_stress = true;
   set_comm_sizes();
@@ -71,6 +74,14 @@ FixSPHSolidState::~FixSPHSolidState()
   memory->destroy(damage);
   memory->destroy(flaw_count);
   memory->destroy(flaw_strain);
+}
+
+/* the energy account starts again (pair_style given again) */
+void FixSPHSolidState::reset_account()
+{
+  for (double &value : account) value = 0.0;
+  account_reference = 0.0;
+  account_started = false;
 }
 
 /* values per atom of a forward message (with positions and velocities) and
@@ -327,6 +338,34 @@ int FixSPHSolidState::size_restart(int /*i*/)
 int FixSPHSolidState::maxsize_restart()
 {
   return 3 + 2 * ncomp + (damage ? 3 : 0);
+}
+
+/* ----------------------------------------------------------------------
+   restart, global: the energy account's totals summed over the ranks, its
+   starting energy and whether it started (a collective: every rank calls
+   write_restart; rank 0 writes).  Read back on rank 0 only, so that the
+   ranks' shares still add up to the totals.
+------------------------------------------------------------------------- */
+
+void FixSPHSolidState::write_restart(FILE *fp)
+{
+  double list[N_ACCOUNT + 2];
+  MPI_Allreduce(account, list, N_ACCOUNT, MPI_DOUBLE, MPI_SUM, world);
+  list[N_ACCOUNT] = account_reference;
+  list[N_ACCOUNT + 1] = account_started ? 1.0 : 0.0;
+  if (comm->me == 0) {
+    const int size = (int) sizeof(list);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list, sizeof(double), N_ACCOUNT + 2, fp);
+  }
+}
+
+void FixSPHSolidState::restart(char *buf)
+{
+  const auto *list = reinterpret_cast<const double *>(buf);
+  for (int k = 0; k < N_ACCOUNT; k++) account[k] = comm->me == 0 ? list[k] : 0.0;
+  account_reference = list[N_ACCOUNT];
+  account_started = list[N_ACCOUNT + 1] != 0.0;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -14,6 +14,11 @@
  *          the state of the library's damage effect, only while pair
  *          sphsolid has it on (set_damage): damage D, the number of flaws
  *          and the weakest activation strain (sph_damage_flaws)
+ *   account
+ *          the energy account of pair sphsolid (pair_style keyword
+ *          energy_account): this rank's shares of the work and the
+ *          dissipated energies since it started, and the energy then
+ *          (global values, written to restart files summed over the ranks)
  * Each array is contiguous (rows of one atom), so the library reads and
  * writes it in place.  The values move with their atoms between MPI ranks,
  * rho and S (optionally with x and v, and D with damage on) are sent to
@@ -50,6 +55,8 @@ class FixSPHSolidState : public Fix {
   int maxsize_restart() override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
   double memory_usage() override;
 
   int dimension() const { return dim; }
@@ -77,6 +84,18 @@ class FixSPHSolidState : public Fix {
   double *damage;         // per atom
   int *flaw_count;        // per atom
   double *flaw_strain;    // per atom
+
+  /* The energy account of pair sphsolid (energy_account yes): this rank's
+   * shares of the totals since the account started (their sum over the
+   * ranks is the account; compute sphsolid/energy adds them up) and the
+   * kinetic plus elastic energy of all atoms when it started (the same on
+   * every rank).  Written to restart files (summed; read back on rank 0)
+   * so that a restarted run continues its account. */
+  enum { WORK, DISSIPATED_DAMAGE, DISSIPATED_PLASTIC, DISSIPATED_VISCOSITY, N_ACCOUNT };
+  double account[N_ACCOUNT];
+  double account_reference;
+  bool account_started;
+  void reset_account();
 
   /* Forward communication sends rho and S; with forward_motion also the
    * positions and velocities (as comm->forward_comm() would), so that the

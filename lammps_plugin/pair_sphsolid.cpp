@@ -51,9 +51,10 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
     Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false), damage(false),
-    drucker_prager(false), sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1),
-    nmax_scratch(0), nrates(-1), send_back(false), partial_size(0), pass_size(0),
-    compute_pass(SPH_RATES_ALL), pairs_computed(0), ghost_pairs(0), part_seconds()
+    drucker_prager(false), account(false), account_reset(false), power_sum(), power_evaluations(0),
+    sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0),
+    nrates(-1), send_back(false), partial_size(0), pass_size(0), compute_pass(SPH_RATES_ALL),
+    pairs_computed(0), ghost_pairs(0), part_seconds()
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -89,7 +90,8 @@ void PairSPHSolid::allocate()
 }
 
 /* ----------------------------------------------------------------------
-   pair_style sphsolid dx [h_over_dx r] [kernel name] [effect [key value]...]...
+   pair_style sphsolid dx [h_over_dx r] [kernel name] [energy_account yes|no]
+                       [effect [key value]...]...
 ------------------------------------------------------------------------- */
 
 void PairSPHSolid::settings(int narg, char **arg)
@@ -112,7 +114,7 @@ void PairSPHSolid::settings(int narg, char **arg)
     while (words >> w) effect_names.insert(w);
   }
   auto is_keyword = [&](const std::string &w) {
-    return w == "h_over_dx" || w == "kernel" || effect_names.count(w) > 0;
+    return w == "h_over_dx" || w == "kernel" || w == "energy_account" || effect_names.count(w) > 0;
   };
 
   h_over_dx = 0.0;    // 0: the library's default
@@ -121,6 +123,9 @@ void PairSPHSolid::settings(int narg, char **arg)
   xsph = false;
   damage = false;
   drucker_prager = false;
+  account = false;
+  // given again after a run: the energy account starts again at the next init
+  account_reset = sim != nullptr;
 
   int iarg = 1;
   while (iarg < narg) {
@@ -134,6 +139,11 @@ void PairSPHSolid::settings(int narg, char **arg)
     } else if (word == "kernel") {
       if (iarg + 1 >= narg) error->all(FLERR, "pair_style sphsolid: kernel needs a name");
       kernel = arg[iarg + 1];    // the library judges the name
+      iarg += 2;
+    } else if (word == "energy_account") {
+      if (iarg + 1 >= narg)
+        error->all(FLERR, "pair_style sphsolid: energy_account needs yes or no");
+      account = utils::logical(FLERR, arg[iarg + 1], false, lmp) != 0;
       iarg += 2;
     } else if (effect_names.count(word)) {
       if (word == "gravity")
@@ -156,7 +166,7 @@ void PairSPHSolid::settings(int narg, char **arg)
       if (word == "damage") damage = true;
       if (word == "drucker_prager") drucker_prager = true;
     } else {
-      std::string known = "h_over_dx kernel";
+      std::string known = "h_over_dx kernel energy_account";
       for (const auto &e : effect_names)
         if (e != "gravity") known += " " + e;
       error->all(FLERR, "pair_style sphsolid: unknown keyword '{}' (known: {})", word, known);
@@ -396,6 +406,10 @@ void PairSPHSolid::init_style()
   // from a restart file is kept, the flaws are drawn again at the
   // integrator's init (draw_flaws)
   state_fix->set_damage(damage);
+  if (account_reset) state_fix->reset_account();
+  account_reset = false;
+  power_sum[0] = power_sum[1] = 0.0;
+  power_evaluations = 0;
 
   check_deck();
 
@@ -432,6 +446,7 @@ void PairSPHSolid::check_ranks_agree()
   settings.emplace_back("dx", number(spacing));
   settings.emplace_back("h_over_dx", number(h_over_dx));
   settings.emplace_back("kernel", kernel);
+  settings.emplace_back("energy_account", account ? "yes" : "no");
   {
     std::istringstream words(sph_effect_names());
     std::string name;
@@ -884,19 +899,40 @@ bool PairSPHSolid::grow_damage(double dt, bool any_rank, const unsigned char *fr
   if (!damage && !drucker_prager) return false;
   FixSPHSolidState *st = state_fix;
   int changed = 0, any = 0;
+  const int nlocal = atom->nlocal;
+  // energy account: the elastic energy each stage releases (the state
+  // before it kept for the library's sph_energy_released)
+  auto account_released = [&](const double *S_before, const double *D_before, int slot,
+                              const char *stage) {
+    const sph_status status = sph_energy_released(
+        sim, nlocal, localmass.data(), localmaterial.data(), st->rho, S_before, D_before,
+        st->S_data(), damage ? st->damage : nullptr, &st->account[slot]);
+    if (status != SPH_OK)
+      error->one(FLERR, "pair sphsolid: energy account of the {} at step {}: {} ({})", stage,
+                 update->ntimestep, sph_errmsg(sim), sph_status_name(status));
+  };
   if (damage) {
     damage_inputs();
+    if (account) damage_before.assign(st->damage, st->damage + nlocal);
     const sph_status status = sph_damage_grow(
-        sim, atom->nlocal, dt, idbuf.data(), localmass.data(), localmaterial.data(), st->rho,
+        sim, nlocal, dt, idbuf.data(), localmass.data(), localmaterial.data(), st->rho,
         st->S_data(), st->flaw_count, st->flaw_strain, st->damage, &changed);
     if (status != SPH_OK)
       error->one(FLERR, "pair sphsolid: damage stage at step {}: {} ({})", update->ntimestep,
                  sph_errmsg(sim), sph_status_name(status));
+    if (account && changed)
+      account_released(st->S_data(), damage_before.data(), FixSPHSolidState::DISSIPATED_DAMAGE,
+                       "damage stage");
   }
   if (drucker_prager) {
-    const int nlocal = atom->nlocal;
-    localmaterial.resize((size_t) std::max(nlocal, 1));
-    for (int i = 0; i < nlocal; i++) localmaterial[i] = type_material[atom->type[i]];
+    if (account) {
+      damage_inputs();    // the masses too
+      const double *S = st->S_data();
+      stress_before.assign(S, S + (size_t) nlocal * stress_components());
+    } else {
+      localmaterial.resize((size_t) std::max(nlocal, 1));
+      for (int i = 0; i < nlocal; i++) localmaterial[i] = type_material[atom->type[i]];
+    }
     int returned = 0;
     const sph_status status = sph_drucker_prager_return(sim, nlocal, localmaterial.data(), st->rho,
                                                         damage ? st->damage : nullptr, free_atoms,
@@ -904,6 +940,9 @@ bool PairSPHSolid::grow_damage(double dt, bool any_rank, const unsigned char *fr
     if (status != SPH_OK)
       error->one(FLERR, "pair sphsolid: drucker_prager return at step {}: {} ({})",
                  update->ntimestep, sph_errmsg(sim), sph_status_name(status));
+    if (account && returned)
+      account_released(stress_before.data(), damage ? st->damage : nullptr,
+                       FixSPHSolidState::DISSIPATED_PLASTIC, "drucker_prager return");
     changed |= returned;
   }
   if (!any_rank) return changed != 0;
@@ -922,6 +961,83 @@ void PairSPHSolid::active_flaws(double *out)
   if (status != SPH_OK)
     error->one(FLERR, "pair sphsolid: active flaws: {} ({})", sph_errmsg(sim),
                sph_status_name(status));
+}
+
+/* ----------------------------------------------------------------------
+   the energy account (energy_account yes): the library's terms on the
+   owned atoms, the rank's shares kept in the state fix
+------------------------------------------------------------------------- */
+
+void PairSPHSolid::energy_sums(double out[2])
+{
+  damage_inputs();
+  const sph_status status =
+      sph_energy_sums(sim, atom->nlocal, localmass.data(), atom->v ? atom->v[0] : nullptr, 3,
+                      state_fix->rho, state_fix->S_data(), damage ? state_fix->damage : nullptr,
+                      localmaterial.data(), nullptr, out);
+  if (status != SPH_OK)
+    error->one(FLERR, "pair sphsolid: energy of the atoms at step {}: {} ({})", update->ntimestep,
+               sph_errmsg(sim), sph_status_name(status));
+}
+
+void PairSPHSolid::account_start()
+{
+  power_sum[0] = power_sum[1] = 0.0;
+  power_evaluations = 0;
+  if (!account || state_fix->account_started) return;
+  double mine[2] = {0.0, 0.0}, all[2];
+  energy_sums(mine);
+  MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, world);
+  state_fix->account_reference = all[0] + all[1];
+  state_fix->account_started = true;
+}
+
+void PairSPHSolid::account_evaluation(const double *dv_dt, const unsigned char *integrate_motion)
+{
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  if (nrates != nlocal || cached_nall != nall || neighbor->ncalls != cached_build)
+    error->one(FLERR,
+               "pair sphsolid: energy account at step {}: the last rate evaluation is not of "
+               "the current atoms",
+               update->ntimestep);
+  sph_particles particles{};
+  particles.n_local = nlocal;
+  particles.n_total = nall;
+  particles.x = atom->x ? atom->x[0] : nullptr;
+  particles.v = atom->v ? atom->v[0] : nullptr;
+  particles.rho = state_fix->rho;
+  particles.S = state_fix->S_data();
+  particles.mass = atom->rmass ? atom->rmass : massbuf.data();
+  particles.material = materialbuf.data();
+  particles.stride = 3;
+  sph_neighbours neighbours{};
+  neighbours.offsets = neighbour_offsets.data();
+  neighbours.indices = neighbour_indices.data();
+  // newton off: a pair with a ghost is computed on both of its ranks
+  double power[2];
+  const double start = cpu_seconds();
+  const sph_status status = sph_energy_power(sim, &particles, &neighbours, send_back ? 0 : 1,
+                                             rate_dv.data(), dv_dt, integrate_motion, power);
+  part_seconds[PART_RATES] += cpu_seconds() - start;
+  if (status != SPH_OK)
+    error->one(FLERR, "pair sphsolid: energy account at step {}: {} ({})", update->ntimestep,
+               sph_errmsg(sim), sph_status_name(status));
+  power_sum[0] += power[0];
+  power_sum[1] += power[1];
+  power_evaluations++;
+}
+
+void PairSPHSolid::account_step(double dt)
+{
+  if (power_evaluations == 0) return;
+  // the mean power of the step's evaluations (Improved Euler: the
+  // trapezoid of its two), as the library integrates its own account
+  state_fix->account[FixSPHSolidState::WORK] += dt * power_sum[0] / power_evaluations;
+  state_fix->account[FixSPHSolidState::DISSIPATED_VISCOSITY] +=
+      dt * power_sum[1] / power_evaluations;
+  power_sum[0] = power_sum[1] = 0.0;
+  power_evaluations = 0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -986,5 +1102,6 @@ double PairSPHSolid::memory_usage()
   bytes += sizeof(size_t) * neighbour_offsets.capacity();
   bytes += sizeof(uint64_t) * idbuf.capacity() + sizeof(double) * localmass.capacity() +
            sizeof(int) * localmaterial.capacity();
+  bytes += sizeof(double) * (damage_before.capacity() + stress_before.capacity());
   return bytes;
 }

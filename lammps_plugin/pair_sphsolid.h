@@ -128,6 +128,24 @@ class PairSPHSolid : public Pair {
    * active_flaws: the flaws active at the current state (nlocal values
    * into out). */
   bool damage_on() const { return damage; }
+  /* The energy account (pair_style keyword energy_account yes; the
+   * library's sph_set_energy_account for the atoms of LAMMPS), kept in
+   * the state fix (account[]: this rank's shares).  account_start: at the
+   * integrator's set-up, a collective; the first time the account runs
+   * (after pair_style), the kinetic plus elastic energy of all atoms
+   * becomes its starting energy.  account_evaluation: the powers of the
+   * last rate evaluation (sph_energy_power), given the accelerations the
+   * integrator gives the owned atoms (dv_dt: the integrator fix's, after
+   * its rigid bodies) and which atoms it integrates; account_step: the
+   * step of dt closed, its mean power times dt added to the work and the
+   * viscous heat.  grow_damage adds the energy its stages release
+   * (sph_energy_released).  energy_sums: kinetic and elastic energy of
+   * this rank's owned atoms (sph_energy_sums) into out[0], out[1]. */
+  bool energy_account_on() const { return account; }
+  void account_start();
+  void account_evaluation(const double *dv_dt, const unsigned char *integrate_motion);
+  void account_step(double dt);
+  void energy_sums(double out[2]);
   bool drucker_prager_on() const { return drucker_prager; }
   void draw_flaws(const unsigned char *flawed);
   bool grow_damage(double dt, bool any_rank, const unsigned char *free_atoms);
@@ -176,6 +194,13 @@ class PairSPHSolid : public Pair {
   std::vector<int> type_material;                              // library material per atom type
   // drucker_prager effect on: the deviators are returned after a step
   bool drucker_prager;
+  // energy_account yes: the account runs (account_start ...); the powers
+  // of the current step's evaluations and their count; account_reset: the
+  // account starts again at the next init (pair_style given again)
+  bool account, account_reset;
+  double power_sum[2];
+  int power_evaluations;
+  std::vector<double> damage_before, stress_before;
 
   sph_sim *sim;    // configured in init_style()
   FixSPHSolidState *state_fix;

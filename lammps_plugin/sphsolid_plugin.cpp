@@ -7,11 +7,13 @@
  * sphsolid/heun), fix sphsolid/leapfrog, fix sphsolid/force, fix SPHSOLID/STATE
  * (internal, created by the pair style), computes
  * sphsolid/{density,pressure,vonmises,stress,energy}/atom, sphsolid/atom
- * (any of those or a damage quantity by name) and sphsolid/probe.
+ * (any of those or a damage quantity by name), sphsolid/probe and
+ * sphsolid/energy (the energy account).
  */
 #include "lammpsplugin_api.h"
 
 #include "compute_sphsolid_atom.h"
+#include "compute_sphsolid_energy.h"
 #include "compute_sphsolid_probe.h"
 #include "fix_sphsolid_force.h"
 #include "fix_sphsolid_improved_euler.h"
@@ -85,4 +87,7 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
         (lammpsplugin_factory2 *) &create_compute<ComputeSPHSolidAtom>);
   add(reg, lmp, handle, "compute", "sphsolid/probe", "SPH values at a point (pair sphsolid)",
       nullptr, (lammpsplugin_factory2 *) &create_compute<ComputeSPHSolidProbe>);
+  add(reg, lmp, handle, "compute", "sphsolid/energy",
+      "energy account of pair sphsolid: kinetic, elastic, work, dissipated, imbalance [J]", nullptr,
+      (lammpsplugin_factory2 *) &create_compute<ComputeSPHSolidEnergy>);
 }

@@ -905,6 +905,53 @@ SPH_API sph_status sph_derived_fields(sph_sim *sim, size_t n, const double *rho,
 SPH_API sph_status sph_energy_fields(sph_sim *sim, size_t n, const double *mass, const double *rho,
                                      const double *S, const int *material, double *energy);
 
+/* The energy account (sph_set_energy_account) on a caller's particles, a
+ * code that owns them (the LAMMPS plugin: pair_style sphsolid
+ * energy_account yes, compute sphsolid/energy), from the terms the
+ * handle's own account uses; the caller integrates and sums (over its
+ * processes too):
+ *  - sph_energy_power: the powers of one rate evaluation of the n_local
+ *    particles [W; W/m in 2D].  power[0], the work rate of everything but
+ *    the SPH forces among the particles: sum m (a - dv_sph) . v, with
+ *    dv_sph the evaluation's SPH accelerations (sph_rates dv_dt, n_local
+ *    * dim) and a the acceleration the integrator gives the particle:
+ *    dv_dt (n_local * dim: a rigid body's common acceleration, gravity
+ *    added, ...) where integrate_motion[a] is non-zero (NULL: all), 0
+ *    where the caller prescribes the motion (it overrides the SPH force,
+ *    doing -m dv_sph . v: constant speeds and rotations).  power[1], with
+ *    effect artificial_viscosity on (else 0), the heat rate
+ *    sum m_a m_b Pi_ab v_ab . grad_a W_ab over the pairs of the
+ *    neighbours' rows (each pair listed once, ghosts included, positions
+ *    as given); a pair with a ghost (index >= n_local) counts half if
+ *    shared_ghost_pairs is non-zero (its other process lists it too).
+ *    Uses particles->x, v, rho, mass, material and stride.  Integrated
+ *    with the integrator's weights, the step's mean power times dt (the
+ *    trapezoid of Improved Euler's two evaluations), these are the
+ *    account's work and dissipated_viscosity.
+ *  - sph_energy_sums: adds sum m v^2 / 2 to energy[0] and the elastic
+ *    energy to energy[1] (damaged by damage[a] if damage is non-NULL, as
+ *    sph_energy() reports it with effect damage on) of the n particles
+ *    whose member[a] is non-zero (NULL: all); v `stride` doubles apart (0:
+ *    dim).
+ *  - sph_energy_released: adds to *released the elastic energy a stage
+ *    took from n particles: sum m (u(rho, S_before, D_before) - u(rho, S,
+ *    D)), u the damaged energy per mass; the damage stage (S unchanged:
+ *    the account's dissipated_damage) or the drucker_prager return (D
+ *    unchanged: dissipated_plastic).  damage_before and damage: both n
+ *    values, or both NULL (undamaged). */
+SPH_API sph_status sph_energy_power(sph_sim *sim, const sph_particles *particles,
+                                    const sph_neighbours *neighbours, int shared_ghost_pairs,
+                                    const double *dv_sph, const double *dv_dt,
+                                    const unsigned char *integrate_motion, double *power);
+SPH_API sph_status sph_energy_sums(sph_sim *sim, size_t n, const double *mass, const double *v,
+                                   size_t stride, const double *rho, const double *S,
+                                   const double *damage, const int *material,
+                                   const unsigned char *member, double *energy);
+SPH_API sph_status sph_energy_released(sph_sim *sim, size_t n, const double *mass,
+                                       const int *material, const double *rho,
+                                       const double *S_before, const double *damage_before,
+                                       const double *S, const double *damage, double *released);
+
 /* Effect damage on n external particles (a code that owns its particles:
  * the LAMMPS plugin), with the handle's seed, flaws parameter, materials
  * and smoothing length.  A particle's flaws are drawn from (seed, id[a],
