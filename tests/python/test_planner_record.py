@@ -356,6 +356,20 @@ def test_a_scene_file_is_planned_at_the_spacing_asked_for():
         planner.scenes.scene_file(example, probes=["nowhere"])
 
 
+def test_a_scene_files_static_inset_yields_to_the_settings_own():
+    # the cylinder's file lays its platens at inset = "static", which has
+    # no solution for the cubic spline at h/dx 1.5: the planner's setting
+    # places the ends (there, on the lattice), as it sets kernel and h/dx
+    example = ROOT / "examples" / "scene_file" / "cylinder.toml"
+    spec = planner.scenes.scene_file(example, probes=["D"])
+    lattice = spec.factory(9e-3, 1.5, "cubic_spline", 0.0)
+    static = spec.factory(9e-3, 1.65, "cubic_o4", "static")
+    top = {s: float(sc.positions[sc.body_slice("piston"), 1].min())
+           for s, sc in (("lattice", lattice), ("static", static))}
+    # set in by the static inset, the piston's rows start lower
+    assert top["static"] < top["lattice"]
+
+
 def test_a_scene_file_runs_with_the_settings_of_its_plan(tmp_path):
     from sphsolid.scenefile import run_file
     example = ROOT / "examples" / "scene_file" / "pull.toml"

@@ -319,7 +319,10 @@ def scene_file(path, probes=None, quantity: str = "von_mises") -> PlanScene:
         for body in copy_["bodies"]:
             if "dx" in body:
                 body["dx"] = length(body["dx"], "dx") * dx / finest
-            if body.get("shape") in ("plate", "piston") and inset:
+            if body.get("shape") in ("plate", "piston"):
+                # the setting's end placement, as its kernel and h/dx: a
+                # file's inset = "static" has no solution for some of the
+                # kernels the planner tries
                 body["inset"] = inset
         copy_["smoothing_ratio"] = smoothing_ratio
         copy_["kernel"] = kernel
