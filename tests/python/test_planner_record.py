@@ -610,3 +610,32 @@ def test_levels_of_earlier_plans_count_toward_the_refinement_depth(
     assert plan_once() == pytest.approx([0.667e-3, 0.445e-3])
     assert plan_once() == []
     assert any("2 level(s) below its ladder" in line for line in said)
+
+
+def test_the_cylinders_centre_slope_is_the_least_squares_slope():
+    # the probe of the planner scene "cylinder" keeps running sums; its
+    # value after each sample is the least-squares slope of sigma_yy at
+    # the centre over the samples from its start, as numpy fits it
+    from sphsolid import Probes, scenes
+    from sphsolid.dynamics import Leapfrog
+    scene = planner.scenes.cylinder_factory(9e-3)
+    slope = planner.scenes.CentreSlope(start=0.1e-3)
+    probes = Probes(scene, {"c": (0.0, 0.5 * scenes.CYLINDER_LENGTH, 0.0)})
+    times, values, seen = [], [], []
+
+    def sample():
+        seen.append(slope(scene)["slope"])
+        times.append(scene.time)
+        values.append(probes._sample_array()[0,
+                                             probes.values.index("sigma_yy")])
+    dyn = Leapfrog(scene, progress=False)
+    dyn.attach(sample, interval=1)
+    dyn.run(until=0.3e-3)
+    t, v = np.array(times), np.array(values)
+    late = t >= 0.1e-3
+    assert late.sum() > 10 and (~late).sum() > 2
+    assert seen[-1] == pytest.approx(np.polyfit(t[late], v[late], 1)[0],
+                                     rel=1e-9)
+    assert seen[0] == 0.0                      # before its start
+    # the stress at the centre falls as the piston loads it
+    assert seen[-1] < 0

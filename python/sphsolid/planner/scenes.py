@@ -155,6 +155,56 @@ def gravity_factory(dx: float, smoothing_ratio: float = 1.2,
 STRIP_HEIGHT, STRIP_WIDTH_DX = 0.1, 8
 
 
+def cylinder_factory(dx: float, smoothing_ratio: float = 1.2,
+                     kernel: str = "cubic_spline",
+                     inset: float | str = 0.0):
+    """The 3D laboratory cylinder (:func:`sphsolid.scenes.uniaxial_cylinder`:
+    54 x 135 mm, the paper's rock, the piston at 1.5 mm/s) with the
+    planner's h/dx, kernel and end placement and no optional effect."""
+    from .. import scenes
+    return scenes.uniaxial_cylinder(dx, viscosity=None, kernel=kernel,
+                                    smoothing_ratio=smoothing_ratio,
+                                    inset=inset)
+
+
+#: the cylinder's end time and the start of its slope fit [s]: the
+#: window of the 3D validation (docs/validation/cylinder_3d), where
+#: sigma_yy at the centre rises at the quasi-static slope
+CYLINDER_UNTIL, CYLINDER_SLOPE_FROM = 1.5e-3, 0.75e-3
+
+
+class CentreSlope:
+    """``probes(scene) -> {"slope": s}``: the least-squares slope [Pa/s]
+    of sigma_yy at the cylinder's centre over the samples from ``start``
+    [s] to now (0 before two samples), the quantity the 3D validation
+    compares with the finite-element quasi-static slope. Its running
+    sums are kept per scene."""
+
+    def __init__(self, start: float = CYLINDER_SLOPE_FROM):
+        import weakref
+        self.start = start
+        self._sums = weakref.WeakKeyDictionary()
+
+    def __call__(self, scene) -> dict:
+        from .. import scenes
+        from ..probes import Probes
+        state = self._sums.get(scene)
+        if state is None:
+            probes = Probes(scene, {"centre": (
+                0.0, 0.5 * scenes.CYLINDER_LENGTH, 0.0)})
+            state = self._sums[scene] = (
+                probes, probes.values.index("sigma_yy"), np.zeros(5))
+        probes, column, sums = state
+        t = scene.time
+        if t >= self.start:
+            value = float(probes._sample_array()[0, column])
+            sums += (1.0, t, value, t * t, t * value)
+        n, st, sv, stt, stv = sums
+        spread = n * stt - st * st
+        return {"slope": (n * stv - st * sv) / spread
+                if n >= 2 and spread > 0 else 0.0}
+
+
 def strip_factory(dx: float, smoothing_ratio: float = 1.2,
                   kernel: str = "cubic_spline", speed: float | None = None,
                   inset: float | str = 0.0):
@@ -269,6 +319,13 @@ def project_scenes() -> dict:
                              "70, 105 mm over the second half of the run "
                              "(damped at c_p/L, the waves have decayed by "
                              "e^-12 at its start)"),
+        "cylinder": PlanScene(cylinder_factory, CentreSlope(), "sigma_yy",
+                              (9e-3, 6e-3, 4.5e-3), CYLINDER_UNTIL,
+                              window=lambda until: (until - 20e-6, until),
+                              description="the 3D laboratory cylinder: the "
+                              "least-squares slope of sigma_yy at its "
+                              "centre from 0.75 ms to the end (its value "
+                              "over the last 20 us)"),
         "strip": PlanScene(strip_factory, STRIP_PROBES, "sigma_yy",
                            (2e-3, 1.4e-3, 1e-3, 0.7e-3), strip_until,
                            description="laterally periodic strip hit by the "
