@@ -448,7 +448,7 @@ def make_folder(path: Path, label: str) -> Path:
 def run_file(path, out=None, until=None, progress=None, log=print,
              threads=None, integrator=None, preset=None,
              checkpoint_every=None, resume=None, dt=None,
-             plan=None) -> dict:
+             plan=None, probe_interval=None) -> dict:
     """Build and run a scene file; returns the paths written.
 
     ``plan`` (a plan.json path or :class:`~sphsolid.planner.Plan` from
@@ -461,6 +461,12 @@ def run_file(path, out=None, until=None, progress=None, log=print,
     probe series as CSV (ending at the end time) and, when ``figures`` is
     true (the default), the probe curves and a von Mises map of the final
     state as PNG.
+
+    ``probe_interval`` (steps between probe samples) overrides the file's
+    ``[output] probe_interval``; the default samples every step within
+    0.25 us (:func:`~sphsolid.metrics.probe_interval_for`). A run with a
+    ``plan`` that samples more sparsely than that says so: what it writes
+    may then be further from the truth than the plan's error.
 
     ``threads`` (else the file's ``threads``) sets the OpenMP threads;
     ``integrator`` and ``preset`` are as for :class:`SceneFile`; ``dt``
@@ -528,8 +534,16 @@ def run_file(path, out=None, until=None, progress=None, log=print,
         interval = max(1, int(round(output["snapshot_every"] / dyn.dt)))
     if interval is None:
         interval = max(1, math.ceil(until / dyn.dt / 10))   # ~10 frames
-    probe_interval = int(output.get("probe_interval",
-                                    probe_interval_for(dyn.dt)))
+    needed = probe_interval_for(dyn.dt)
+    if probe_interval is None:
+        probe_interval = int(output.get("probe_interval", needed))
+    if plan is not None and spec.probe_points and probe_interval > needed:
+        log(f"warning: probes sampled every {probe_interval} steps "
+            f"({probe_interval * dyn.dt * 1e6:.3g} us), more sparsely than "
+            f"the planner's error metric reads them ({needed} steps, "
+            f"{needed * dyn.dt * 1e6:.3g} us): the written series may be "
+            "further from the truth than the plan's error (the file's "
+            "[output] probe_interval; --probe-interval overrides it)")
     stops = marks(checkpoint_every, dyn.time, until)
     counts = ", ".join(f"{k} {v:,}" for k, v in scene.body_counts().items())
     log(f"{spec.title}: {scene.dimension}D, {counts} particles, "

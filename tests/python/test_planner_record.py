@@ -383,8 +383,16 @@ def test_a_scene_file_runs_with_the_settings_of_its_plan(tmp_path):
     # the block of 40 x 60 mm at 4 mm: 10 x 15 particles
     assert any("block 150" in line for line in lines), lines
     assert any("until 0.01 ms" in line for line in lines), lines
+    # the file samples its probes every 2 steps, more sparsely than the
+    # planner's metric reads them at this step: the run says so, unless
+    # the interval asked for is fine enough
+    assert any(line.startswith("warning: probes sampled every 2 steps")
+               for line in lines), lines
     # the user's thread count replaces the plan's (the CLI's --threads)
-    run_file(example, out=tmp_path, plan=path, threads=1, log=lines.append)
+    lines.clear()
+    run_file(example, out=tmp_path, plan=path, threads=1, probe_interval=1,
+             log=lines.append)
+    assert not any("warning" in line for line in lines), lines
     data["scene"] = "other.toml"
     path.write_text(json.dumps(data))
     with pytest.raises(ValueError, match="other.toml"):
