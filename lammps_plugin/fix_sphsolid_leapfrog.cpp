@@ -57,6 +57,11 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
     error->one(FLERR, "fix {}: the stored rates are for {} atoms, this rank owns {}", style,
                pair->rates_count(), nlocal);
   pack();    // dv/dt = f/m of every force, rigid bodies applied; which atoms integrate
+  // energy account: the step's trapezoid opens with the powers of the
+  // rates it starts from, those the last step ended with (or evaluated
+  // again after damage grew, as the library's leapfrog does); the first
+  // step of a run has them evaluated here
+  if (pair->energy_account_on() && !pair->account_carry()) account_evaluation();
   FixSPHSolidState *state = pair->state();
 
   // The predictor takes the density and stress rates of the last half step.
@@ -158,4 +163,8 @@ void FixSPHSolidLeapfrog::final_integrate()
       f[i][d] = m * dv_pair[(size_t) i * dim + d] + other_force[(size_t) i * dim + d];
   }
   keep_rates(false);
+  if (pair->energy_account_on()) {
+    pack();    // the powers of the new rates open the next step
+    account_evaluation();
+  }
 }

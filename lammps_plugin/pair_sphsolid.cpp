@@ -52,9 +52,9 @@ static const char STATE_FIX_ID[] = "SPHSOLID_STATE";
 PairSPHSolid::PairSPHSolid(LAMMPS *lmp) :
     Pair(lmp), dim(0), spacing(0.0), h_over_dx(0.0), support(0.0), xsph(false), damage(false),
     drucker_prager(false), account(false), account_reset(false), power_sum(), power_evaluations(0),
-    sim(nullptr), state_fix(nullptr), cached_build(-1), cached_nall(-1), nmax_scratch(0),
-    nrates(-1), send_back(false), partial_size(0), pass_size(0), compute_pass(SPH_RATES_ALL),
-    pairs_computed(0), ghost_pairs(0), part_seconds()
+    power_last(), power_last_valid(false), sim(nullptr), state_fix(nullptr), cached_build(-1),
+    cached_nall(-1), nmax_scratch(0), nrates(-1), send_back(false), partial_size(0), pass_size(0),
+    compute_pass(SPH_RATES_ALL), pairs_computed(0), ghost_pairs(0), part_seconds()
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -984,6 +984,7 @@ void PairSPHSolid::account_start()
 {
   power_sum[0] = power_sum[1] = 0.0;
   power_evaluations = 0;
+  power_last_valid = false;
   if (!account || state_fix->account_started) return;
   double mine[2] = {0.0, 0.0}, all[2];
   energy_sums(mine);
@@ -1026,6 +1027,19 @@ void PairSPHSolid::account_evaluation(const double *dv_dt, const unsigned char *
   power_sum[0] += power[0];
   power_sum[1] += power[1];
   power_evaluations++;
+  power_last[0] = power[0];
+  power_last[1] = power[1];
+  power_last_valid = true;
+}
+
+bool PairSPHSolid::account_carry()
+{
+  if (power_evaluations > 0) return true;    // evaluated since the last step closed
+  if (!power_last_valid) return false;
+  power_sum[0] += power_last[0];
+  power_sum[1] += power_last[1];
+  power_evaluations++;
+  return true;
 }
 
 void PairSPHSolid::account_step(double dt)

@@ -138,13 +138,21 @@ class PairSPHSolid : public Pair {
    * integrator gives the owned atoms (dv_dt: the integrator fix's, after
    * its rigid bodies) and which atoms it integrates; account_step: the
    * step of dt closed, its mean power times dt added to the work and the
-   * viscous heat.  grow_damage adds the energy its stages release
-   * (sph_energy_released).  energy_sums: kinetic and elastic energy of
-   * this rank's owned atoms (sph_energy_sums) into out[0], out[1]. */
+   * viscous heat.  account_carry: for an integrator whose step starts
+   * from the rates its last step ended with (leapfrog), the powers of
+   * that evaluation open the step (its trapezoid, as the library's
+   * leapfrog integrates its own account); false if there are none (a
+   * run's first step), the caller then evaluates them; true, adding
+   * nothing, if the step has its start already (an evaluation made after
+   * the last step closed: damage grew).  grow_damage adds the energy its
+   * stages release (sph_energy_released).  energy_sums: kinetic and
+   * elastic energy of this rank's owned atoms (sph_energy_sums) into
+   * out[0], out[1]. */
   bool energy_account_on() const { return account; }
   void account_start();
   void account_evaluation(const double *dv_dt, const unsigned char *integrate_motion);
   void account_step(double dt);
+  bool account_carry();
   void energy_sums(double out[2]);
   bool drucker_prager_on() const { return drucker_prager; }
   void draw_flaws(const unsigned char *flawed);
@@ -200,6 +208,9 @@ class PairSPHSolid : public Pair {
   bool account, account_reset;
   double power_sum[2];
   int power_evaluations;
+  // the powers of the last evaluation, and whether there is one this run
+  double power_last[2];
+  bool power_last_valid;
   std::vector<double> damage_before, stress_before;
 
   sph_sim *sim;    // configured in init_style()
