@@ -548,7 +548,11 @@ SPH_API sph_status sph_energy(sph_sim *sim, int all_bodies, sph_energy_info *inf
 /* on != 0: switch the energy account on (its totals start from 0; a pass
  * over the pairs per rate evaluation with artificial viscosity on, a pass
  * over the prescribed particles without); 0: off, nothing is computed.
- * The totals are not written to checkpoints. */
+ * The powers of each step's rate evaluations are integrated as a trapezoid
+ * (Improved Euler: its two stages; the leapfrog: the powers of the rates
+ * the step starts from, kept from the last step, and of its momentum
+ * pass).  The totals are not written to checkpoints; the leapfrog's kept
+ * powers are, with its rates, so a resumed run integrates as one run. */
 SPH_API sph_status sph_set_energy_account(sph_sim *sim, int on);
 SPH_API int sph_energy_account(const sph_sim *sim);
 

@@ -221,6 +221,7 @@ sph_status sph_add_particles(sph_sim *sim, const char *name, int material_id, si
     body_extent_from_particles(sim, sim->n_bodies - 1);
     sim->nl.valid = 0;
     sim->rates_valid = 0;
+    sim->power_carry_valid = 0;
     return sph_ok(sim);
 }
 

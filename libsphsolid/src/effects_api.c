@@ -17,6 +17,7 @@ sph_status sph_effect(sph_sim *sim, const char *name, const char *parameters)
         return st;
     damage_redraw(sim); /* no-op unless damage is on and drawn */
     sim->rates_valid = 0;
+    sim->power_carry_valid = 0;
     return sph_ok(sim);
 }
 
@@ -30,6 +31,7 @@ sph_status sph_effect_off(sph_sim *sim, const char *name)
     if (!sim->fx.damage)
         damage_free(sim);
     sim->rates_valid = 0;
+    sim->power_carry_valid = 0;
     return sph_ok(sim);
 }
 

@@ -112,10 +112,25 @@ void energy_account_evaluation(sph_sim *sim)
             for (int i = 0; i < dim; ++i)
                 power -= sim->mass[a] * sim->dv_dt[a * dim + i] * sim->v[a * dim + i];
     }
+    const double heat = sim->fx.artificial_viscosity ? viscous_dissipation_rate(sim) : 0.0;
     sim->power_sum[0] += power;
-    if (sim->fx.artificial_viscosity)
-        sim->power_sum[1] += viscous_dissipation_rate(sim);
+    sim->power_sum[1] += heat;
     sim->power_evals++;
+    /* the powers of the rates the next step may start from */
+    sim->power_carry[0] = power;
+    sim->power_carry[1] = heat;
+    sim->power_carry_valid = 1;
+}
+
+void energy_account_open(sph_sim *sim, int carried)
+{
+    sim->power_sum[0] = sim->power_sum[1] = 0.0;
+    sim->power_evals = 0;
+    if (carried && sim->power_carry_valid) {
+        sim->power_sum[0] = sim->power_carry[0];
+        sim->power_sum[1] = sim->power_carry[1];
+        sim->power_evals = 1;
+    }
 }
 
 void energy_account_step(sph_sim *sim, double dt)
@@ -127,8 +142,10 @@ void energy_account_step(sph_sim *sim, double dt)
         }
         sim->power_evals = 0;
     }
-    /* the trapezoid of the step's evaluations (Improved Euler: its two
-     * stages; rates carried from the last step: their power) */
+    /* the trapezoid of the step's evaluations: Improved Euler's two
+     * stages; the leapfrog's start powers (carried from the last step's
+     * momentum pass, or of the rates evaluated again at its start) and its
+     * momentum pass */
     sim->work_boundary += dt * sim->power_last[0];
     sim->dissipated_viscosity += dt * sim->power_last[1];
 }
@@ -142,7 +159,8 @@ sph_status sph_set_energy_account(sph_sim *sim, int on)
     sim->dissipated_plastic = sim->dissipated_viscosity = 0.0;
     sim->power_sum[0] = sim->power_sum[1] = sim->power_last[0] = sim->power_last[1] = 0.0;
     sim->power_evals = 0;
-    sim->rates_valid = 0; /* the next step evaluates its rates, and their power */
+    sim->power_carry_valid = 0; /* evaluations while off left no powers */
+    sim->rates_valid = 0;       /* the next step evaluates its rates, and their power */
     return sph_ok(sim);
 }
 

@@ -65,6 +65,7 @@ sph_status sph_set_integrator(sph_sim *sim, const char *name)
     if (in != old) {
         sim->rates_valid = 0;
         sim->carry_valid = 0;
+        sim->power_carry_valid = 0;
     }
     return sph_ok(sim);
 }

@@ -177,6 +177,11 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
         io_write_dataset(&c, g, "rate_velocity", H5T_NATIVE_DOUBLE, 2, vec, sim->dv_dt);
         io_write_dataset(&c, g, "rate_density", H5T_NATIVE_DOUBLE, 1, &n, sim->drho_dt);
         io_write_dataset(&c, g, "rate_deviatoric_stress", H5T_NATIVE_DOUBLE, 2, ten, sim->dS_dt);
+        if (sim->energy_account && sim->power_carry_valid) {
+            /* their powers, which open the energy account's next step */
+            const hsize_t two = 2;
+            io_write_dataset(&c, g, "rate_powers", H5T_NATIVE_DOUBLE, 1, &two, sim->power_carry);
+        }
     }
     io_group_close(&c, g, "checkpoint");
     void *image = NULL;
@@ -316,6 +321,8 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
         goto done;
     }
     const int with_rates = in->carries_rates && H5Lexists(g, "rate_velocity", H5P_DEFAULT) > 0;
+    double powers[2] = {0.0, 0.0}; /* of the rates, for the energy account, if written */
+    int with_powers = 0;
     if (with_rates) {
         s.dv = malloc(nn * d * sizeof(double));
         s.drho = malloc(nn * sizeof(double));
@@ -329,6 +336,9 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
             io_read_doubles(&c, g, "rate_density", -1, nn, s.drho);
         if (!c.failed)
             io_read_doubles(&c, g, "rate_deviatoric_stress", -1, nn * (size_t)sim->ncomp, s.dS);
+        if (!c.failed && H5Lexists(g, "rate_powers", H5P_DEFAULT) > 0 &&
+            !io_read_doubles(&c, g, "rate_powers", -1, 2, powers))
+            with_powers = isfinite(powers[0]) && isfinite(powers[1]);
         if (c.failed) {
             st = sph_fail(sim, SPH_ERR_IO,
                           "cannot read the integrator's rates of checkpoint '%s': %s (reading %s)",
@@ -384,6 +394,11 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
         memcpy(sim->drho_dt, s.drho, nn * sizeof(double));
         memcpy(sim->dS_dt, s.dS, nn * (size_t)sim->ncomp * sizeof(double));
         carried_rates_set(sim);
+        if (with_powers) {
+            sim->power_carry[0] = powers[0];
+            sim->power_carry[1] = powers[1];
+            sim->power_carry_valid = 1;
+        }
     }
     st = sph_ok(sim);
 done:

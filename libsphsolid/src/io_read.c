@@ -500,6 +500,7 @@ void io_state_commit(sph_sim *sim, const state_copy *s, long step, double time)
     sim->t = time;
     sim->nl.valid = 0;
     sim->rates_valid = 0;
+    sim->power_carry_valid = 0; /* the account's powers were of the state replaced */
 }
 
 /* Refuses values no run can produce (checksums catch damaged blocks; this

@@ -163,6 +163,7 @@ static void after_undo(sph_sim *sim)
 {
     sim->rates_valid = 0;
     sim->carry_valid = 0;
+    sim->power_carry_valid = 0;
     if (sim->out) {
         char message[SPH_ERRMSG_SIZE];
         memcpy(message, sim->errmsg, sizeof message);
@@ -174,10 +175,11 @@ static void after_undo(sph_sim *sim)
 static sph_status one_step(sph_sim *sim, const integrator *in, double dt)
 {
     double moved = 0.0;
-    if (sim->energy_account) { /* the powers of this step's evaluations only */
-        sim->power_sum[0] = sim->power_sum[1] = 0.0;
-        sim->power_evals = 0;
-    }
+    /* the powers of this step's evaluations only, opened by those of the
+     * rates the step starts from if it does not evaluate them again (the
+     * leapfrog: its trapezoid) */
+    if (sim->energy_account)
+        energy_account_open(sim, in->carries_rates && sim->rates_valid);
     sph_status st = in->step(sim, dt, &moved);
     if (st) {
         after_undo(sim);
@@ -271,8 +273,11 @@ static sph_status run_steps(sph_sim *sim, long steps, double t_end)
     double last = 0.0;
     if (steps < 0)
         steps_until(sim, t_end, dt, &steps, &last);
-    if (in->carries_rates)
+    if (in->carries_rates) {
         sim->rates_valid = carried_rates_valid(sim);
+        if (!sim->rates_valid) /* their powers went with them */
+            sim->power_carry_valid = 0;
+    }
     for (long done = 0; done < steps + (last > 0.0); ++done) {
         const int shortened = done == steps;
         if ((st = one_step(sim, in, shortened ? last : dt)))

@@ -158,11 +158,15 @@ struct sph_sim {
      * totals since it was switched on: work of the prescribed motions and
      * applied forces, energy dissipated by damage, by the drucker_prager
      * return and by artificial viscosity [J; J/m in 2D]; the powers summed
-     * over the rate evaluations of the current step */
+     * over the rate evaluations of the current step; the powers of the last
+     * evaluation, which open the next step of an integrator that carries
+     * its rates (the leapfrog), while they belong to the rates it carries */
     int energy_account;
     double work_boundary, dissipated_damage, dissipated_plastic, dissipated_viscosity;
     double power_sum[2], power_last[2];
     int power_evals;
+    double power_carry[2];
+    int power_carry_valid;
 
     struct output_file *out;
 };
@@ -301,6 +305,10 @@ sph_status plastic_stage(sph_sim *sim, int *changed);
 /* Adds the boundary power and the viscous dissipation rate of the current
  * rate evaluation (called before the prescribed accelerations are zeroed). */
 void energy_account_evaluation(sph_sim *sim);
+/* Opens a step's sum of powers: empty, or with `carried` (the step starts
+ * from rates it does not evaluate again) the powers of the evaluation that
+ * gave them, if the handle has them. */
+void energy_account_open(sph_sim *sim, int carried);
 /* Integrates the step's powers over dt. */
 void energy_account_step(sph_sim *sim, double dt);
 /* The elastic energy particle a releases when its damage grows from
