@@ -36,9 +36,12 @@
  * other particle are appended to the chunk's "far" list and added after the
  * pass, in chunk order.  Every sum therefore runs in an order fixed by the
  * list and the chunk bounds alone: results are bitwise the same on any
- * number of threads.  Rows are sorted by index and pairs beyond the support add exact
- * zeros, so the extra pairs of the skin do not change any sum either:
- * results do not depend on when the list was rebuilt.
+ * number of threads.  Rows are sorted by index, and the listed pairs beyond
+ * the kernel's support (the skin's) are skipped at the gather: all their
+ * terms are exact zeros (of either sign), and adding a zero never changes
+ * a sum that starts from +0 (round to nearest gives -0 only for -0 + -0),
+ * so skipping them gives the same bits and results do not depend on when
+ * the list was rebuilt.
  *
  * The pair loop is compiled in one variant per (dimension, kernel, pass,
  * sums layout) and instruction-set path.  The pairs of a chunk are taken
@@ -98,6 +101,9 @@ typedef struct engine {
     /* D per particle (effect damage), or NULL */
     const double *damage;
     double h, inv_h, w_norm, f_norm;
+    /* pairs with |r_ab|^2 > cut2 are beyond the kernel's support: every
+     * term of theirs is an exact zero (not computed) */
+    double cut2;
     double box[3], half_box[3];
     int periodic_axis[3];
     int periodic; /* some axis is periodic */
@@ -172,11 +178,11 @@ static ALWAYS_INLINE void neighbours_of(const engine *e, size_t a, const int **l
     }
 }
 
-/* r_ab = x_a - x_b, with the minimum image along periodic axes. */
-static inline double separation(const engine *e, const double *xa, size_t b, const int dim,
+/* r_ab = x_a - x_b, with the minimum image along periodic axes; returns
+ * |r_ab|^2. */
+static inline double separation(const engine *e, const double *xb, const double *xa, const int dim,
                                 const int periodic, double *r_ab)
 {
-    const double *xb = e->x + b * e->xs;
     double r2 = 0.0;
     for (int i = 0; i < dim; ++i) {
         double d = xa[i] - xb[i];
@@ -300,38 +306,54 @@ static ALWAYS_INLINE row_data row_of(const engine *e, size_t a, const int dim, c
     return r;
 }
 
-/* Lane k of the block: the pair (a, b), gathered in structure-of-arrays
- * form with the per-pair factors of the pass. */
-static ALWAYS_INLINE void gather_pair(const engine *e, const row_data *ra, size_t a, size_t b,
-                                      const int dim, const int pass, row_block *blk, int k)
+/* What the gather reads of the engine, copied once per chunk into a local
+ * (the block's stores cannot alias it, so nothing is reloaded per pair). */
+typedef struct gather_src {
+    const double *x, *v, *mass, *rho, *pair_data, *R;
+    size_t xs;
+    int pstride;
+    int c_per_pair; /* the sound speeds differ: c_mean per pair */
+} gather_src;
+
+static ALWAYS_INLINE gather_src gather_src_of(const engine *e, const int pass)
 {
-    const int nsym = dim == 2 ? 3 : 6, pstride = e->pstride;
     const int mom = pass & PASS_MOMENTUM;
-    const int viscosity = mom && e->fx.artificial_viscosity;
+    gather_src g = {e->x,  e->v,       e->mass, e->rho, e->pair_data, mom ? e->R : NULL,
+                    e->xs, e->pstride, 0};
+    g.c_per_pair = mom && e->fx.artificial_viscosity && !(e->c0_all > 0.0);
+    return g;
+}
+
+/* Lane k of the block: the pair (a, b) at separation r_ab, gathered in
+ * structure-of-arrays form with the per-pair factors of the pass. */
+static ALWAYS_INLINE void gather_pair(const gather_src *g, const row_data *ra, size_t a, size_t b,
+                                      const double *r_ab, const int dim, const int pass,
+                                      row_block *blk, int k)
+{
+    const int nsym = dim == 2 ? 3 : 6, pstride = g->pstride;
+    const int mom = pass & PASS_MOMENTUM;
     pair_block *p = &blk->p;
     blk->a[k] = (int)a;
     blk->b[k] = (int)b;
-    double r_ab[3];
-    separation(e, ra->x, b, dim, e->periodic, r_ab);
-    const double *vb = e->v + b * e->xs;
-    const double *Pb = e->pair_data + b * (size_t)pstride;
+    const double *vb = g->v + b * g->xs;
+    const double *Pb = g->pair_data + b * (size_t)pstride;
     for (int i = 0; i < dim; ++i) {
         p->r[i][k] = r_ab[i];
         p->v[i][k] = ra->v[i] - vb[i];
     }
     p->m_a[k] = ra->m;
     p->V_a[k] = ra->V;
-    p->m_b[k] = e->mass[b];
+    p->m_b[k] = g->mass[b];
     blk->rho_a[k] = ra->rho;
-    blk->rho_b[k] = e->rho[b];
+    blk->rho_b[k] = g->rho[b];
     if (mom) /* the per-particle stress factors (pass_pair_data) */
         for (int c = 0; c < nsym; ++c)
             p->T[c][k] = ra->P[c] + Pb[c];
-    if (viscosity && !(e->c0_all > 0.0))
+    if (g->c_per_pair)
         p->c_mean[k] = 0.5 * (ra->c + Pb[nsym]);
-    if (ra->R)
+    if (g->R)
         for (int c = 0; c < nsym; ++c)
-            p->R[c][k] = ra->R[c] + e->R[b * (size_t)nsym + (size_t)c];
+            p->R[c][k] = ra->R[c] + g->R[b * (size_t)nsym + (size_t)c];
 }
 
 /* The rest of the block's inputs, in loops over all lanes without
@@ -465,6 +487,9 @@ static ALWAYS_INLINE void chunk_sums(const engine *e, size_t b0, size_t b1, size
         rs.acc[c] = 0.0;
     /* a neighbour b < far_below is at least two chunks before a */
     const size_t far_below = b0 >= e->chunk ? b0 - e->chunk : 0;
+    const gather_src g = gather_src_of(e, pass);
+    const int full = e->full, periodic = e->periodic;
+    const double cut2 = e->cut2;
     /* row a's neighbours from kk on are still to be gathered; one call of
      * block_sums (each call site is a copy of the whole block's code) */
     size_t a = b0;
@@ -486,9 +511,12 @@ static ALWAYS_INLINE void chunk_sums(const engine *e, size_t b0, size_t b1, size
                 continue;
             }
             const size_t b = (size_t)list[kk++];
-            if (e->full && b < a && b >= far_below)
+            if (full && b < a && b >= far_below)
                 continue; /* a full list: the pair is computed in b's row */
-            gather_pair(e, &ra, a, b, dim, pass, &blk, blk.p.n++);
+            double r_ab[3];
+            if (separation(e, g.x + b * g.xs, ra.x, dim, periodic, r_ab) > cut2)
+                continue; /* beyond the support: every term an exact zero */
+            gather_pair(&g, &ra, a, b, r_ab, dim, pass, &blk, blk.p.n++);
         }
         if (blk.p.n)
             block_sums(e, &s, &blk, b0, dend, far, &rs, dim, kernel, pass);
@@ -856,6 +884,10 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     const double sigma = kernel_sigma(sim->kernel, sim->dim);
     e->w_norm = sigma / pow(sim->h, sim->dim);
     e->f_norm = sigma / pow(sim->h, sim->dim + 2);
+    /* (2h)^2 widened by 1e-12: beyond it q = sqrt(r^2) / h rounds to more
+     * than 2, where every kernel's w and f are exactly zero */
+    const double support = kernel_support(sim->kernel) * sim->h;
+    e->cut2 = support * support * (1.0 + 1e-12);
     e->fx = sim->fx;
     e->c0_all = uniform_c0(sim);
     e->pstride = pair_data_width(sim);
