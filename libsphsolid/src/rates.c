@@ -422,9 +422,10 @@ static ALWAYS_INLINE double separation(const gather_src *g, const double *xb, co
     return r2;
 }
 
-/* Lane k of the block: the pair (a, b) at separation r_ab, gathered in
- * structure-of-arrays form with the per-pair factors of the pass. */
-static ALWAYS_INLINE void gather_pair(const gather_src *g, const row_data *ra, size_t a, size_t b,
+/* Lane k of the block: b's side of the pair (a, b) at separation r_ab,
+ * gathered in structure-of-arrays form with the per-pair factors of the
+ * pass (a's values: row_lanes). */
+static ALWAYS_INLINE void gather_pair(const gather_src *g, const row_data *ra, size_t b,
                                       const double *r_ab, const int dim, const int pass,
                                       const int fast, row_block *blk, int k)
 {
@@ -432,7 +433,6 @@ static ALWAYS_INLINE void gather_pair(const gather_src *g, const row_data *ra, s
     const size_t xs = fast ? (size_t)dim : g->xs, pstride = fast ? (size_t)nsym : g->pstride;
     const int mom = pass & PASS_MOMENTUM;
     pair_block *p = &blk->p;
-    blk->a[k] = (int)a;
     blk->b[k] = (int)b;
     const double *vb = g->v + b * xs;
     const double *Pb = g->pair_data + b * pstride;
@@ -440,15 +440,27 @@ static ALWAYS_INLINE void gather_pair(const gather_src *g, const row_data *ra, s
         p->r[i][k] = r_ab[i];
         p->v[i][k] = ra->v[i] - vb[i];
     }
-    p->m_a[k] = ra->m;
-    if (pass & PASS_CONTINUITY)
-        p->V_a[k] = ra->V;
     p->m_b[k] = g->mass[b];
-    blk->rho_a[k] = ra->rho;
     blk->rho_b[k] = g->rho[b];
     if (mom) /* the per-particle stress factors (pass_pair_data) */
         for (int c = 0; c < nsym; ++c)
             p->T[c][k] = ra->P[c] + Pb[c];
+}
+
+/* Lanes [first, n) of the block hold pairs of row a: a's values, filled
+ * once per row. */
+static ALWAYS_INLINE void row_lanes(const row_data *ra, size_t a, const int pass, row_block *blk,
+                                    int first, int n)
+{
+    pair_block *p = &blk->p;
+    for (int k = first; k < n; ++k) {
+        blk->a[k] = (int)a;
+        p->m_a[k] = ra->m;
+        blk->rho_a[k] = ra->rho;
+    }
+    if (pass & PASS_CONTINUITY)
+        for (int k = first; k < n; ++k)
+            p->V_a[k] = ra->V;
 }
 
 /* The effects' per-pair inputs of the block, pair by pair from the
@@ -634,6 +646,7 @@ static ALWAYS_INLINE void fill_block(const engine *e, const gather_src *g, row_c
         const int room = PAIR_BLOCK - n;
         const int end = cur->count - cur->kk < room ? cur->count : cur->kk + room;
         int kk = cur->kk;
+        const int first = n;
         for (; kk < end; ++kk) {
             const size_t b = (size_t)list[kk];
             if (!fast && b - lo < a - lo)
@@ -641,8 +654,9 @@ static ALWAYS_INLINE void fill_block(const engine *e, const gather_src *g, row_c
             double r_ab[3];
             if (separation(g, g->x + b * xs, cur->ra.x, dim, !fast && g->periodic, r_ab) > g->cut2)
                 continue; /* beyond the support */
-            gather_pair(g, &cur->ra, a, b, r_ab, dim, pass, fast, blk, n++);
+            gather_pair(g, &cur->ra, b, r_ab, dim, pass, fast, blk, n++);
         }
+        row_lanes(&cur->ra, a, pass, blk, first, n);
         cur->kk = kk;
         if (kk == cur->count) {
             if (a + 1 < b1)
