@@ -36,9 +36,12 @@
  * other particle are appended to the chunk's "far" list and added after the
  * pass, in chunk order.  Every sum therefore runs in an order fixed by the
  * list and the chunk bounds alone: results are bitwise the same on any
- * number of threads.  Rows are sorted by index and pairs beyond the support add exact
- * zeros, so the extra pairs of the skin do not change any sum either:
- * results do not depend on when the list was rebuilt.
+ * number of threads.  Rows are sorted by index, and the listed pairs beyond
+ * the kernel's support (the skin's) are skipped at the gather: all their
+ * terms are exact zeros (of either sign), and adding a zero never changes
+ * a sum that starts from +0 (round to nearest gives -0 only for -0 + -0),
+ * so skipping them gives the same bits and results do not depend on when
+ * the list was rebuilt.
  *
  * The pair loop is compiled in one variant per (dimension, kernel, pass,
  * sums layout) and instruction-set path.  The pairs of a chunk are taken
@@ -47,8 +50,15 @@
  * pair term (physics.h, effects.h; one function each, the only place its
  * equation is written) runs over the block in a short loop that
  * vectorises; effects are runtime switches tested once per block.  The
- * terms are written as records of the sums, which one scatter
- * (add_record) adds to a particle's sums wherever they are kept.
+ * terms come out as rows (one per component, over the block's pairs) and
+ * are turned, four pairs at a time, into one record per pair (4x4
+ * transposes of vectors of four doubles), which one scatter (add_record)
+ * adds to a particle's sums wherever they are kept: the engine's own sums
+ * are packed records of whole vectors of 4 doubles per particle (zero
+ * padded), so a's row sum and b's sums take a record in one or a few
+ * vector adds, lane by lane, the same additions in the same order as one
+ * by one; a caller's partial-sum buffer takes it sum by sum.  The finish
+ * reads the records and writes the rates.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -62,13 +72,12 @@
 #include "kernel.h"
 #include "sim.h"
 
-/* The per-particle sums of the pair pass: each an array with its own
- * stride (doubles from one particle to the next).  A far-list record and a
- * row of the public partial-sum buffer hold them one after the other, at
- * `offset`.  The velocity gradient L (dim x dim, row-major) is one sum
- * there; summed in the rate arrays, its first ncomp components are SUM_L
- * (in dS_dt) and the rest (3 in 3D) SUM_L2 (in scratch). */
-enum { SUM_RHO, SUM_DV, SUM_L, SUM_L2, SUM_M, SUM_U, N_SUMS };
+/* The per-particle sums of the pair pass, one after the other in a record
+ * per particle, each at `offset` (the velocity gradient L, dim x dim,
+ * row-major, is one sum): in the engine's own packed records (a whole
+ * number of vectors of 4 doubles per particle, zero-padded), in a row of a
+ * caller's partial-sum buffer, and in a far-list record. */
+enum { SUM_RHO, SUM_DV, SUM_L, SUM_M, SUM_U, N_SUMS };
 
 typedef struct sums {
     double *p[N_SUMS];
@@ -76,6 +85,11 @@ typedef struct sums {
     int width[N_SUMS]; /* components; 0: not summed */
     int offset[N_SUMS];
     int record; /* doubles of all sums of one particle */
+    int nv;     /* vectors of 4 doubles that hold a record (zero-padded) */
+    /* the engine's own sums: records of 4 nv doubles, particle b's at
+     * packed + 4 nv b, each added a whole vector at a time; NULL for a
+     * caller's buffer of `record` doubles per particle */
+    double *packed;
 } sums;
 
 typedef struct engine {
@@ -98,6 +112,9 @@ typedef struct engine {
     /* D per particle (effect damage), or NULL */
     const double *damage;
     double h, inv_h, w_norm, f_norm;
+    /* pairs with |r_ab|^2 > cut2 are beyond the kernel's support: every
+     * term of theirs is an exact zero (not computed) */
+    double cut2;
     double box[3], half_box[3];
     int periodic_axis[3];
     int periodic; /* some axis is periodic */
@@ -109,7 +126,7 @@ typedef struct engine {
     int full;       /* full list: a pair with b < a is skipped unless far */
     int reverse;    /* a far pair of locals is in both rows (no far records) */
     int ghost_sums; /* keep the terms of ghosts (b >= n_local) */
-    int split;      /* the sums in one record per particle (sums_in_buffer) */
+    int split;      /* the sums in a caller's buffer (else packed records) */
     size_t chunk;   /* rows per chunk */
     long n_chunks;
     sums acc;
@@ -172,22 +189,6 @@ static ALWAYS_INLINE void neighbours_of(const engine *e, size_t a, const int **l
     }
 }
 
-/* r_ab = x_a - x_b, with the minimum image along periodic axes. */
-static inline double separation(const engine *e, const double *xa, size_t b, const int dim,
-                                const int periodic, double *r_ab)
-{
-    const double *xb = e->x + b * e->xs;
-    double r2 = 0.0;
-    for (int i = 0; i < dim; ++i) {
-        double d = xa[i] - xb[i];
-        if (periodic && e->periodic_axis[i])
-            d = nearest_image(d, e->box[i], e->half_box[i]);
-        r_ab[i] = d;
-        r2 += d * d;
-    }
-    return r2;
-}
-
 /* Append one far record (the terms for particle b, `record` <= f->record
  * doubles); on allocation failure the list is marked and the pass reports
  * it. */
@@ -213,49 +214,116 @@ static void far_append(far_list *f, int record, size_t b, const double *terms)
     f->count++;
 }
 
-/* The largest record of sums: drho (1), dv (3), L (9), M (6), u (3). */
+/* The largest record of sums: drho (1), dv (3), L (9), M (6), u (3), and
+ * the vectors of 4 doubles that hold it. */
 #define MAX_RECORD (1 + 3 + 9 + 6 + 3)
+#define MAX_NV     ((MAX_RECORD + 3) / 4)
 
-/* Adds a record of terms t (its doubles `step` apart, in the order of the
- * sums' offsets) to particle b's sums.  The one scatter of the pair pass:
- * own rows, partners, far records and the partial-sum buffer. */
-static ALWAYS_INLINE void add_record(const sums *s, size_t b, const double *restrict t, size_t step)
+static int vectors_of(int record) { return (record + 3) / 4; }
+
+/* Four doubles added lane by lane: the same additions as four scalar ones,
+ * bitwise, in one vector instruction where the path has them.  V4_LOAD and
+ * V4_STORE take any double pointer (any alignment). */
+#if defined(__GNUC__)
+typedef double v4d __attribute__((vector_size(32)));
+typedef double v4d_any __attribute__((vector_size(32), aligned(8), may_alias));
+#define V4_LOAD(p)     ((v4d)(*(const v4d_any *)(const void *)(p)))
+#define V4_STORE(p, v) (*(v4d_any *)(void *)(p) = (v))
+#define V4_ADD(x, y)   ((x) + (y))
+#define V4_ZERO        ((v4d){0.0, 0.0, 0.0, 0.0})
+#if defined(__clang__)
+#define V4_SHUFFLE(x, y, i, j, k, l) __builtin_shufflevector(x, y, i, j, k, l)
+#else
+typedef long long v4i __attribute__((vector_size(32)));
+#define V4_SHUFFLE(x, y, i, j, k, l) __builtin_shuffle(x, y, (v4i){i, j, k, l})
+#endif
+/* c[j][i] = r[i][j]: the rows of four sums over four pairs turned into the
+ * four pairs' records. */
+static ALWAYS_INLINE void v4_transpose(const v4d r[4], v4d c[4])
 {
+    const v4d t0 = V4_SHUFFLE(r[0], r[1], 0, 4, 2, 6), t1 = V4_SHUFFLE(r[0], r[1], 1, 5, 3, 7);
+    const v4d t2 = V4_SHUFFLE(r[2], r[3], 0, 4, 2, 6), t3 = V4_SHUFFLE(r[2], r[3], 1, 5, 3, 7);
+    c[0] = V4_SHUFFLE(t0, t2, 0, 1, 4, 5);
+    c[1] = V4_SHUFFLE(t1, t3, 0, 1, 4, 5);
+    c[2] = V4_SHUFFLE(t0, t2, 2, 3, 6, 7);
+    c[3] = V4_SHUFFLE(t1, t3, 2, 3, 6, 7);
+}
+#else
+typedef struct v4d {
+    double d[4];
+} v4d;
+static inline v4d v4_load(const double *p)
+{
+    v4d v;
+    memcpy(&v, p, sizeof v);
+    return v;
+}
+static inline v4d v4_add(v4d x, v4d y)
+{
+    for (int i = 0; i < 4; ++i)
+        x.d[i] += y.d[i];
+    return x;
+}
+static inline v4d v4_zero(void)
+{
+    v4d v = {{0.0, 0.0, 0.0, 0.0}};
+    return v;
+}
+#define V4_LOAD(p)     v4_load(p)
+#define V4_STORE(p, v) memcpy(p, &(v), sizeof(v4d))
+#define V4_ADD(x, y)   v4_add(x, y)
+#define V4_ZERO        v4_zero()
+static inline void v4_transpose(const v4d r[4], v4d c[4])
+{
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            c[j].d[i] = r[i].d[j];
+}
+#endif
+
+/* Adds a record of terms t (4 s->nv doubles, in the order of the sums'
+ * offsets) to particle b's sums.  The one scatter of the pair pass: own
+ * rows, partners and far records; packed records (s->packed) a vector at
+ * a time, a caller's buffer sum by sum. */
+static ALWAYS_INLINE void add_record(const sums *s, size_t b, const double *restrict t,
+                                     const int packed)
+{
+    if (packed) {
+        double *restrict dst = s->packed + b * (size_t)(4 * s->nv);
+        for (int j = 0; j < s->nv; ++j) {
+            const v4d sum = V4_ADD(V4_LOAD(dst + 4 * j), V4_LOAD(t + 4 * j));
+            V4_STORE(dst + 4 * j, sum);
+        }
+        return;
+    }
 #pragma GCC unroll 6
     for (int q = 0; q < N_SUMS; ++q) {
         if (!s->width[q])
             continue;
         double *restrict dst = s->p[q] + b * s->stride[q];
-        for (int i = 0; i < s->width[q]; ++i)
-            dst[i] += t[(size_t)(s->offset[q] + i) * step];
+        for (int i = 0; i < s->width[q]; ++i) {
+            const int c = s->offset[q] + i;
+            dst[i] += t[c];
+        }
     }
 }
 
 /* The engine's sums with what the variant fixes at compile time: the
- * widths of the pass and, in the rate arrays, the strides. */
-static ALWAYS_INLINE sums loop_sums(const engine *e, const int dim, const int split, const int pass,
-                                    const int plain)
+ * widths of the pass and, without effect sums, the record's length. */
+static ALWAYS_INLINE sums loop_sums(const engine *e, const int dim, const int pass, const int plain)
 {
     sums s = e->acc;
     if (plain) { /* no sums of effects (M, u): the record's length is fixed */
         s.width[SUM_M] = s.width[SUM_U] = 0;
         s.record = (pass & PASS_CONTINUITY ? 1 + dim * dim : 0) + (pass & PASS_MOMENTUM ? dim : 0);
+        s.nv = vectors_of(s.record);
     }
     const int cont = (pass & PASS_CONTINUITY) != 0, mom = (pass & PASS_MOMENTUM) != 0;
-    const int ncomp = dim == 2 ? 4 : 6, nL = split ? dim * dim : ncomp;
     s.width[SUM_RHO] = cont;
     s.width[SUM_DV] = mom ? dim : 0;
-    s.width[SUM_L] = cont ? nL : 0;
-    s.width[SUM_L2] = cont ? dim * dim - nL : 0;
+    s.width[SUM_L] = cont ? dim * dim : 0;
     s.offset[SUM_DV] = cont;
     s.offset[SUM_L] = cont + s.width[SUM_DV];
-    s.offset[SUM_L2] = s.offset[SUM_L] + nL;
-    if (!split) {
-        s.stride[SUM_RHO] = 1;
-        s.stride[SUM_DV] = (size_t)dim;
-        s.stride[SUM_L] = (size_t)ncomp;
-        s.stride[SUM_L2] = (size_t)(dim * dim - ncomp);
-    }
     return s;
 }
 
@@ -278,60 +346,141 @@ static ALWAYS_INLINE void block_filler(row_block *k)
         k->rho_a[i] = k->rho_b[i] = 1.0;
 }
 
-/* Per row a: what every pair of the row takes from a. */
+/* Per row a: what every pair of the row takes from a, copied into the
+ * row's own variables once per row. */
 typedef struct row_data {
-    const double *x, *v, *P, *R;
-    double m, V, rho, c;
+    double x[3], v[3], P[6];
+    double m, V, rho;
 } row_data;
 
-static ALWAYS_INLINE row_data row_of(const engine *e, size_t a, const int dim, const int pass)
+static ALWAYS_INLINE void row_of(const engine *e, size_t a, const int dim, const int pass,
+                                 row_data *r)
 {
     const int nsym = dim == 2 ? 3 : 6;
     const int mom = pass & PASS_MOMENTUM;
-    row_data r;
-    r.x = e->x + a * e->xs;
-    r.v = e->v + a * e->xs;
-    r.P = e->pair_data + a * (size_t)e->pstride;
-    r.R = mom && e->R ? e->R + a * (size_t)nsym : NULL;
-    r.m = e->mass[a];
-    r.rho = e->rho[a];
-    r.V = r.m / r.rho;
-    r.c = e->c0_all > 0.0 || !mom ? e->c0_all : r.P[nsym];
-    return r;
+    const double *P = e->pair_data + a * (size_t)e->pstride;
+    for (int i = 0; i < dim; ++i) {
+        r->x[i] = e->x[a * e->xs + (size_t)i];
+        r->v[i] = e->v[a * e->xs + (size_t)i];
+    }
+    if (mom)
+        for (int c = 0; c < nsym; ++c)
+            r->P[c] = P[c];
+    r->m = e->mass[a];
+    r->rho = e->rho[a];
+    r->V = r->m / r->rho;
 }
 
-/* Lane k of the block: the pair (a, b), gathered in structure-of-arrays
- * form with the per-pair factors of the pass. */
-static ALWAYS_INLINE void gather_pair(const engine *e, const row_data *ra, size_t a, size_t b,
-                                      const int dim, const int pass, row_block *blk, int k)
+/* What the gather reads of the engine, copied once per chunk into a local
+ * (the block's stores cannot alias it, so nothing is reloaded per pair). */
+typedef struct gather_src {
+    const double *x, *v, *mass, *rho, *pair_data, *R;
+    size_t xs;
+    double cut2; /* e->cut2 */
+    /* the periodic axes (e->periodic_axis, box, half_box) */
+    int periodic, periodic_axis[3];
+    double box[3], half_box[3];
+    size_t pstride;
+    int c_per_pair; /* the sound speeds differ: c_mean per pair */
+} gather_src;
+
+static ALWAYS_INLINE gather_src gather_src_of(const engine *e, const int pass)
 {
-    const int nsym = dim == 2 ? 3 : 6, pstride = e->pstride;
     const int mom = pass & PASS_MOMENTUM;
-    const int viscosity = mom && e->fx.artificial_viscosity;
+    gather_src g = {.x = e->x,
+                    .v = e->v,
+                    .mass = e->mass,
+                    .rho = e->rho,
+                    .pair_data = e->pair_data,
+                    .R = mom ? e->R : NULL,
+                    .xs = e->xs,
+                    .pstride = (size_t)e->pstride};
+    g.c_per_pair = mom && e->fx.artificial_viscosity && !(e->c0_all > 0.0);
+    g.cut2 = e->cut2;
+    g.periodic = e->periodic;
+    for (int i = 0; i < 3; ++i) {
+        g.periodic_axis[i] = e->periodic_axis[i];
+        g.box[i] = e->box[i];
+        g.half_box[i] = e->half_box[i];
+    }
+    return g;
+}
+
+/* r_ab = x_a - x_b, with the minimum image along periodic axes (if the
+ * compile-time `periodic`); returns |r_ab|^2. */
+static ALWAYS_INLINE double separation(const gather_src *g, const double *xb, const double *xa,
+                                       const int dim, const int periodic, double *r_ab)
+{
+    double r2 = 0.0;
+    for (int i = 0; i < dim; ++i) {
+        double d = xa[i] - xb[i];
+        if (periodic && g->periodic_axis[i])
+            d = nearest_image(d, g->box[i], g->half_box[i]);
+        r_ab[i] = d;
+        r2 += d * d;
+    }
+    return r2;
+}
+
+/* Lane k of the block: b's side of the pair (a, b) at separation r_ab,
+ * gathered in structure-of-arrays form with the per-pair factors of the
+ * pass (a's values: row_lanes). */
+static ALWAYS_INLINE void gather_pair(const gather_src *g, const row_data *ra, size_t b,
+                                      const double *r_ab, const int dim, const int pass,
+                                      const int fast, row_block *blk, int k)
+{
+    const int nsym = dim == 2 ? 3 : 6;
+    const size_t xs = fast ? (size_t)dim : g->xs, pstride = fast ? (size_t)nsym : g->pstride;
+    const int mom = pass & PASS_MOMENTUM;
     pair_block *p = &blk->p;
-    blk->a[k] = (int)a;
     blk->b[k] = (int)b;
-    double r_ab[3];
-    separation(e, ra->x, b, dim, e->periodic, r_ab);
-    const double *vb = e->v + b * e->xs;
-    const double *Pb = e->pair_data + b * (size_t)pstride;
+    const double *vb = g->v + b * xs;
+    const double *Pb = g->pair_data + b * pstride;
     for (int i = 0; i < dim; ++i) {
         p->r[i][k] = r_ab[i];
         p->v[i][k] = ra->v[i] - vb[i];
     }
-    p->m_a[k] = ra->m;
-    p->V_a[k] = ra->V;
-    p->m_b[k] = e->mass[b];
-    blk->rho_a[k] = ra->rho;
-    blk->rho_b[k] = e->rho[b];
+    p->m_b[k] = g->mass[b];
+    blk->rho_b[k] = g->rho[b];
     if (mom) /* the per-particle stress factors (pass_pair_data) */
         for (int c = 0; c < nsym; ++c)
             p->T[c][k] = ra->P[c] + Pb[c];
-    if (viscosity && !(e->c0_all > 0.0))
-        p->c_mean[k] = 0.5 * (ra->c + Pb[nsym]);
-    if (ra->R)
-        for (int c = 0; c < nsym; ++c)
-            p->R[c][k] = ra->R[c] + e->R[b * (size_t)nsym + (size_t)c];
+}
+
+/* Lanes [first, n) of the block hold pairs of row a: a's values, filled
+ * once per row. */
+static ALWAYS_INLINE void row_lanes(const row_data *ra, size_t a, const int pass, row_block *blk,
+                                    int first, int n)
+{
+    pair_block *p = &blk->p;
+    for (int k = first; k < n; ++k) {
+        blk->a[k] = (int)a;
+        p->m_a[k] = ra->m;
+        blk->rho_a[k] = ra->rho;
+    }
+    if (pass & PASS_CONTINUITY)
+        for (int k = first; k < n; ++k)
+            p->V_a[k] = ra->V;
+}
+
+/* The effects' per-pair inputs of the block, pair by pair from the
+ * particles a and b the gather recorded (one test per block). */
+static ALWAYS_INLINE void gather_effects(const gather_src *g, row_block *blk, const int dim)
+{
+    const int nsym = dim == 2 ? 3 : 6, n = blk->p.n;
+    if (g->c_per_pair)
+        for (int k = 0; k < n; ++k) {
+            const double *Pa = g->pair_data + (size_t)blk->a[k] * g->pstride;
+            const double *Pb = g->pair_data + (size_t)blk->b[k] * g->pstride;
+            blk->p.c_mean[k] = 0.5 * (Pa[nsym] + Pb[nsym]);
+        }
+    if (g->R)
+        for (int k = 0; k < n; ++k) {
+            const double *Ra = g->R + (size_t)blk->a[k] * (size_t)nsym;
+            const double *Rb = g->R + (size_t)blk->b[k] * (size_t)nsym;
+            for (int c = 0; c < nsym; ++c)
+                blk->p.R[c][k] = Ra[c] + Rb[c];
+        }
 }
 
 /* The rest of the block's inputs, in loops over all lanes without
@@ -395,65 +544,140 @@ static ALWAYS_INLINE void pair_terms(const engine *e, pair_block *p, const sums 
  * (from zero, in acc) and added to a's sums when its row ends, every row in
  * turn, so each sum runs in the order of the rows and their lists. */
 typedef struct row_sum {
-    size_t a; /* the row being summed */
-    double acc[MAX_RECORD];
+    size_t a;        /* the row being summed */
+    v4d acc[MAX_NV]; /* its record */
 } row_sum;
 
 /* Ends the rows before `until`: their sums (zero for a row without pairs)
  * added to the particles'. */
-static ALWAYS_INLINE void rows_end(const sums *s, row_sum *rs, size_t until)
+static ALWAYS_INLINE void rows_end(const sums *s, row_sum *rs, size_t until, const int packed)
 {
     while (rs->a < until) {
-        add_record(s, rs->a, rs->acc, 1);
-        for (int c = 0; c < s->record; ++c)
-            rs->acc[c] = 0.0;
+        add_record(s, rs->a, (const double *)rs->acc, packed);
+        for (int j = 0; j < s->nv; ++j)
+            rs->acc[j] = V4_ZERO;
         rs->a++;
     }
 }
 
-/* The block's n pairs: their terms, then in pair order a's summed into the
- * row's acc, b's added to b's sums (direct targets [b0, dend)), or left to
- * b's row (a far pair listed in both rows), or appended to the chunk's far
- * records. */
+/* The block's n pairs: their terms, turned into one record per pair (four
+ * pairs at a time), then in pair order a's added to the row's record, b's
+ * added to b's sums (direct targets [b0, dend)), or left to b's row (a far
+ * pair listed in both rows), or appended to the chunk's far records. */
 static ALWAYS_INLINE void block_sums(const engine *e, const sums *s, row_block *blk, size_t b0,
                                      size_t dend, far_list *far, row_sum *rs, const int dim,
-                                     const int kernel, const int pass)
+                                     const int kernel, const int pass, const int packed)
 {
-    const int record = s->record;
+    const int record = s->record, nv = s->nv;
     pair_rows ta[MAX_RECORD], tb[MAX_RECORD];
     block_inputs(e, blk, dim, kernel, pass);
     pair_terms(e, &blk->p, s, dim, pass, ta, tb);
     const int n = blk->p.n;
+    v4d rec_a[PAIR_BLOCK][MAX_NV], rec_b[PAIR_BLOCK][MAX_NV];
+    for (int k0 = 0; k0 < n; k0 += 4)
+        for (int j = 0; j < nv; ++j) {
+            v4d ra[4], rb[4], ca[4], cb[4];
+            for (int i = 0; i < 4; ++i) {
+                const int c = 4 * j + i;
+                ra[i] = c < record ? V4_LOAD(ta[c] + k0) : V4_ZERO;
+                rb[i] = c < record ? V4_LOAD(tb[c] + k0) : V4_ZERO;
+            }
+            v4_transpose(ra, ca);
+            v4_transpose(rb, cb);
+            for (int i = 0; i < 4; ++i) {
+                rec_a[k0 + i][j] = ca[i];
+                rec_b[k0 + i][j] = cb[i];
+            }
+        }
+    const size_t direct = dend - b0;
     for (int k = 0; k < n; ++k) {
         const size_t a = (size_t)blk->a[k], b = (size_t)blk->b[k];
         if (a != rs->a)
-            rows_end(s, rs, a);
-#pragma GCC unroll 22
-        for (int c = 0; c < record; ++c)
-            rs->acc[c] += ta[c][k];
-        if (b >= b0 && b < dend) {
-            add_record(s, b, &tb[0][k], PAIR_BLOCK);
+            rows_end(s, rs, a, packed);
+        for (int j = 0; j < nv; ++j)
+            rs->acc[j] = V4_ADD(rs->acc[j], rec_a[k][j]);
+        if (b - b0 < direct) {
+            add_record(s, b, (const double *)rec_b[k], packed);
         } else if (e->reverse && b < e->n_local) {
             /* a far pair listed in both rows: b's row adds b's terms */
         } else if (b < e->n_local || e->ghost_sums) {
-            double t[MAX_RECORD];
-            for (int c = 0; c < record; ++c)
-                t[c] = tb[c][k];
-            far_append(far, record, b, t);
+            far_append(far, 4 * nv, b, (const double *)rec_b[k]);
         }
     }
     blk->p.n = 0;
 }
 
+/* Where the gather stands in a chunk's rows: row a, its neighbours from kk
+ * on still to be gathered; a neighbour b in [lo, a) is skipped (a full
+ * list's pair that b's row computes; lo = a, nothing skipped, for a half
+ * list). */
+typedef struct row_cursor {
+    size_t a, lo;
+    int kk, count;
+    const int *list;
+    row_data ra;
+} row_cursor;
+
+static ALWAYS_INLINE void cursor_row(const engine *e, row_cursor *cur, size_t a, size_t far_below,
+                                     const int dim, const int pass)
+{
+    cur->a = a;
+    cur->kk = 0;
+    neighbours_of(e, a, &cur->list, &cur->count);
+    cur->lo = e->full && far_below < a ? far_below : a;
+    row_of(e, a, dim, pass, &cur->ra);
+}
+
+/* Fills the block from the cursor on, row after row, until it holds
+ * PAIR_BLOCK pairs or the rows before b1 end; a pair beyond the support is
+ * not taken (every term of its an exact zero).  `fast`, a compile-time
+ * constant of each of the two calls, is the handle's usual case: a half
+ * list, no periodic axis, positions and velocities dim doubles apart and
+ * the pair data without sound speeds (nsym doubles apart). */
+static ALWAYS_INLINE void fill_block(const engine *e, const gather_src *g, row_cursor *cur,
+                                     row_block *blk, size_t b1, size_t far_below, const int dim,
+                                     const int pass, const int fast)
+{
+    const size_t xs = fast ? (size_t)dim : g->xs;
+    int n = blk->p.n;
+    while (cur->a < b1 && n < PAIR_BLOCK) {
+        const size_t a = cur->a, lo = cur->lo;
+        const int *list = cur->list;
+        const int room = PAIR_BLOCK - n;
+        const int end = cur->count - cur->kk < room ? cur->count : cur->kk + room;
+        int kk = cur->kk;
+        const int first = n;
+        for (; kk < end; ++kk) {
+            const size_t b = (size_t)list[kk];
+            if (!fast && b - lo < a - lo)
+                continue; /* a full list: the pair is computed in b's row */
+            double r_ab[3];
+            if (separation(g, g->x + b * xs, cur->ra.x, dim, !fast && g->periodic, r_ab) > g->cut2)
+                continue; /* beyond the support */
+            gather_pair(g, &cur->ra, b, r_ab, dim, pass, fast, blk, n++);
+        }
+        row_lanes(&cur->ra, a, pass, blk, first, n);
+        cur->kk = kk;
+        if (kk == cur->count) {
+            if (a + 1 < b1)
+                cursor_row(e, cur, a + 1, far_below, dim, pass);
+            else
+                cur->a = b1;
+        }
+    }
+    blk->p.n = n;
+}
+
 /* The pair pass for the rows [b0, b1) of a chunk whose direct targets are
  * [b0, dend): the pairs gathered row after row into blocks of PAIR_BLOCK
- * (a block runs across rows, so its vectors are full), each full block
+ * (a block runs across rows, so its vectors are full), each block
  * summed. */
 static ALWAYS_INLINE void chunk_sums(const engine *e, size_t b0, size_t b1, size_t dend,
                                      far_list *far, const int dim, const int kernel,
                                      const int split, const int pass, const int plain)
 {
-    const sums s = loop_sums(e, dim, split, pass, plain);
+    const sums s = loop_sums(e, dim, pass, plain);
+    const int packed = !split;
     row_block blk;
     block_filler(&blk);
     if (e->c0_all > 0.0) /* every pair's mean sound speed */
@@ -461,41 +685,31 @@ static ALWAYS_INLINE void chunk_sums(const engine *e, size_t b0, size_t b1, size
             blk.p.c_mean[k] = e->c0_all;
     row_sum rs;
     rs.a = b0;
-    for (int c = 0; c < MAX_RECORD; ++c)
-        rs.acc[c] = 0.0;
+    for (int j = 0; j < MAX_NV; ++j)
+        rs.acc[j] = V4_ZERO;
     /* a neighbour b < far_below is at least two chunks before a */
     const size_t far_below = b0 >= e->chunk ? b0 - e->chunk : 0;
-    /* row a's neighbours from kk on are still to be gathered; one call of
-     * block_sums (each call site is a copy of the whole block's code) */
-    size_t a = b0;
-    int kk = 0, count = 0;
-    const int *list = NULL;
-    row_data ra = {0};
-    if (a < b1) {
-        neighbours_of(e, a, &list, &count);
-        ra = row_of(e, a, dim, pass);
-    }
-    for (;;) {
-        while (a < b1 && blk.p.n < PAIR_BLOCK) {
-            if (kk == count) { /* the next row */
-                if (++a == b1)
-                    break;
-                neighbours_of(e, a, &list, &count);
-                kk = 0;
-                ra = row_of(e, a, dim, pass);
-                continue;
-            }
-            const size_t b = (size_t)list[kk++];
-            if (e->full && b < a && b >= far_below)
-                continue; /* a full list: the pair is computed in b's row */
-            gather_pair(e, &ra, a, b, dim, pass, &blk, blk.p.n++);
-        }
+    const gather_src g = gather_src_of(e, pass);
+    const int nsym = dim == 2 ? 3 : 6;
+    const int fast = !g.periodic && !e->full && g.xs == (size_t)dim &&
+                     (!(pass & PASS_MOMENTUM) || g.pstride == (size_t)nsym);
+    row_cursor cur;
+    memset(&cur, 0, sizeof cur);
+    cur.a = b1;
+    if (b0 < b1)
+        cursor_row(e, &cur, b0, far_below, dim, pass);
+    /* one call of block_sums (each call site is a copy of the whole
+     * block's code) */
+    while (cur.a < b1) {
+        if (fast)
+            fill_block(e, &g, &cur, &blk, b1, far_below, dim, pass, 1);
+        else
+            fill_block(e, &g, &cur, &blk, b1, far_below, dim, pass, 0);
+        gather_effects(&g, &blk, dim);
         if (blk.p.n)
-            block_sums(e, &s, &blk, b0, dend, far, &rs, dim, kernel, pass);
-        if (a >= b1)
-            break;
+            block_sums(e, &s, &blk, b0, dend, far, &rs, dim, kernel, pass, packed);
     }
-    rows_end(&s, &rs, b1);
+    rows_end(&s, &rs, b1, packed);
 }
 
 /* One function per (dimension, kernel, sums, pass) and instruction-set
@@ -608,14 +822,14 @@ static void pass_pairs(const engine *e, int kernel, size_t n_sums)
         }
         long begin, end;
         thread_block((long)n_sums, &begin, &end);
-        const int record = e->acc.record;
+        const size_t record = 4 * (size_t)e->acc.nv;
         for (long c = 0; c < n_chunks; ++c) {
             const far_list *f = &e->far[c];
             for (size_t k = 0; k < f->count; ++k) {
                 const long b = f->target[k];
                 if (b < begin || b >= end)
                     continue;
-                add_record(&e->acc, (size_t)b, f->terms + k * (size_t)record, 1);
+                add_record(&e->acc, (size_t)b, f->terms + k * record, !e->split);
             }
         }
     }
@@ -642,17 +856,14 @@ static ALWAYS_INLINE void finish_particle(const engine *e, size_t a, const int d
         return;
     e->drho_dt[a] = s->p[SUM_RHO][a * s->stride[SUM_RHO]];
     double grad_v[3][3] = {{0.0}};
-    const int nL = s->width[SUM_L]; /* the rest of L in SUM_L2 */
     for (int c = 0; c < dim * dim; ++c)
-        grad_v[c / dim][c % dim] = c < nL ? s->p[SUM_L][a * s->stride[SUM_L] + (size_t)c]
-                                          : s->p[SUM_L2][a * s->stride[SUM_L2] + (size_t)(c - nL)];
+        grad_v[c / dim][c % dim] = s->p[SUM_L][a * s->stride[SUM_L] + (size_t)c];
     if (s->width[SUM_M]) {
         double Mc[6];
         for (int c = 0; c < e->nsym; ++c)
             Mc[c] = s->p[SUM_M][a * s->stride[SUM_M] + (size_t)c];
         correct_velocity_gradient(dim, Mc, grad_v);
     }
-    /* (the sums of L may share dS_dt: L was read above) */
     jaumann_stress_rate(dim, e->materials[e->material_of[a]].mu, grad_v,
                         e->S + a * (size_t)e->ncomp, e->dS_dt + a * (size_t)e->ncomp);
     if (s->width[SUM_U] && e->dx_dt) {
@@ -695,15 +906,19 @@ static void sums_layout(const sph_sim *sim, int xsph, int pass, sums *s)
         o += s->width[q];
     }
     s->record = o;
+    s->nv = vectors_of(o);
 }
 
-/* Sums as rows of one buffer of `record` doubles per particle. */
-static void sums_in_buffer(sums *s, double *buffer)
+/* Sums as rows of one buffer: a caller's (`record` doubles per particle)
+ * or the engine's packed records (4 nv doubles). */
+static void sums_in_buffer(sums *s, double *buffer, int packed)
 {
+    const size_t stride = (size_t)(packed ? 4 * s->nv : s->record);
     for (int q = 0; q < N_SUMS; ++q) {
         s->p[q] = s->width[q] ? buffer + s->offset[q] : buffer;
-        s->stride[q] = (size_t)s->record;
+        s->stride[q] = stride;
     }
+    s->packed = packed ? buffer : NULL;
 }
 /* Pass 1: per-particle factors of the momentum terms (the continuity pass
  * needs none: the volumes m/rho are computed per pair). */
@@ -856,6 +1071,10 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     const double sigma = kernel_sigma(sim->kernel, sim->dim);
     e->w_norm = sigma / pow(sim->h, sim->dim);
     e->f_norm = sigma / pow(sim->h, sim->dim + 2);
+    /* (2h)^2 widened by 1e-12: beyond it q = sqrt(r^2) / h rounds to more
+     * than 2, where every kernel's w and f are exactly zero */
+    const double support = kernel_support(sim->kernel) * sim->h;
+    e->cut2 = support * support * (1.0 + 1e-12);
     e->fx = sim->fx;
     e->c0_all = uniform_c0(sim);
     e->pstride = pair_data_width(sim);
@@ -876,7 +1095,7 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     e->n_chunks = (long)((call->n_local + e->chunk - 1) / e->chunk);
     sums largest; /* far lists sized for the records of every pass */
     sums_layout(sim, sim->fx.xsph, PASS_ALL, &largest);
-    if ((st = prepare_far(sim, e->n_chunks, largest.record)))
+    if ((st = prepare_far(sim, e->n_chunks, 4 * largest.nv)))
         return st;
     e->far = sim->far;
     e->dv_dt = call->dv_dt;
@@ -897,18 +1116,22 @@ static void zero_sums(const engine *e, size_t n)
         thread_block((long)n, &begin, &end);
         const sums *s = &e->acc;
         const size_t rows = (size_t)(end - begin);
-        for (int q = 0; q < N_SUMS; ++q) {
-            const size_t w = (size_t)s->width[q], z = s->stride[q];
-            if (!w)
-                continue;
-            double *p = s->p[q] + (size_t)begin * z;
-            if (z == w)
-                memset(p, 0, rows * w * sizeof *p);
-            else
-                for (size_t a = 0; a < rows; ++a)
-                    for (size_t i = 0; i < w; ++i)
-                        p[a * z + i] = 0.0;
-        }
+        if (s->packed) { /* whole records, padding included */
+            const size_t z = 4 * (size_t)s->nv;
+            memset(s->packed + (size_t)begin * z, 0, rows * z * sizeof(double));
+        } else
+            for (int q = 0; q < N_SUMS; ++q) {
+                const size_t w = (size_t)s->width[q], z = s->stride[q];
+                if (!w)
+                    continue;
+                double *p = s->p[q] + (size_t)begin * z;
+                if (z == w)
+                    memset(p, 0, rows * w * sizeof *p);
+                else
+                    for (size_t a = 0; a < rows; ++a)
+                        for (size_t i = 0; i < w; ++i)
+                            p[a * z + i] = 0.0;
+            }
     }
 }
 
@@ -928,35 +1151,15 @@ static sph_status pairs_run(sph_sim *sim, engine *e)
     return SPH_OK;
 }
 
-/* The sums in the rate arrays where they fit: drho, dv, u in drho_dt,
- * dv_dt, dx_dt, and of L the first ncomp components in dS_dt (all 4 in 2D,
- * 6 of 9 in 3D); the rest (3 of L in 3D, M) in scratch. */
-static sph_status sums_in_rate_arrays(sph_sim *sim, const rate_call *call, int xsph, sums *acc)
+/* The sums of the locals in the engine's packed records (sum_scratch):
+ * whole vectors of 4 doubles per particle, so that a pair's terms are
+ * added to them a vector at a time; the finish reads them from there. */
+static sph_status sums_in_records(sph_sim *sim, const rate_call *call, sums *acc)
 {
-    const int dim = sim->dim, ncomp = sim->ncomp;
-    if (acc->width[SUM_L] > ncomp) {
-        acc->width[SUM_L2] = acc->width[SUM_L] - ncomp;
-        acc->width[SUM_L] = ncomp;
-        acc->offset[SUM_L2] = acc->offset[SUM_L] + ncomp;
-    }
-    const size_t n = call->n_local;
-    const size_t L_doubles = n * (size_t)acc->width[SUM_L2],
-                 M_doubles = n * (size_t)acc->width[SUM_M];
-    sph_status st = grow_sum_scratch(sim, L_doubles + M_doubles);
+    sph_status st = grow_sum_scratch(sim, call->n_local * (size_t)(4 * acc->nv));
     if (st)
         return st;
-    acc->p[SUM_RHO] = call->drho_dt;
-    acc->stride[SUM_RHO] = 1;
-    acc->p[SUM_DV] = call->dv_dt;
-    acc->stride[SUM_DV] = (size_t)dim;
-    acc->p[SUM_L] = call->dS_dt;
-    acc->stride[SUM_L] = (size_t)ncomp;
-    acc->p[SUM_L2] = sim->sum_scratch;
-    acc->stride[SUM_L2] = (size_t)acc->width[SUM_L2];
-    acc->p[SUM_M] = sim->sum_scratch + L_doubles;
-    acc->stride[SUM_M] = (size_t)sim->nsym;
-    acc->p[SUM_U] = xsph ? call->dx_dt : NULL;
-    acc->stride[SUM_U] = (size_t)dim;
+    sums_in_buffer(acc, sim->sum_scratch, 1);
     return SPH_OK;
 }
 
@@ -969,12 +1172,12 @@ sph_status rates_run(sph_sim *sim, const rate_call *call)
     const int xsph = sim->fx.xsph && (call->dx_dt || call->partial);
     sums_layout(sim, xsph, e.pass, &e.acc);
     if (call->partial) {
-        sums_in_buffer(&e.acc, call->partial);
+        sums_in_buffer(&e.acc, call->partial, 0);
         return pairs_run(sim, &e);
     }
-    /* the sums of the locals in the rate arrays (a ghost's terms are
+    /* the sums of the locals in packed records (a ghost's terms are
      * dropped: only a partial-sum buffer keeps them) */
-    if ((st = sums_in_rate_arrays(sim, call, xsph, &e.acc)) || (st = pairs_run(sim, &e)))
+    if ((st = sums_in_records(sim, call, &e.acc)) || (st = pairs_run(sim, &e)))
         return st;
     pass_finish(&e);
     return SPH_OK;
@@ -990,7 +1193,7 @@ static sph_status finish_run(sph_sim *sim, const rate_call *call, const double *
     if (st)
         return st;
     sums_layout(sim, sim->fx.xsph != 0, e.pass, &e.acc);
-    sums_in_buffer(&e.acc, (double *)partial);
+    sums_in_buffer(&e.acc, (double *)partial, 0);
     pass_finish(&e);
     return SPH_OK;
 }
