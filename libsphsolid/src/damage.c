@@ -506,15 +506,8 @@ sph_status sph_damage_fragment_labels(sph_sim *sim, const sph_particles *particl
     for (size_t a = 0; a < n_local; ++a) {
         if (!member[a] || !(D[a] < 1.0))
             continue;
-        const int *row;
         size_t count;
-        if (by_rows) {
-            row = neighbours->indices + neighbours->offsets[a];
-            count = neighbours->offsets[a + 1] - neighbours->offsets[a];
-        } else {
-            row = neighbours->lists[a];
-            count = (size_t)neighbours->counts[a];
-        }
+        const int *row = caller_row(neighbours, by_rows, a, &count);
         for (size_t k = 0; k < count; ++k) {
             const size_t b = (size_t)row[k];
             if (b >= n) {

@@ -289,15 +289,8 @@ sph_status sph_energy_power(sph_sim *sim, const sph_particles *particles,
 #pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) reduction(+ : heat) \
     reduction(max : bad_a, bad_b)
     for (long a = 0; a < count; ++a) {
-        const int *row;
         size_t length;
-        if (by_rows) {
-            row = neighbours->indices + neighbours->offsets[a];
-            length = neighbours->offsets[a + 1] - neighbours->offsets[a];
-        } else {
-            row = neighbours->lists[a];
-            length = (size_t)neighbours->counts[a];
-        }
+        const int *row = caller_row(neighbours, by_rows, (size_t)a, &length);
         const material *ma = &sim->materials[mat[a]];
         for (size_t k = 0; k < length; ++k) {
             const size_t b = (size_t)row[k];

@@ -341,4 +341,16 @@ sph_status memory_check(sph_sim *sim, double particles, const char *what);
 sph_status output_write_due(sph_sim *sim);
 void output_free(sph_sim *sim);
 
+/* Row `a` of a caller's neighbour lists (sph_neighbours: CSR offsets and
+ * indices when `by_rows`, else per-particle lists and counts). */
+static inline const int *caller_row(const sph_neighbours *nb, int by_rows, size_t a, size_t *length)
+{
+    if (by_rows) {
+        *length = nb->offsets[a + 1] - nb->offsets[a];
+        return nb->indices + nb->offsets[a];
+    }
+    *length = (size_t)nb->counts[a];
+    return nb->lists[a];
+}
+
 #endif
