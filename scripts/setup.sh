@@ -27,8 +27,9 @@ echo "setup: building the C library (build/)"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=OFF \
     -DSPHSOLID_EXAMPLES=ON -DSPHSOLID_BENCH=ON >/dev/null
 # The C build runs beside the Python steps below (the wheel compiles the
-# library again): each is mostly one long compile of rates.c, so on two
-# cores the two overlap.
+# library again): each is mostly the pair loop's three instruction-set
+# paths (rates_base.c, rates_avx2.c, rates_avx512.c), so on two cores the
+# two overlap.
 build_log=build/setup-build.log
 cmake --build build -j"$(nproc)" >"$build_log" 2>&1 &
 build_pid=$!

@@ -42,11 +42,11 @@ cmake --build build-werror -j"$(nproc)" --target sphsolidplugin >/dev/null
 
 stage "C tests built with AddressSanitizer + UBSan (-Werror), in the background"
 # The sanitizer and plain builds compile the pair loop's baseline path only
-# (SPHSOLID_NO_CLONES): with the x86-64-v3/v4 variants rates.c alone takes
-# about 10 minutes to compile under ASan; the release build's
+# (SPHSOLID_NO_CLONES): with the x86-64-v3/v4 variants the pair loop alone
+# takes about 10 minutes to compile under ASan; the release build's
 # rate_paths_agree test covers the wide paths.  The sanitizer build is
-# optimised at -O1 (as AddressSanitizer's documentation advises): rates.c
-# compiles in 81 s of CPU there against 213 s at -O2.  Build and tests run
+# optimised at -O1 (as AddressSanitizer's documentation advises): the pair
+# loop compiles in 81 s of CPU there against 213 s at -O2.  Build and tests run
 # on one core while the stages below run (they use one core most of the
 # time: the suite took 787 s of wall for 828 s of CPU when every stage
 # waited for the last); their outcome is reported after pytest.

@@ -1,7 +1,7 @@
 /*
  * Effects a scene switches on: their parameters and their terms.
  * A pair term is a function over a block of pairs (physics.h's pair_block)
- * called by the pair pass (rates.c, pair_terms) when its switch is on; the
+ * called by the pair pass (rate_loop.h, pair_terms) when its switch is on; the
  * switches are tested once per block.  Per-particle terms run in the
  * passes before (the pair data) and after (the finish) the pair pass.  The
  * table of names and parameter parsing is in effects.c.
