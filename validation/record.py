@@ -142,7 +142,7 @@ def cylinder_scene(out: Path, quick: bool, log) -> accuracy.Scene:
                           until=spec.until, window=spec.window(spec.until),
                           note=f"slope of sigma_yy at the centre from "
                           f"0.75 ms on against the FE's {slope / 1e6:.4g} "
-                          "MPa/s")
+                          "MPa/s", quick_rows=accuracy.QUICK_ROWS_3D)
 
 
 def reference_scene(name: str, out: Path, log) -> accuracy.Scene:
