@@ -194,11 +194,11 @@ ROWS = tuple((norm, request, threads) for threads in (1, 2)
     ("rms", 0.01, 1), ("max", 0.025, 1), ("max", 0.025, 2))
 QUICK_ROWS = (("max", 0.05, 1), ("max", 0.03, 1), ("rms", 0.03, 1),
               ("max", 0.025, 1), ("rms", 0.10, 1), ("max", 0.03, 2))
-#: The quick mode's sample on the 3D cylinder: 10 and 5 % (its sweep's
-#: finest level, 3 mm, errs 5 %; a 3 % plan runs at 2 mm or finer, tens
-#: of CPU minutes per run in 3D).
+#: The quick mode's sample on the 3D cylinder: 10, 5 and 3 % (its
+#: sweep's finest level, 3 mm, errs 5 %, a 15 CPU s run with the
+#: leapfrog; a 3 % plan runs at about 2 mm, 5x that).
 QUICK_ROWS_3D = (("rms", 0.10, 1), ("max", 0.10, 1), ("max", 0.05, 1),
-                 ("max", 0.05, 2))
+                 ("max", 0.05, 2), ("max", 0.03, 1), ("rms", 0.03, 1))
 #: The keyword arguments of :func:`sphsolid.planner.plan` that decide what
 #: is planned, as ``sphsolid plan`` passes them (tests/python/
 #: test_accuracy_checks.py checks that the CLI passes the same).
@@ -996,7 +996,7 @@ reference at 0.5 mm for the piston and 1 mm for the held-out piston with
 nu = 0.45 (kept in docs/accuracy); sweeps: the record's levels (piston
 3-0.75 mm, strip 2-0.35 mm, gravity 8-2 mm) and the checks' own (piston
 0.5 mm, strip 0.25 mm) where a row needs them; on the 3D cylinder the
-sample is 10 and 5 % (`QUICK_ROWS_3D`). **Full mode** (`--full`):
+sample is 10, 5 and 3 % (`QUICK_ROWS_3D`). **Full mode** (`--full`):
 every row of `ROWS` (10, 5, 3, 2 % in both norms on 1 and 2 threads, 2.5 %
 max and 1 % RMS); {full_strip}.
 """
