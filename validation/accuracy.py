@@ -808,12 +808,7 @@ def main(argv=None) -> int:
     results_path = data / "results.json"
     results = (json.loads(results_path.read_text())
                if results_path.exists() else {})
-    from validation.record import (HELD_OUT, cylinder_scene, nu045_scene,
-                                   slender_scene, squat_scene)
-    builders = {"strip": strip_scene, "gravity": gravity_scene,
-                "piston": piston_scene, "piston_nu045": nu045_scene,
-                "piston_squat": squat_scene, "piston_slender": slender_scene,
-                "cylinder": cylinder_scene}
+    from validation.record import HELD_OUT, reference_scene
     if args.document_only:
         write_document(args.out / "accuracy.md", results, args)
         return 0
@@ -822,7 +817,7 @@ def main(argv=None) -> int:
         load_start = os.getloadavg()[0]
         scene_start = wallclock.perf_counter()
         scene_cpu = wallclock.process_time()
-        scene = builders[name](data, args.quick, log)
+        scene = reference_scene(name, data, log, quick=args.quick)
         if args.estimate_only and name in results:
             result = results[name]
         else:

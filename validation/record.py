@@ -145,7 +145,8 @@ def cylinder_scene(out: Path, quick: bool, log) -> accuracy.Scene:
                           "MPa/s", quick_rows=accuracy.QUICK_ROWS_3D)
 
 
-def reference_scene(name: str, out: Path, log) -> accuracy.Scene:
+def reference_scene(name: str, out: Path, log,
+                    quick: bool = False) -> accuracy.Scene:
     makers = {"piston": accuracy.piston_scene,
               "strip": accuracy.strip_scene,
               "gravity": accuracy.gravity_scene,
@@ -156,7 +157,7 @@ def reference_scene(name: str, out: Path, log) -> accuracy.Scene:
     if name not in makers:
         raise ValueError(f"no reference scene {name!r} (have "
                          f"{', '.join(makers)})")
-    return makers[name](out, False, log)
+    return makers[name](out, quick, log)
 
 
 def _bias(spacings, errors, order) -> float:

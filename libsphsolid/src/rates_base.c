@@ -1,6 +1,6 @@
-/* The pair loop's chunk functions for the baseline instruction set (the build's target): one per
- * (dimension, kernel, partial-sum buffer, pass), listed in
- * rates_chunks_base for rates.c (rate_loop.h). */
+/* The pair loop's chunk functions for the baseline instruction set (the
+ * build's target): one per (dimension, kernel, partial-sum buffer, pass),
+ * listed in rates_chunks_base for rates.c (rate_loop.h). */
 #include "rate_loop.h"
 
 #define RATE_PATH base
