@@ -620,7 +620,9 @@ def main(argv=None) -> int:
     if args.size:
         args.seeds = args.seeds or 30
         data = size_study(args)
-        name, table = "size" + _size_tag(args), size_table(data)
+        name = ("size" + ("" if args.dx == 4e-3 else f"_{args.dx * 1e3:g}mm")
+                + _size_tag(args))
+        table = size_table(data)
         size_figure(data, args.out / f"{name}.png")
     elif args.rate:
         args.seeds = args.seeds or 16
