@@ -234,3 +234,36 @@ def test_cylinder_scene_file_runs_and_the_front_is_between_its_probes(tmp_path):
     for probe in ("A", "D"):
         xx, zz = float(last[f"{probe}_sigma_xx_Pa"]), float(last[f"{probe}_sigma_zz_Pa"])
         assert abs(xx - zz) <= 1e-9 * jump, probe
+
+
+#: the held-out scene files of docs/planner.md: material (K, mu, rho0),
+#: piston speed, block top and the probe deepest under the piston (name, y)
+PRESSED = {
+    "press.toml": (30e9, 20e9, 2650.0, 0.5, 0.050, "low", 0.010),
+    "soft.toml": (8e9, 4e9, 2200.0, 0.2, 0.030, "low", 0.006),
+}
+
+
+@pytest.mark.parametrize("name", sorted(PRESSED))
+def test_compressive_front_of_a_scene_file_arrives_at_its_wave_speed(tmp_path, name):
+    """The piston's compressive front reaches the deepest probe (depth d
+    below the top, 24-40 mm) after d / c_p, c_p = sqrt((K + 4 mu / 3) /
+    rho0) of the file's material (the half height of 2 mu v / c_p, the von
+    Mises stress of 1D strain), and the probe is in compression behind it
+    until the reflection from the base returns."""
+    K_, mu, rho0, speed, top, probe, y = PRESSED[name]
+    c_p = math.sqrt((K_ + 4 * mu / 3) / rho0)
+    done = cli("run", str(REPOSITORY / "examples" / "scene_file" / name),
+               "--out", str(tmp_path), "--no-progress")
+    assert done.returncode == 0, done.stdout + done.stderr
+    stem = Path(name).stem
+    data = np.genfromtxt(tmp_path / f"{stem}_probes.csv", delimiter=",", names=True)
+    t, vm = data["time_s"], data[f"{probe}_von_mises_Pa"]
+    plateau = 2 * mu * speed / c_p
+    arrival = t[np.argmax(vm > 0.5 * plateau)]
+    expected = (top - y) / c_p
+    # the half-height point of a front smeared over ~2h = 4.8 mm (2 mm)
+    assert abs(arrival - expected) < 2.4e-3 / c_p + 2 * (t[1] - t[0]), (
+        arrival, expected)
+    behind = (t > arrival) & (t < (top + y) / c_p)
+    assert np.all(data[f"{probe}_sigma_yy_Pa"][behind] < 0.0)
