@@ -26,6 +26,10 @@ typedef struct integrator {
     double stable_factor;
     /* default step as a multiple of h / max(c0), capped at the stable step */
     double default_factor;
+    /* 1 if stable_factor was measured without artificial viscosity, which
+     * then shortens the stable step by the kernel's 1 + kappa alpha
+     * (kernel.h), 0 if it holds with the viscosity on */
+    int viscosity_shortens_step;
     /* doubles per particle the step saves at its start (besides positions),
      * for undoing a failed step */
     size_t (*saved_values)(int dim, int ncomp, int xsph);
@@ -40,12 +44,14 @@ typedef struct integrator {
 } integrator;
 
 /* An integrator's record, in the order of the fields above. */
-#define INTEGRATOR_RECORD(NAME, DESCRIPTION, EVALUATIONS, STABLE, DEFAULT, SAVED, STEP, CARRIES) \
+#define INTEGRATOR_RECORD(NAME, DESCRIPTION, EVALUATIONS, STABLE, DEFAULT, VISCOUS, SAVED, STEP, \
+                          CARRIES)                                                               \
     {.name = NAME,                                                                               \
      .description = DESCRIPTION,                                                                 \
      .evaluations = EVALUATIONS,                                                                 \
      .stable_factor = STABLE,                                                                    \
      .default_factor = DEFAULT,                                                                  \
+     .viscosity_shortens_step = VISCOUS,                                                         \
      .saved_values = SAVED,                                                                      \
      .step = STEP,                                                                               \
      .carries_rates = CARRIES}

@@ -350,5 +350,5 @@ const integrator integrator_improved_euler = INTEGRATOR_RECORD(
     "improved_euler",
     "Improved Euler (Heun): two rate evaluations per step, second order; needs artificial "
     "viscosity for wave problems (the paper's scheme)",
-    /* evaluations */ 2, /* stable */ 1.0, /* default */ 0.5, heun_saved_values, heun_step,
-    /* carries rates */ 0);
+    /* evaluations */ 2, /* stable */ 1.0, /* default */ 0.5, /* viscosity shortens step */ 0,
+    heun_saved_values, heun_step, /* carries rates */ 0);

@@ -215,9 +215,10 @@ const integrator integrator_leapfrog = INTEGRATOR_RECORD(
     "leapfrog",
     "kick-drift-kick leapfrog (velocity Verlet), density and stress advanced with the half-step "
     "velocity: symplectic, one evaluation's pair work per step (continuity pass at the half "
-    "step, momentum pass at the end), stable without viscosity up to 1.75 h/(c_p + |v|)",
-    /* evaluations */ 1, /* stable */ 1.75, /* default */ 1.0, leapfrog_saved_values, leapfrog_step,
-    /* carries rates */ 1);
+    "step, momentum pass at the end), stable without viscosity up to 1.75 h/(c_p + |v|), with "
+    "artificial viscosity alpha up to that / (1 + kappa alpha) of the kernel (cubic_o4: 0.85)",
+    /* evaluations */ 1, /* stable */ 1.75, /* default */ 1.0, /* viscosity shortens step */ 1,
+    leapfrog_saved_values, leapfrog_step, /* carries rates */ 1);
 
 /* ------------------------------------------------ stages on caller arrays */
 

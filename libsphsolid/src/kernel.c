@@ -6,13 +6,13 @@
 #include "kernel.h"
 #include "sim.h"
 
-#define KERNEL_WORD(id, name, prefix, support, step) " " #name
+#define KERNEL_WORD(id, name, prefix, support, step, viscous) " " #name
 const char *sph_kernel_names(void) { return SPH_KERNELS(KERNEL_WORD) + 1; }
 #undef KERNEL_WORD
 
 const char *sph_kernel_name(sph_kernel kernel)
 {
-#define KERNEL_CASE_NAME(id, name, prefix, support, step) \
+#define KERNEL_CASE_NAME(id, name, prefix, support, step, viscous) \
     case id: return #name;
     switch (kernel) {
         SPH_KERNELS(KERNEL_CASE_NAME)
@@ -25,8 +25,8 @@ int sph_kernel_from_name(const char *name)
 {
     if (!name)
         return -1;
-#define KERNEL_MATCH(id, kname, prefix, support, step) \
-    if (strcmp(name, #kname) == 0)                     \
+#define KERNEL_MATCH(id, kname, prefix, support, step, viscous) \
+    if (strcmp(name, #kname) == 0)                              \
         return id;
     SPH_KERNELS(KERNEL_MATCH)
 #undef KERNEL_MATCH

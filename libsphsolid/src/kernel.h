@@ -117,33 +117,41 @@ static inline double kernel_cubic_o4_sigma(int dim) { return kernel_cubic_sigma(
 /* The kernel registry: one row per kernel, the only place a kernel is
  * named.  Columns: the sph_kernel value, its name, the prefix of its
  * functions (PREFIX_w(dim, q), PREFIX_f(dim, q), PREFIX_sigma(dim) above),
- * its support in units of h, and the length its time step scales with in
- * units of h (1, or the inner length of a combined kernel).  The dispatch
+ * its support in units of h, the length its time step scales with in
+ * units of h (1, or the inner length of a combined kernel), and kappa: an
+ * integrator whose stable step was measured without artificial viscosity
+ * (the leapfrog) is stable with it up to that step / (1 + kappa alpha).
+ * kappa is measured (docs/stability.md, "Artificial viscosity and the
+ * leapfrog's step"): 0 where viscosity leaves the step as it is; the
+ * outer ring of cubic_o4, where its gradient points outward, makes the
+ * viscosity of approaching pairs there push them together.  The dispatch
  * below, the names the library reports and the rate-loop variants are
  * generated from it. */
-#define SPH_KERNELS(X)                                                \
-    X(SPH_KERNEL_CUBIC_SPLINE, cubic_spline, kernel_cubic, 2.0, 1.0)  \
-    X(SPH_KERNEL_WENDLAND_C2, wendland_c2, kernel_wendland, 2.0, 1.0) \
-    X(SPH_KERNEL_CUBIC_O4, cubic_o4, kernel_cubic_o4, 2.0, 1.0 / KERNEL_O4_S)
+#define SPH_KERNELS(X)                                                     \
+    X(SPH_KERNEL_CUBIC_SPLINE, cubic_spline, kernel_cubic, 2.0, 1.0, 0.0)  \
+    X(SPH_KERNEL_WENDLAND_C2, wendland_c2, kernel_wendland, 2.0, 1.0, 0.0) \
+    X(SPH_KERNEL_CUBIC_O4, cubic_o4, kernel_cubic_o4, 2.0, 1.0 / KERNEL_O4_S, 0.85)
 
 /* Dispatch by kernel id over the registry; with a constant id the switch
  * folds away.  KERNEL_SWITCH(kernel, CASE) expands CASE(id, name, prefix,
- * support, step) for every row as the cases of one switch. */
+ * support, step, viscous) for every row as the cases of one switch. */
 #define KERNEL_SWITCH(kernel, CASE) \
     switch (kernel) {               \
         SPH_KERNELS(CASE)           \
     }                               \
     return 0.0
-#define KERNEL_CASE_W(id, name, prefix, support, step) \
+#define KERNEL_CASE_W(id, name, prefix, support, step, viscous) \
     case id: return prefix##_w(dim, q);
-#define KERNEL_CASE_F(id, name, prefix, support, step) \
+#define KERNEL_CASE_F(id, name, prefix, support, step, viscous) \
     case id: return prefix##_f(dim, q);
-#define KERNEL_CASE_SIGMA(id, name, prefix, support, step) \
+#define KERNEL_CASE_SIGMA(id, name, prefix, support, step, viscous) \
     case id: return prefix##_sigma(dim);
-#define KERNEL_CASE_SUPPORT(id, name, prefix, support, step) \
+#define KERNEL_CASE_SUPPORT(id, name, prefix, support, step, viscous) \
     case id: return support;
-#define KERNEL_CASE_STEP(id, name, prefix, support, step) \
+#define KERNEL_CASE_STEP(id, name, prefix, support, step, viscous) \
     case id: return step;
+#define KERNEL_CASE_VISCOUS(id, name, prefix, support, step, viscous) \
+    case id: return viscous;
 
 static inline double kernel_w(int kernel, int dim, double q)
 {
@@ -158,5 +166,10 @@ static inline double kernel_sigma(int kernel, int dim) { KERNEL_SWITCH(kernel, K
 static inline double kernel_support(int kernel) { KERNEL_SWITCH(kernel, KERNEL_CASE_SUPPORT); }
 /* The length the time step limits scale with, in units of h. */
 static inline double kernel_step_length(int kernel) { KERNEL_SWITCH(kernel, KERNEL_CASE_STEP); }
+/* kappa of the registry: a viscosity-limited stable step / (1 + kappa alpha). */
+static inline double kernel_viscous_kappa(int kernel)
+{
+    KERNEL_SWITCH(kernel, KERNEL_CASE_VISCOUS);
+}
 
 #endif

@@ -653,7 +653,7 @@ static ALWAYS_INLINE void chunk_rows(const engine *shared, long c, const int dim
     CHUNK_FN(2, ID, 0, PASS)             \
     CHUNK_FN(3, ID, 0, PASS) CHUNK_FN(2, ID, 1, PASS) CHUNK_FN(3, ID, 1, PASS)
 /* generated from the kernel registry (kernel.h), for the passes 1, 2, 3 */
-#define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP) \
+#define CHUNK_VARIANTS_OF_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP, VISCOUS) \
     CHUNK_VARIANTS_OF_PASS(ID, 1) CHUNK_VARIANTS_OF_PASS(ID, 2) CHUNK_VARIANTS_OF_PASS(ID, 3)
 #define CHUNK_PASS_ENTRY(ID, PASS)                                                       \
     {                                                                                    \
@@ -662,9 +662,9 @@ static ALWAYS_INLINE void chunk_rows(const engine *shared, long c, const int dim
             CHUNK_NAME(RATE_PATH, 2, ID, 1, PASS), CHUNK_NAME(RATE_PATH, 3, ID, 1, PASS) \
         }                                                                                \
     }
-#define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT, STEP) \
+#define CHUNK_ENTRY(ID, NAME, PREFIX, SUPPORT, STEP, VISCOUS) \
     [ID] = {CHUNK_PASS_ENTRY(ID, 1), CHUNK_PASS_ENTRY(ID, 2), CHUNK_PASS_ENTRY(ID, 3)},
-#define COUNT_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP) +1
+#define COUNT_KERNEL(ID, NAME, PREFIX, SUPPORT, STEP, VISCOUS) +1
 enum { N_KERNELS = 0 SPH_KERNELS(COUNT_KERNEL) };
 #undef COUNT_KERNEL
 

@@ -70,3 +70,33 @@ def test_default_time_step_follows_the_inner_spline():
         scene = Scene(2, [block], smoothing_ratio=1.65, kernel=kernel)
         dts[kernel] = scene.calc.default_dt()
     assert dts["cubic_o4"] == pytest.approx(dts["cubic_spline"] / 1.5, rel=1e-12)
+
+
+@pytest.mark.parametrize("alpha", [0.5, 1.0, 2.0])
+def test_viscosity_shortens_only_the_leapfrogs_cubic_o4_step(alpha):
+    """With artificial viscosity alpha the leapfrog's stable step is its
+    step without viscosity / (1 + kappa alpha), kappa the kernel's (0.85
+    for cubic_o4, 0 for the cubic spline), and its default step at most
+    0.8 of that; Improved Euler's steps do not change."""
+    from sphsolid import Leapfrog
+    rock = scenes.paper_material()
+    steps = {}
+    for kernel in ("cubic_spline", "cubic_o4"):
+        for integrator in (ImprovedEuler, Leapfrog):
+            for viscous in (False, True):
+                block = build.rectangle((0, 0.02), (0, 0.02), 1e-3, rock)
+                effects = ({"artificial_viscosity": {"alpha": alpha, "beta": 0.0}}
+                           if viscous else {})
+                scene = Scene(2, [block], smoothing_ratio=1.65, kernel=kernel,
+                              effects=effects)
+                dyn = integrator(scene, progress=False)
+                steps[kernel, integrator.__name__, viscous] = (
+                    scene.calc.stable_dt(), scene.calc.default_dt(), dyn.dt)
+    divisor = 1 + 0.85 * alpha
+    plain, viscous = steps["cubic_o4", "Leapfrog", False], steps["cubic_o4", "Leapfrog", True]
+    assert viscous[0] == pytest.approx(plain[0] / divisor, rel=1e-12)
+    assert viscous[1] == pytest.approx(min(plain[1], 0.8 * plain[0] / divisor), rel=1e-12)
+    assert viscous[2] == viscous[1]
+    for kernel, integrator in (("cubic_spline", "Leapfrog"), ("cubic_spline", "ImprovedEuler"),
+                               ("cubic_o4", "ImprovedEuler")):
+        assert steps[kernel, integrator, True] == steps[kernel, integrator, False]
