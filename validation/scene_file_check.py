@@ -4,7 +4,7 @@ file checked").
 
     python -m validation.scene_file_check SCENE.toml [--probe A ...]
         [--requests max:10,max:5,rms:5] [--threads 1] [--fe-size 0.25mm]
-        [--out DIR]
+        [--sweep paper,waves,fronts [--spacings 2mm,1mm,0.5mm]] [--out DIR]
 
 For each request, in the order given and with one planner cache (as a
 user's successive requests share it): ``sphsolid plan SCENE.toml --error
@@ -13,7 +13,10 @@ E% --norm N --probe ...`` and, when planned, ``sphsolid run SCENE.toml
 run's probe CSV, von Mises columns, interpolated on the FE's 0.05 us grid)
 is scored with :func:`sphsolid.metrics.worst_deviation` against the FE
 series at ``--fe-size`` and, to show the reference's own convergence, the
-FE series at twice that size against it.
+FE series at twice that size against it.  ``--sweep`` runs the file
+besides with each named preset at each of ``--spacings`` (its block's
+``dx`` set), unplanned, scored alike: what a refused request could have
+had.  ``--requests ""`` runs the sweep alone.
 
 The FE answer (:func:`validation.fe_reference.piston_fe`: plane strain,
 quadratic quadrilaterals, Newmark) covers the scenes it can state: 2D, one
@@ -28,6 +31,7 @@ import argparse
 import csv
 import json
 import math
+import re
 import subprocess
 import sys
 import time as wallclock
@@ -130,7 +134,7 @@ def _cli(args, log_path: Path) -> tuple[int, float]:
 
 
 def check(path: Path, requests, probes, threads: int, fe_size: float,
-          out: Path, log=print) -> list[dict]:
+          out: Path, log=print, presets=(), spacings=()) -> list[dict]:
     problem = fe_problem(path)
     names = list(probes or problem["probes"])
     out.mkdir(parents=True, exist_ok=True)
@@ -179,10 +183,45 @@ def check(path: Path, requests, probes, threads: int, fe_size: float,
             row["reason"] = planned.get("reason", "")
         rows.append(row)
         log(_line(row))
+    if presets and spacings:
+        log("| preset | dx | max | RMS | run |")
+        log("|---|---|---|---|---|")
+    swept = [sweep_row(path, preset, dx, names, fine, threads, out, log)
+             for preset in presets for dx in spacings]
     (out / "results.json").write_text(json.dumps(
         {"scene": str(path), "fe_size": fe_size, "fe_own": own,
-         "threads": threads, "rows": rows}, indent=1))
+         "threads": threads, "rows": rows, "sweep": swept}, indent=1))
     return rows
+
+
+def sweep_row(path: Path, preset: str, dx: float, names, fine: dict,
+              threads: int, out: Path, log=print) -> dict:
+    """The file run as a user would without a plan, ``sphsolid run FILE
+    --preset PRESET``, with its block's spacing set to ``dx``, scored as
+    the planned runs are: what a refused request could have had."""
+    text = path.read_text()
+    spaced, count = re.subn(r'(?m)^(\s*dx\s*=\s*)"[^"]*"',
+                            lambda m: f'{m.group(1)}"{dx * 1e3:g}mm"', text)
+    if count == 0:
+        raise ValueError(f"{path}: no dx = \"...\" line to set the spacing")
+    tag = f"{preset}_{dx * 1e3:g}mm"
+    copy = out / f"sweep_{tag}.toml"
+    copy.write_text(spaced)
+    code, seconds = _cli(["run", str(copy), "--preset", preset, "--threads",
+                          str(threads), "--out", str(out / f"sweep_{tag}"),
+                          "--no-progress"], out / f"sweep_{tag}.log")
+    row = {"preset": preset, "dx": dx, "run_s": seconds}
+    if code != 0:
+        row["failed"] = f"{out}/sweep_{tag}.log"
+    else:
+        csv_path = next((out / f"sweep_{tag}").glob("*_probes.csv"))
+        row.update(score(written_series(csv_path, names, fine["grid"]),
+                         fine, names))
+    log(f"| {preset} | {dx * 1e3:g} mm | " + (
+        "failed | - |" if "failed" in row else
+        f"{row['max'] * 100:.2f} % | {row['rms'] * 100:.2f} % |")
+        + f" {seconds:.1f} s |")
+    return row
 
 
 def _line(row) -> str:
@@ -198,7 +237,7 @@ def _line(row) -> str:
 
 def _requests(text: str):
     out = []
-    for item in text.split(","):
+    for item in filter(None, text.split(",")):
         norm, _, value = item.partition(":")
         if norm not in ("max", "rms") or not value:
             raise argparse.ArgumentTypeError(
@@ -223,11 +262,20 @@ def main(argv=None) -> int:
                         default=0.25e-3)
     parser.add_argument("--out", type=Path,
                         default=Path("scene_file_check"))
+    parser.add_argument("--sweep", type=lambda v: list(filter(None, v.split(","))),
+                        default=[], metavar="PRESET,...",
+                        help="also run the file with these presets at "
+                        "--spacings, unplanned, scored alike")
+    parser.add_argument("--spacings", default=[2e-3, 1e-3, 0.5e-3],
+                        type=lambda v: [length(x, "--spacings")
+                                        for x in v.split(",")],
+                        help="the block spacings of --sweep (default "
+                        "2mm,1mm,0.5mm)")
     args = parser.parse_args(argv)
     print("| request | planning | plan | run | achieved vs FE | |")
     print("|---|---|---|---|---|---|")
     check(args.scene, args.requests, args.probe, args.threads,
-          args.fe_size, args.out)
+          args.fe_size, args.out, presets=args.sweep, spacings=args.spacings)
     return 0
 
 
