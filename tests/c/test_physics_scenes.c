@@ -99,15 +99,20 @@ static void periodic_column_settles_to_static_gravity_field(void **state)
         snprintf(name, sizeof name, "y%d", k);
         check(sim, sph_add_probe(sim, name, p, &probes[k]));
     }
-    /* 40 lowest-mode periods */
-    check(sim, sph_run_until(sim, 40 * 2 * M_PI / omega1));
+    /* 8 lowest-mode periods: the damping is critical for that mode, so its
+     * transient has decayed by e^-50; what is left is the discretisation's
+     * (0.9 % at this dx, the same after 40 periods) */
+    check(sim, sph_run_until(sim, 8 * 2 * M_PI / omega1));
+    double worst = 0.0;
     for (int k = 0; k < 7; ++k) {
         double vals[8];
         check(sim, sph_probe_sample(sim, probes[k], vals));
         const double y = (0.2 + 0.1 * k) * H;
         const double exact = -PAPER_RHO0 * g * (H - y); /* static column */
+        worst = fmax(worst, fabs(vals[3] / exact - 1.0));
         assert_close(vals[3], exact, 0.03 * fabs(exact), "sigma_yy of the settled column");
     }
+    print_message("settled column: largest |sigma_yy / exact - 1| = %.3g\n", worst);
     sph_destroy(sim);
 }
 
@@ -202,7 +207,7 @@ static void prescribed_rotation_moves_on_arcs_and_builds_no_stress(void **state)
         vm, rho);
     assert_true(vm < 1e-12);
     assert_true(rho < 1e-12);
-    rotate_block(3, 1, tilted, 1, 2000, &vm, &rho);
+    rotate_block(3, 1, tilted, 1, 400, &vm, &rho);
     print_message("3D tilted axis, kernel correction, 1 turn: %.3g, %.3g\n", vm, rho);
     assert_true(vm < 1e-12);
     assert_true(rho < 1e-12);

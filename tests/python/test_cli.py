@@ -129,3 +129,13 @@ def test_an_option_unit_of_the_wrong_kind_is_named(capsys):
     with pytest.raises(SystemExit):
         cli.build_parser().parse_args(["piston", "--speed", "1.5mm"])
     assert "'1.5mm' is a length" in capsys.readouterr().err
+
+
+def test_build_plugin_names_a_build_type_it_does_not_know(tmp_path):
+    from sphsolid.plugin import build_plugin
+    with pytest.raises(ValueError, match="'Fast'.*Release, RelWithDebInfo, Debug"):
+        build_plugin(build_dir=tmp_path, build_type="Fast", log=lambda m: None)
+    args = cli.build_parser().parse_args(["build-plugin", "--build-type", "Debug"])
+    assert args.build_type == "Debug"
+    with pytest.raises(SystemExit):
+        cli.build_parser().parse_args(["build-plugin", "--build-type", "Fast"])
