@@ -46,7 +46,7 @@ from sphsolid.probes import PAPER_PROBES  # noqa: E402
 REQUESTS = (0.10, 0.05, 0.03, 0.02)
 #: The scenes of the checks, in the document's order (held-out ones are
 #: marked by their results' "held_out")
-SCENE_ORDER = ("piston", "strip", "gravity", "piston_nu045",
+SCENE_ORDER = ("piston", "strip", "gravity", "strip_tension", "piston_nu045",
                "piston_squat", "piston_slender", "cylinder")
 NORMS = ("max", "rms")
 
@@ -144,10 +144,13 @@ def piston_scene(out, quick, log) -> Scene:
     return Scene("piston", spec, reference, sweep, until=until, note=note)
 
 
-def strip_scene(out, quick, log) -> Scene:
-    spec = planner.project_scenes()["strip"]
+def strip_scene(out, quick, log, pulled: bool = False) -> Scene:
+    """The strip hit by the piston (``strip``), or pulled by it
+    (``strip_tension``: the front's stress jump changes sign)."""
+    name = "strip_tension" if pulled else "strip"
+    spec = planner.project_scenes()[name]
     rock = scenes.paper_material()
-    jump = -rock.rho0 * rock.c_p * scenes.PISTON_SPEED
+    jump = (1.0 if pulled else -1.0) * rock.rho0 * rock.c_p * scenes.PISTON_SPEED
 
     def reference(grid):
         # the front leaves the piston face at t = 0 at c_p (exact)
@@ -155,7 +158,7 @@ def strip_scene(out, quick, log) -> Scene:
                             jump, 0.0)
                 for n, (_, y) in planner.STRIP_PROBES.items()}
     sweep = (2e-3, 1.4e-3, 1e-3, 0.7e-3, 0.5e-3, 0.35e-3, 0.25e-3)
-    return Scene("strip", spec, reference, sweep)
+    return Scene(name, spec, reference, sweep)
 
 
 def gravity_scene(out, quick, log) -> Scene:
@@ -790,7 +793,8 @@ def main(argv=None) -> int:
                       "(the default; hours)")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--scenes",
-                        default="strip,gravity,piston,piston_nu045,"
+                        default="strip,gravity,strip_tension,piston,"
+                        "piston_nu045,"
                         "piston_squat,piston_slender,cylinder")
     parser.add_argument("--document-only", action="store_true",
                         help="rewrite accuracy.md from accuracy/results.json")
@@ -890,7 +894,18 @@ against the FE quasi-static slope of docs/validation/cylinder_3d; levels
 trusted answer is a band, the centre stress of a load spread over its
 contact between a rigid punch's and a uniform pressure's, 0.8 % wide for
 a contact of 5 degrees and 3.2 % for 10 degrees (docs/fracture.md), too
-wide to measure errors of 1-5 % against.
+wide to measure errors of 1-5 % against. **Fitted**, added after a
+user's block pulled into tension (`examples/scene_file/pull.toml`,
+docs/planner.md) showed that no record scene called for artificial
+stress, so that no setting with it was verified: the strip pulled by the
+piston (`strip_tension`: the exact front in tension, the strip's mirror).
+pull.toml stays held out (nothing is fitted on it). The block in tension
+shows what the record then says of artificial stress: with the cubic
+spline and Wendland kernels it moves the front, a bias of 23-63 % (RMS)
+that refinement does not remove, and with cubic_o4 (whose kernel is
+negative past q = 0.91 and a quarter of its peak at one spacing, so that
+f^4 = (W/W(dx))^4 reaches 248 for close pairs) the runs are meaningless;
+none of them is planned for a request under its bias.
 For each setting of
 the CLI's default candidates, at the spacings a plan uses, each window of
 consecutive levels predicts the error at every finer level within 2x, and
@@ -933,6 +948,8 @@ def write_document(path: Path, results: dict, args) -> None:
               "strip": "Laterally periodic strip hit by the piston (exact "
               "front, sigma_yy at y = 75, 50, 25 mm)",
               "gravity": "Gravity column, section means (exact at rest)",
+              "strip_tension": "The strip pulled by the piston (exact "
+              "front in tension, sigma_yy at y = 75, 50, 25 mm)",
               "cylinder": "Held out: the 3D laboratory cylinder, the slope "
               "of sigma_yy at its centre from 0.75 to 1.5 ms against the "
               "finite-element quasi-static slope"}

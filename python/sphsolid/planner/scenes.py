@@ -230,6 +230,19 @@ def strip_factory(dx: float, smoothing_ratio: float = 1.2,
         periodic=(True, False))
 
 
+def strip_tension_factory(dx: float, smoothing_ratio: float = 1.2,
+                          kernel: str = "cubic_spline",
+                          speed: float | None = None,
+                          inset: float | str = 0.0):
+    """The strip of :func:`strip_factory` pulled: the piston moves up at
+    ``speed`` (default the paper's piston speed), and a plane P-wave in
+    tension, of exact stress jump +rho0 c_p v, runs down behind a front at
+    y = H - c_p t (linear elasticity: the compressive front's mirror)."""
+    from .. import scenes
+    v = scenes.PISTON_SPEED if speed is None else speed
+    return strip_factory(dx, smoothing_ratio, kernel, -v, inset)
+
+
 #: Probe points of the strip [m] (on the axis, a quarter, half and three
 #: quarters down).
 STRIP_PROBES = {"y75": (0.0, 0.075), "y50": (0.0, 0.050),
@@ -330,6 +343,12 @@ def project_scenes() -> dict:
                            (2e-3, 1.4e-3, 1e-3, 0.7e-3), strip_until,
                            description="laterally periodic strip hit by the "
                            "piston, sigma_yy at y = 75, 50, 25 mm"),
+        "strip_tension": PlanScene(strip_tension_factory, STRIP_PROBES,
+                                   "sigma_yy", (2e-3, 1.4e-3, 1e-3, 0.7e-3),
+                                   strip_until,
+                                   description="the strip pulled by the "
+                                   "piston: a plane wave in tension, "
+                                   "sigma_yy at y = 75, 50, 25 mm"),
     }
 
 
