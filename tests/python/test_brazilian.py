@@ -50,6 +50,20 @@ def test_centre_stress_before_damage_is_hondros_for_the_contact_width():
         (centre, lo, hi)
 
 
+@pytest.mark.parametrize("dx", [4e-3, 2e-3, 1e-3, 0.5e-3])
+def test_the_round_discs_end_row_is_a_chord_dx_over_2_deep(dx):
+    # the rows within dx/2 of the lowest lie on a chord dx/2 above the
+    # circle's lowest point, 2 sqrt(R dx - dx^2/4) long: the contact with
+    # the platen narrows like dx^(1/2) (docs/ensembles.md), up to the
+    # lattice's spacing either side
+    points = fracture.brazilian_disc(dx=dx).bodies[0].points
+    low = points[:, 1].min()
+    row = points[np.abs(points[:, 1] - low) < 0.5 * dx, 0]
+    width = row.max() - row.min() + dx
+    chord = 2 * math.sqrt(R * dx - dx * dx / 4)
+    assert abs(width - chord) <= 2 * dx, (width, chord)
+
+
 def test_flat_ends_cut_the_disc_and_bad_angles_are_named():
     round_disc = fracture.brazilian_disc(2e-3, flat_angle=0.0)
     flat = fracture.brazilian_disc(2e-3, flat_angle=60.0)
