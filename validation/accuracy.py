@@ -41,6 +41,7 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 from sphsolid import metrics, scenes  # noqa: E402
 from sphsolid import planner  # noqa: E402
+from sphsolid.planner import record as record_module  # noqa: E402
 from sphsolid.probes import PAPER_PROBES  # noqa: E402
 
 REQUESTS = (0.10, 0.05, 0.03, 0.02)
@@ -312,7 +313,9 @@ def run_checks(scene: Scene, rows_to_run, log) -> dict:
             if run.failed:
                 continue
             sweep_rows.append({
-                "setting": setting.label(), "dx": dx, "wall": run.wall,
+                "setting": setting.label(),
+                "family": record_module.family(setting), "dx": dx,
+                "wall": run.wall,
                 "cpu": run.cpu,
                 "particle_steps": run.particles * run.steps,
                 **{norm: scene.error(run, norm) for norm in NORMS}})
@@ -524,7 +527,8 @@ def estimate_checks(scene: Scene, settings, spacings, windows, threads,
 
 
 # ------------------------------------------------------------ document
-def margin_cost(sweep, norm, request, safety=planner.SAFETY_GOOD):
+def margin_cost(sweep, norm, request, safety=planner.SAFETY_GOOD,
+                cost="particle_steps"):
     """What the safety factor alone costs: the particle-steps a planner
     would need if its central prediction were each setting's error
     against the trusted answer (known only to the sweep) and it kept the
@@ -534,27 +538,59 @@ def margin_cost(sweep, norm, request, safety=planner.SAFETY_GOOD):
     else the power law through the two levels that bracket it (in error
     and in particle-steps). Returns (particle-steps, setting), the
     cheapest over the settings, or None when no level of any setting has
-    the margin (the request lies beyond the sweep)."""
+    the margin (the request lies beyond the sweep).
+
+    ``safety`` may instead map setting labels to their margins (a setting
+    it leaves out is not considered), and ``cost`` names the sweep rows'
+    cost to compare ("particle_steps" or "cpu_cost")."""
     best = None
     for setting in dict.fromkeys(w["setting"] for w in sweep):
+        margin_of = (safety.get(setting) if isinstance(safety, dict)
+                     else safety)
+        if margin_of is None:
+            continue
         rows = sorted((w for w in sweep if w["setting"] == setting),
                       key=lambda w: -w["dx"])
-        margin = [safety * w[norm] for w in rows]
+        if not all(math.isfinite(w.get(cost, math.nan)) and w[cost] > 0
+                   for w in rows):
+            continue
+        margin = [margin_of * w[norm] for w in rows]
         for k, w in enumerate(rows):
             if margin[k] > request:
                 continue
-            cost = float(w["particle_steps"])
+            value = float(w[cost])
             if k > 0:
                 # error and cost as powers of dx between the two levels
                 coarse = rows[k - 1]
                 t = (math.log(margin[k - 1] / request)
                      / math.log(margin[k - 1] / margin[k]))
-                cost = math.exp((1 - t) * math.log(coarse["particle_steps"])
-                                + t * math.log(w["particle_steps"]))
-            if best is None or cost < best[0]:
-                best = (cost, setting)
+                value = math.exp((1 - t) * math.log(coarse[cost])
+                                 + t * math.log(w[cost]))
+            if best is None or value < best[0]:
+                best = (value, setting)
             break
     return best
+
+
+def record_margin_cost(sweep, norm, request, record=None):
+    """Issue 32's item 5 measure: the CPU cost at which the cheapest
+    setting the verification record lets the planner choose for this
+    request (verified in ``norm``, ratio at most 1, bias below the
+    request) meets it with the record's margin, its factor times its true
+    error at most the request (:func:`margin_cost` with each setting's
+    factor). Returns (CPU seconds, setting) or None (no such setting in
+    the sweep, or sweep rows without their record family)."""
+    record = record if record is not None else record_module.shipped()
+    if record is None:
+        return None
+    factors = {}
+    for w in sweep:
+        verdict = (record.settings.get(w.get("family")) or {}).get(norm)
+        if (verdict and verdict["ratio"] <= 1.0
+                and verdict["bias"] < request):
+            factors[w["setting"]] = max(1.0, record.margin
+                                        * verdict["ratio"])
+    return margin_cost(sweep, norm, request, factors, cost="cpu_cost")
 
 
 def _pct(x):
@@ -587,6 +623,34 @@ def _margin_ratio(row, sweep):
             else cost[0] / row["sweep_cheapest_particle_steps"])
 
 
+def _allowed_ratio(row, sweep, record=None):
+    """(planned CPU cost over :func:`record_margin_cost`, that setting),
+    (None, setting) for a refusal that setting would have met, or None
+    when the record allows no setting of the sweep that meets the
+    request at its margin."""
+    if not any("family" in w for w in sweep):
+        return None
+    cheapest = record_margin_cost(sweep, row["norm"], row["request"],
+                                  record)
+    if cheapest is None:
+        return None
+    if not row["feasible"]:
+        return (None, cheapest[1])
+    cost = row.get("cpu_cost")
+    if cost is None or not math.isfinite(cost):
+        return None
+    return (cost / cheapest[0], cheapest[1])
+
+
+def _allowed_text(allowed) -> str:
+    if allowed is None:
+        return "-"
+    ratio, setting = allowed
+    if ratio is None:
+        return f"refused, **met by** {setting}"
+    return f"{ratio:.2f}" + ("" if ratio <= 2.0 else " **") + f" ({setting})"
+
+
 def scene_text(name, result) -> str:
     rows = []
     for r in result["rows"]:
@@ -602,6 +666,7 @@ def scene_text(name, result) -> str:
                      / r["certified_cheapest_particle_steps"]
                      if r.get("certified_cheapest_particle_steps") else None)
             margin = _margin_ratio(r, result.get("sweep") or [])
+            allowed = _allowed_ratio(r, result.get("sweep") or [])
             rows.append([
                 r["norm"], f"{r['request'] * 100:g} %",
                 str(r.get("threads", "-")),
@@ -625,7 +690,8 @@ def scene_text(name, result) -> str:
                 f"{r['certified_cheapest']} @ "
                 f"{r['certified_cheapest_dx'] * 1e3:g})",
                 "-" if margin is None else f"{margin:.2f}"
-                + ("" if margin <= 1.5 else " **")])
+                + ("" if margin <= 1.5 else " **"),
+                _allowed_text(allowed)])
         else:
             rows.append([r["norm"], f"{r['request'] * 100:g} %",
                          str(r.get("threads", "-")),
@@ -638,7 +704,9 @@ def scene_text(name, result) -> str:
                          f"{r['sweep_cheapest_dx'] * 1e3:g}",
                          "-" if "certified_cheapest" not in r else
                          f"({r['certified_cheapest']} @ "
-                         f"{r['certified_cheapest_dx'] * 1e3:g})", "-"])
+                         f"{r['certified_cheapest_dx'] * 1e3:g})", "-",
+                         _allowed_text(_allowed_ratio(
+                             r, result.get("sweep") or []))])
     text = _table(["norm", "request", "threads", "planning [s]",
                    "planned setting", "dx [mm]",
                    "predicted", "upper", "achieved", "<= request",
@@ -648,7 +716,8 @@ def scene_text(name, result) -> str:
                    "cheapest in the sweep (dx mm)",
                    "particle-steps / cheapest self-certified (setting @ dx "
                    "mm)", "exact prediction with Fs 1.25: particle-steps / "
-                   "cheapest"], rows)
+                   "cheapest", "CPU cost / cheapest the record allows, at "
+                   "its margin (setting)"], rows)
     sweep = result.get("sweep") or []
     if sweep:
         text += ("\nThe exhaustive sweep (every setting the planner "
@@ -694,8 +763,9 @@ def summary_text(results, titles) -> str:
              "+-30 % | particle-steps <= 1.5x cheapest | CPU cost <= 1.5x "
              "cheapest | particle-steps <= 1.5x cheapest self-certified "
              "| exact prediction with Fs 1.25 <= 1.5x cheapest "
+             "| CPU cost <= 2x cheapest the record allows (issue 32, item 5) "
              "| estimate ratio in [1, 3] | planning [s] (median, max) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for name in SCENE_ORDER:
         if name not in results:
             continue
@@ -724,6 +794,10 @@ def summary_text(results, titles) -> str:
         known = sum(r["particle_steps"]
                     <= 1.5 * r["certified_cheapest_particle_steps"]
                     for r in certified)
+        allowed = [a for a in (_allowed_ratio(r, results[name].get("sweep")
+                                              or []) for r in rows)
+                   if a is not None]
+        within = sum(a[0] is not None and a[0] <= 2.0 for a in allowed)
         cases = results[name].get("estimate") or []
         inside = sum(1 <= c["ratio"] <= 3 for c in cases)
         # per setting: how many inside, how many above 3 (too cautious)
@@ -751,6 +825,8 @@ def summary_text(results, titles) -> str:
             f"{compared} | {cost_cpu} of {compared} | {known} of "
             f"{len(certified)} | {sum(m <= 1.5 for m in margins)} of "
             f"{len(margins)} | "
+            + (f"{within} of {len(allowed)} | " if allowed else "not "
+               "measured (sweep of an earlier version) | ")
             + (f"{inside} of {len(cases)} ({100 * inside / len(cases):.0f} "
                f"%; {detail})" if cases else "not run (section means are not point "
                "probes)" if name == "gravity" else "not run") + f" | {timing} |")
@@ -1212,7 +1288,13 @@ not; a run shorter than 1 CPU s is timed as the median of three), and
 the chosen setting's particle-steps are compared with the
 cheapest setting of an exhaustive sweep that met the request (**at most
 1.5x**; particle-steps rather than seconds, because seconds on a loaded
-machine are noise), and in CPU seconds. The per-run error estimate
+machine are noise), and in CPU seconds. Issue 32's item 5 is its own
+column: the chosen setting's CPU cost against the cheapest setting the
+verification record lets the planner choose for that request (verified
+in the norm, ratio at most 1, bias below the request), at the spacing
+where its record factor times its true error meets the request
+(`record_margin_cost`): **at most 2x**, and a refusal where such a
+setting exists is marked "met by". The per-run error estimate
 (`--error-estimate`, `sphsolid.planner.estimate.ErrorEstimate`: shadow runs at
 2 dx and 4 dx, 1/8 + 1/64 of the run's particle-steps in 2D; Roache's GCI
 with Fs = 3 and the observed order bounded to [1, 2], or, where the
