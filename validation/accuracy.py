@@ -585,11 +585,10 @@ def record_margin_cost(sweep, norm, request, record=None):
         return None
     factors = {}
     for w in sweep:
-        verdict = (record.settings.get(w.get("family")) or {}).get(norm)
-        if (verdict and verdict["ratio"] <= 1.0
-                and verdict["bias"] < request):
-            factors[w["setting"]] = max(1.0, record.margin
-                                        * verdict["ratio"])
+        verdict = (record.verdict(w["family"], norm) if w.get("family")
+                   else None)
+        if verdict and record_module.refusal(verdict, request) is None:
+            factors[w["setting"]] = verdict["factor"]
     return margin_cost(sweep, norm, request, factors, cost="cpu_cost")
 
 

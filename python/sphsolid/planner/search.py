@@ -18,7 +18,7 @@ from .calibration import LadderRun, build_scene, factory_options, ladder_run, ma
 from .cost_model import CostModel, TIMING_SECONDS, _steps_to, reference_cost, time_steps
 from .detection import Finding, detect_effects
 from .error_model import ErrorModel, FORMAL_ORDER, consistency_floors, fit_error_model, repeating_factor
-from .record import Record
+from .record import Record, refusal
 from .record import shipped as shipped_record
 from .settings import OWN_SETTING, SAFETY_GOOD, SMOOTHING_RATIOS, STANDARD, Setting, _effect_available, integrator_names, kernel_names
 
@@ -710,26 +710,16 @@ def plan(scene_factory: Callable, error: float = 0.03,
     for setting in settings:
         verdict = record.verdict(setting, norm) if record else None
         verdicts[setting] = verdict
+        # a setting the user named is ruled out by its bias alone, which
+        # no margin covers
+        why = (refusal(verdict, error, check_ratio=candidates is None)
+               if verdict is not None else None)
         if record and verdict is None and candidates is None:
             skipped.append(Candidate(setting, [], note=(
                 f"not verified in the {norm} norm by the verification "
                 "record: not planned")))
-        elif verdict is not None and verdict["bias"] >= error:
-            skipped.append(Candidate(setting, [], note=(
-                f"its verified bias {verdict['bias'] * 100:.2f} % is at or "
-                f"above the request")))
-        elif (verdict is not None and verdict["ratio"] > 1.0
-              and candidates is None):
-            # its prediction under-stated its true error on a fitted
-            # scene: a margin fitted there does not carry to other
-            # scenes (the cubic spline at h/dx 1.2 in the RMS norm: 1.32
-            # on the piston, a factor of 1.58; on the held-out slender
-            # piston its 3 % plan achieved 3.67 %, 1.93x its own
-            # prediction)
-            skipped.append(Candidate(setting, [], note=(
-                f"its prediction under-stated its true error "
-                f"{verdict['ratio']:.2f}x on a fitted scene of the "
-                "verification record: not planned")))
+        elif why is not None:
+            skipped.append(Candidate(setting, [], note=why))
         else:
             cands.append(Candidate(setting, []))
     if record and candidates is None:
