@@ -583,13 +583,145 @@ def record_margin_cost(sweep, norm, request, record=None):
     record = record if record is not None else record_module.shipped()
     if record is None:
         return None
+    return margin_cost(sweep, norm, request,
+                       record_factors(sweep, norm, request, record),
+                       cost="cpu_cost")
+
+
+def record_factors(sweep, norm, request, record=None) -> dict:
+    """The record's factor of each sweep setting the planner may choose
+    for this request (verified in ``norm``, not refused by
+    :func:`sphsolid.planner.record.refusal`), by setting label."""
+    record = record if record is not None else record_module.shipped()
     factors = {}
-    for w in sweep:
+    for w in sweep if record is not None else ():
         verdict = (record.verdict(w["family"], norm) if w.get("family")
                    else None)
         if verdict and record_module.refusal(verdict, request) is None:
             factors[w["setting"]] = verdict["factor"]
-    return margin_cost(sweep, norm, request, factors, cost="cpu_cost")
+    return factors
+
+
+def two_x_bound(sweep, norm, request, factors, within=2.0,
+                cost="cpu_cost"):
+    """Issue 32's item 5 set against the planner's honesty: the largest
+    ratio of a plan's error bound to its true error with which a plan can
+    cost at most ``within`` times the cheapest the record allows
+    (:func:`margin_cost` at the record's ``factors``) and still meet the
+    request. Per setting the planner may choose, the spacing whose cost
+    is ``within`` times that cheapest (power laws in dx between the
+    sweep's levels, as :func:`margin_cost` interpolates), its true error
+    e there, and request / (factor x e): a plan of that setting within
+    the cost keeps its promise only if its bound over its true error is
+    at most that. When the cost lies past the setting's finest level,
+    that level's error is used (its ratio is then a lower bound). Returns
+    (the largest ratio over the settings, its setting, whether it is only
+    a lower bound), or None when the record allows no setting of the sweep
+    that meets the request."""
+    cheapest = margin_cost(sweep, norm, request, factors, cost=cost)
+    if cheapest is None:
+        return None
+    budget = within * cheapest[0]
+    best = None
+    for setting, factor in factors.items():
+        rows = sorted((w for w in sweep if w["setting"] == setting),
+                      key=lambda w: -w["dx"])
+        if not rows or not all(
+                math.isfinite(w.get(cost, math.nan)) and w[cost] > 0
+                and math.isfinite(w[norm]) and w[norm] > 0 for w in rows):
+            continue
+        inside = [k for k, w in enumerate(rows) if w[cost] <= budget]
+        if not inside:
+            continue
+        k = inside[-1]
+        error, past = rows[k][norm], k + 1 == len(rows)
+        if not past:
+            lo, hi = rows[k], rows[k + 1]
+            t = math.log(budget / lo[cost]) / math.log(hi[cost] / lo[cost])
+            error = math.exp((1 - t) * math.log(lo[norm])
+                             + t * math.log(hi[norm]))
+        ratio = request / (factor * error)
+        if best is None or ratio > best[0]:
+            best = (ratio, setting, past)
+    return best
+
+
+def central_spread(results) -> dict:
+    """Per (planned setting, norm): the true error over the planner's
+    central prediction in every planned row of ``results`` (all scenes),
+    as (smallest, largest, rows)."""
+    spread = {}
+    for result in results.values():
+        for r in result.get("rows", []):
+            if not (r.get("feasible") and r.get("predicted_error")
+                    and r.get("achieved") is not None):
+                continue
+            ratio = r["achieved"] / r["predicted_error"]
+            lo, hi, n = spread.get((r["setting"], r["norm"]),
+                                   (math.inf, 0.0, 0))
+            spread[(r["setting"], r["norm"])] = (min(lo, ratio),
+                                                 max(hi, ratio), n + 1)
+    return spread
+
+
+def item5_text(results) -> str:
+    """The rows whose plans cost more than 2x the cheapest the record
+    allows (or are refused though that setting meets them), each with
+    :func:`two_x_bound` and the spread of the planned setting's central
+    prediction (:func:`central_spread`)."""
+    spread = central_spread(results)
+    rows = []
+    for name in SCENE_ORDER:
+        result = results.get(name) or {}
+        sweep = result.get("sweep") or []
+        for r in result.get("rows", []):
+            allowed = _allowed_ratio(r, sweep)
+            if allowed is None or (allowed[0] is not None
+                                   and allowed[0] <= 2.0):
+                continue
+            factors = record_factors(sweep, r["norm"], r["request"])
+            bound = two_x_bound(sweep, r["norm"], r["request"], factors)
+            lo, hi, n = spread.get((r.get("setting"), r["norm"]),
+                                   (None, None, 0))
+            rows.append([
+                name + (" (held out)" if result.get("held_out") else ""),
+                r["norm"], f"{r['request'] * 100:g} %",
+                str(r.get("threads", "-")),
+                "refused" if allowed[0] is None else f"{allowed[0]:.2f}",
+                allowed[1],
+                "-" if bound is None else ("at least " if bound[2] else "")
+                + f"{bound[0]:.3f} ({bound[1]})",
+                "-" if not n else f"{r['setting']}: {lo:.3f}-{hi:.3f} "
+                f"({n} rows; {hi / lo:.2f}x)"])
+    if not rows:
+        return ""
+    return (ITEM5_NOTE + "\n" + _table(
+        ["scene", "norm", "request", "threads",
+         "CPU cost / cheapest the record "
+         "allows", "that setting", "bound / true error a plan within 2x "
+         "may keep (its setting)", "planned setting: true / central "
+         "prediction over every planned row of its norm (spread)"], rows))
+
+
+ITEM5_NOTE = """## Item 5 against honesty
+
+The rows whose plan costs more than twice the cheapest setting the
+record allows (at its record factor times its true error, known only to
+the sweep), or is refused though that setting meets it. *Bound / true
+error a plan within 2x may keep*: a plan that costs at most twice that
+cheapest runs at a spacing where the setting's true error is e (the
+sweep's levels, power laws between them); it meets the request only if
+its promised bound, the record factor times the planner's upper
+prediction, is at most request / e, that is at most this ratio times its
+true error (`two_x_bound`; "at least" where twice the cost lies past the
+sweep's finest level, whose error is then used). The planner's upper prediction is its central
+one times a safety factor of at least 1.25 (Eça & Hoekstra); the last
+column shows how far the central prediction itself wandered about the
+true error over every row that planned the same setting in the same norm:
+a bound that is honest on each of those rows is, on the row where the
+central prediction over-stated most, at least the spread's ratio times
+the true error.
+"""
 
 
 def _pct(x):
@@ -1051,6 +1183,7 @@ def write_document(path: Path, results: dict, args) -> None:
         parts.append(QUICK_NOTE.format(elapsed=elapsed,
                                        full_strip=FULL_STRIP))
     parts.append(summary_text(results, titles))
+    parts.append(item5_text(results))
     parts.append(RECORD_HEADER + _record_section())
     parts.append(READING)
     for name in SCENE_ORDER:

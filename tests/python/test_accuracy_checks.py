@@ -77,6 +77,41 @@ def test_record_margin_cost_compares_with_what_the_record_allows():
     assert accuracy._allowed_ratio(refused, sweep, record) == (None, "a")
 
 
+def test_two_x_bound_is_the_error_twice_the_cost_buys():
+    # error c dx^q and cost k dx^-3: twice the cost of the spacing where
+    # factor x error = request is dx 2^(-1/3) finer, where the error is
+    # 2^(-q/3) smaller, so a plan within 2x keeps its promise only if its
+    # bound is at most 2^(q/3) times its true error, whatever the factor
+    spacings = [3.0, 2.0, 1.5, 1.0, 0.75, 0.5]
+    for q in (0.5, 1.0, 2.0):
+        sweep = _sweep("a", spacings, 0.08 / 3.0 ** q, q, 1e6)
+        for row in sweep:
+            row["cpu_cost"] = row["particle_steps"] * 1e-6
+        for factor in (1.0, 1.2):
+            ratio, setting, past = accuracy.two_x_bound(
+                sweep, "max", 0.05, {"a": factor})
+            assert setting == "a" and not past
+            assert ratio == pytest.approx(2 ** (q / 3), rel=1e-9)
+    # four times the cost: 4^(q/3); a budget past the finest level uses
+    # that level's error and says so
+    ratio, _, _ = accuracy.two_x_bound(sweep, "max", 0.05, {"a": 1.0},
+                                       within=4.0)
+    assert ratio == pytest.approx(4 ** (2 / 3), rel=1e-9)
+    # (q = 2: 0.3 % is met between 0.75 and 0.5 mm)
+    ratio, _, past = accuracy.two_x_bound(sweep, "max", 0.003, {"a": 1.0})
+    assert past and ratio == pytest.approx(0.003 / sweep[-1]["max"])
+    # no setting the record allows meets the request: nothing to bound
+    assert accuracy.two_x_bound(sweep, "max", 1e-4, {"a": 1.0}) is None
+
+
+def test_central_spread_is_true_over_central_per_setting_and_norm():
+    rows = [{"feasible": True, "setting": "a", "norm": "max",
+             "predicted_error": 0.04, "achieved": a} for a in (0.03, 0.05)]
+    rows.append({"feasible": False, "setting": "a", "norm": "max"})
+    spread = accuracy.central_spread({"s": {"rows": rows}})
+    assert spread == {("a", "max"): (0.75, 1.25, 2)}
+
+
 class _Run:
     def __init__(self, wall, cpu, failed=None):
         self.wall, self.cpu, self.failed = wall, cpu, failed
