@@ -22,6 +22,20 @@ build_beside "$base" "$tmp" probe_series ${extra[@]+"${extra[@]}"}
 "$tmp/build-base/bench/probe_series" --threads 1 >"$tmp/base.txt"
 "$tmp/build-head/bench/probe_series" --threads 1 >"$tmp/head.txt"
 "$tmp/build-head/bench/probe_series" --threads 3 >"$tmp/head3.txt"
+# series of combinations this tree's library refuses before their first
+# step (artificial_stress with a kernel that changes sign) have nothing to
+# compare: left out of both sides, by label, and named
+grep "stopped: effect artificial_stress needs a kernel" "$tmp/head.txt" |
+    sed 's/ step [0-9]*: stopped.*//' | sort -u >"$tmp/refused.txt" || true
+if [ -s "$tmp/refused.txt" ]; then
+    echo "compare_probes: left out, refused by this tree: $(paste -sd ';' "$tmp/refused.txt")"
+    for f in base head head3; do
+        awk 'NR == FNR { skip[$0] = 1; next }
+             { label = $0; sub(/ step [0-9]+:.*/, "", label) }
+             !(label in skip)' "$tmp/refused.txt" "$tmp/$f.txt" >"$tmp/$f.kept"
+        mv "$tmp/$f.kept" "$tmp/$f.txt"
+    done
+fi
 status=0
 if cmp -s "$tmp/base.txt" "$tmp/head.txt"; then
     echo "compare_probes: $(wc -l <"$tmp/head.txt") series lines bitwise equal to $base"

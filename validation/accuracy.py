@@ -1112,7 +1112,11 @@ spline and Wendland kernels it moves the front, a bias of 23-63 % (RMS)
 that refinement does not remove, and with cubic_o4 (whose kernel is
 negative past q = 0.91 and a quarter of its peak at one spacing, so that
 f^4 = (W/W(dx))^4 reaches 248 for close pairs) the runs are meaningless;
-none of them is planned for a request under its bias.
+none of them is planned for a request under its bias. The library now
+refuses artificial stress with a kernel that changes sign, so the
+planner's detection no longer offers it with cubic_o4: the two cubic_o4
+families with artificial stress below are what was measured before, and
+are no longer candidates.
 For each setting of
 the CLI's default candidates, at the spacings a plan uses, each window of
 consecutive levels predicts the error at every finer level within 2x, and

@@ -325,6 +325,13 @@ SPH_API const char *sph_kernel_name(sph_kernel kernel);
 SPH_API int sph_kernel_from_name(const char *name);
 /* Space-separated list of kernel names, in the order of their numbers. */
 SPH_API const char *sph_kernel_names(void);
+/* The smallest q = r/h at which the kernel is negative in `dim`
+ * dimensions (to 1e-12), 0 for a kernel that is non-negative over its
+ * support, -1 for an unknown kernel or dimension.  The artificial_stress
+ * effect needs 0: its factor (W/W(dx))^n falls off with distance only
+ * for a non-negative kernel, and a run with it and a kernel that changes
+ * sign stops at its first rate evaluation with an error. */
+SPH_API double sph_kernel_negative_from(sph_kernel kernel, int dim);
 /* The handle's kernel in the dimensionless form used by the rate engine:
  * at n values of q = r/h, w = h^dim W(r) and dw_dq = h^(dim+1) dW/dr
  * (either output may be NULL).  q must be finite and >= 0. */

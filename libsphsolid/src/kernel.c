@@ -77,3 +77,42 @@ int sph_support_layers(const sph_sim *sim, double spacing)
     /* the tolerance keeps an exact multiple (2h = 3 dx) at that many rows */
     return (int)ceil(support / spacing - 1e-9);
 }
+
+double sph_kernel_negative_from(sph_kernel kernel, int dim)
+{
+    if (!sph_kernel_name(kernel) || dim < 2 || dim > 3)
+        return -1.0;
+    /* sampled finely enough for a lobe a few hundredths of h wide, then
+     * bisected to the sign change */
+    enum { SAMPLES = 256 };
+    const double support = kernel_support(kernel);
+    for (int i = 1; i < SAMPLES; ++i) {
+        const double q = support * i / SAMPLES;
+        if (kernel_w(kernel, dim, q) < 0.0) {
+            double lo = support * (i - 1) / SAMPLES, hi = q;
+            for (int k = 0; k < 50; ++k) {
+                const double mid = 0.5 * (lo + hi);
+                if (kernel_w(kernel, dim, mid) < 0.0)
+                    hi = mid;
+                else
+                    lo = mid;
+            }
+            return hi;
+        }
+    }
+    return 0.0;
+}
+
+const char *kernel_names_non_negative(int dim, char *buf, size_t size)
+{
+    buf[0] = '\0';
+#define KERNEL_IF_NON_NEGATIVE(id, name, prefix, support, step, viscous) \
+    if (sph_kernel_negative_from(id, dim) == 0.0) {                      \
+        if (buf[0])                                                      \
+            strncat(buf, ", ", size - strlen(buf) - 1);                  \
+        strncat(buf, #name, size - strlen(buf) - 1);                     \
+    }
+    SPH_KERNELS(KERNEL_IF_NON_NEGATIVE)
+#undef KERNEL_IF_NON_NEGATIVE
+    return buf;
+}

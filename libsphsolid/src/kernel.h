@@ -166,6 +166,9 @@ static inline double kernel_sigma(int kernel, int dim) { KERNEL_SWITCH(kernel, K
 static inline double kernel_support(int kernel) { KERNEL_SWITCH(kernel, KERNEL_CASE_SUPPORT); }
 /* The length the time step limits scale with, in units of h. */
 static inline double kernel_step_length(int kernel) { KERNEL_SWITCH(kernel, KERNEL_CASE_STEP); }
+/* The names of the kernels that are non-negative over their support,
+ * comma-separated in buf (of `size` bytes); returns buf. */
+const char *kernel_names_non_negative(int dim, char *buf, size_t size);
 /* kappa of the registry: a viscosity-limited stable step / (1 + kappa alpha). */
 static inline double kernel_viscous_kappa(int kernel)
 {

@@ -390,6 +390,19 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
         return sph_fail(
             sim, SPH_ERR_STATE,
             "smoothing length is not set: add a body or call sph_set_smoothing_ratio after one");
+    if (sim->fx.artificial_stress) {
+        /* Gray et al.'s factor (W_ab / W(dx))^n is a repulsion that falls
+         * off with distance only for a kernel that stays non-negative */
+        const double q = sph_kernel_negative_from((sph_kernel)sim->kernel, sim->dim);
+        char others[128];
+        if (q > 0.0)
+            return sph_fail(sim, SPH_ERR_ARGUMENT,
+                            "effect artificial_stress needs a kernel that is non-negative over "
+                            "its support: %s is negative from q = r/h = %.3g, where the factor "
+                            "(W/W(dx))^n has no meaning; use one of: %s",
+                            sph_kernel_name((sph_kernel)sim->kernel), q,
+                            kernel_names_non_negative(sim->dim, others, sizeof others));
+    }
     sph_status st = grow_scratch(sim, call->n_total);
     if (st)
         return st;

@@ -14,8 +14,9 @@ calls for, advance it with :class:`ImprovedEuler`, watch it with
     dyn.run(until=0.3e-3)
 """
 from ._lib import (SimulationError, StoppedError, UnsupportedError,
-                   effect_names, effect_registry, kernel_names, kernel_values,
-                   library_path, version)
+                   effect_names, effect_registry, kernel_names,
+                   kernel_negative_from, kernel_values, library_path,
+                   version)
 from .build import (Body, Fixed, Force, Free, Pressure, Rotation, Velocity,
                     block, box, cylinder, disc, particles, piston, plate,
                     prism, rectangle, ring)
@@ -97,8 +98,8 @@ __all__ = ["Material", "Scene", "allowing_large", "Body", "Free", "Fixed", "Velo
            "Pressure", "Rotation", "block", "rectangle", "box", "prism", "cylinder",
            "particles", "plate", "piston", "disc", "ring", "Calculator", "CLibrary", "Dynamics", "ImprovedEuler",
            "Leapfrog", "Probes", "PAPER_PROBES", "Trajectory", "scenes", "plan", "planner", "ensemble",
-           "effect_names", "effect_registry", "kernel_names", "kernel_values",
-           "version",
+           "effect_names", "effect_registry", "kernel_names",
+           "kernel_negative_from", "kernel_values", "version",
            "library_path", "SimulationError", "StoppedError",
            "UnsupportedError"]
 

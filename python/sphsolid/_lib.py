@@ -211,6 +211,7 @@ _PROTOTYPES = {
     "sph_kernel_name": (c_char_p, [c_int]),
     "sph_kernel_from_name": (c_int, [c_char_p]),
     "sph_kernel_names": (c_char_p, []),
+    "sph_kernel_negative_from": (c_double, [c_int, c_int]),
     "sph_kernel_values": (c_int, [_sim, c_size_t, _dp, _dp, _dp]),
     "sph_stable_dt": (c_double, [_sim]),
     "sph_default_dt": (c_double, [_sim]),
@@ -430,6 +431,20 @@ def steps_until(sim, t: float) -> tuple[int, float]:
 def kernel_names() -> list[str]:
     """Kernel names the library knows, in the order of their numbers."""
     return lib.sph_kernel_names().decode().split()
+
+
+def kernel_negative_from(kernel: str, dimension: int = 2) -> float:
+    """The smallest q = r/h at which the library's kernel is negative, 0
+    when it is non-negative over its support (``sph_kernel_negative_from``;
+    the artificial_stress effect needs 0)."""
+    number = lib.sph_kernel_from_name(as_name(kernel, "kernel"))
+    if number < 0:
+        raise ValueError(f"unknown kernel {kernel!r} (known: "
+                         f"{', '.join(kernel_names())})")
+    q = float(lib.sph_kernel_negative_from(number, int(dimension)))
+    if q < 0:
+        raise ValueError(f"dimension={dimension!r} must be 2 or 3")
+    return q
 
 
 def kernel_values(kernel: str, q, dimension: int = 2):

@@ -713,6 +713,65 @@ static void artificial_stress_exponent_paths_agree(void **state)
     free_rates(r[1]);
 }
 
+/* Artificial stress needs a kernel that is non-negative over its support:
+ * sph_kernel_negative_from finds the sign change of each kernel's values
+ * (sph_kernel_values) in 2D and 3D, and a run with the effect and a kernel
+ * that changes sign stops before its first step with an error naming
+ * both; with a non-negative kernel it runs. */
+static void artificial_stress_needs_a_non_negative_kernel(void **state)
+{
+    (void)state;
+    int refused = 0;
+    for (int kernel = 0; sph_kernel_name((sph_kernel)kernel); ++kernel)
+        for (int dim = 2; dim <= 3; ++dim) {
+            const double q0 = sph_kernel_negative_from((sph_kernel)kernel, dim);
+            sph_sim *sim = new_sim(dim);
+            check(sim, sph_set_kernel(sim, (sph_kernel)kernel));
+            /* the kernel's values on a fine grid over its support (2h) */
+            enum { N = 4001 };
+            double *q = malloc(N * sizeof *q), *w = malloc(N * sizeof *w);
+            for (int i = 0; i < N; ++i)
+                q[i] = 2.0 * i / (N - 1);
+            check(sim, sph_kernel_values(sim, N, q, w, NULL));
+            int first = -1;
+            for (int i = 0; i < N && first < 0; ++i)
+                if (w[i] < 0.0)
+                    first = i;
+            if (first < 0) {
+                assert_true(q0 == 0.0);
+            } else {
+                /* the sign change lies between the grid's last non-negative
+                 * point and its first negative one, and w changes sign there */
+                assert_true(q0 > q[first - 1] && q0 <= q[first]);
+                double at[2] = {q0 * (1.0 - 1e-9), q0 * (1.0 + 1e-9)}, wv[2];
+                check(sim, sph_kernel_values(sim, 2, at, wv, NULL));
+                assert_true(wv[0] >= 0.0 && wv[1] < 0.0);
+            }
+            free(q);
+            free(w);
+            sph_destroy(sim);
+            if (dim == 3)
+                continue;
+            sim = free_block_2d(8, 6, 1e-3);
+            check(sim, sph_set_kernel(sim, (sph_kernel)kernel));
+            check(sim, sph_effect(sim, "artificial_stress", "epsilon=0.3 n=4"));
+            const sph_status st = sph_run(sim, 1);
+            if (q0 > 0.0) {
+                ++refused;
+                assert_int_equal(st, SPH_ERR_ARGUMENT);
+                assert_non_null(strstr(sph_errmsg(sim), "artificial_stress"));
+                assert_non_null(strstr(sph_errmsg(sim), sph_kernel_name((sph_kernel)kernel)));
+                assert_int_equal(sph_step_count(sim), 0);
+            } else {
+                check(sim, st);
+            }
+            sph_destroy(sim);
+        }
+    assert_true(refused > 0); /* cubic_o4 changes sign past q = 0.91 */
+    assert_true(sph_kernel_negative_from((sph_kernel)99, 2) < 0.0);
+    assert_true(sph_kernel_negative_from(SPH_KERNEL_CUBIC_SPLINE, 4) < 0.0);
+}
+
 /* The low-level entry points on arrays 3 doubles apart (LAMMPS's layout in
  * 2D) give the rates and Improved Euler stages of the dense arrays, to the
  * bit; the strided stages leave the x and v of prescribed particles to the
@@ -1391,6 +1450,7 @@ int main(void)
         cmocka_unit_test(pair_tensor_effects_repel),
         cmocka_unit_test(rate_paths_agree),
         cmocka_unit_test(artificial_stress_exponent_paths_agree),
+        cmocka_unit_test(artificial_stress_needs_a_non_negative_kernel),
         cmocka_unit_test(strided_entry_points_match_the_dense_ones),
         cmocka_unit_test(split_evaluation_over_two_processes),
         cmocka_unit_test(passes_add_up_to_the_whole_evaluation),

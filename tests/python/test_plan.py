@@ -1033,3 +1033,30 @@ def test_the_cli_runs_a_plan_at_its_step(tmp_path):
                           float(f["observables/probes/time"][-1]))
     assert last[0.5][1] == pytest.approx(last[1.0][1], rel=1e-9)
     assert abs(last[0.5][0] - 2 * last[1.0][0]) <= 1
+
+
+def test_detection_leaves_artificial_stress_out_for_a_kernel_that_changes_sign():
+    # the pulled strip is in tension: with the cubic spline the detection
+    # offers artificial stress; cubic_o4 is negative past q = 0.91, where
+    # (W/W(dx))^n has no meaning and the library refuses the pair, so the
+    # finding says why instead of offering it
+    import sphsolid
+    spec = planner.project_scenes()["strip_tension"]
+    found = {}
+    for kernel, ratio, inset in (("cubic_spline", 1.2, 0.0),
+                                 ("cubic_o4", 1.65, "static")):
+        found[kernel] = planner.detection.detect_effects(
+            spec.factory, 2e-3, spec.until, spec.probes, spec.quantity,
+            "leapfrog", 1, kernel=kernel, smoothing_ratio=ratio, inset=inset)
+    assert "artificial_stress" in {f.effect for f in found["cubic_spline"]}
+    assert "artificial_stress" not in {f.effect for f in found["cubic_o4"]}
+    note = [f for f in found["cubic_o4"] if f.effect is None
+            and "artificial_stress" in f.reason]
+    assert len(note) == 1 and "cubic_o4" in note[0].reason
+    assert sphsolid.kernel_negative_from("cubic_o4") > 0
+    assert sphsolid.kernel_negative_from("cubic_spline") == 0
+    assert sphsolid.kernel_negative_from("wendland_c2", 3) == 0
+    with pytest.raises(ValueError, match="unknown kernel"):
+        sphsolid.kernel_negative_from("gaussian")
+    with pytest.raises(ValueError, match="dimension"):
+        sphsolid.kernel_negative_from("cubic_o4", 4)

@@ -240,7 +240,15 @@ def detect_effects(scene_factory, dx: float, until: float, probes,
             shares.append(float(np.mean(
                 _principal_max(stress, scene.dimension) > 0.1 * top)))
         share = min(shares)
-        if share > 0.1 and _effect_available("artificial_stress"):
+        negative = _lib.kernel_negative_from(kernel, scene.dimension)
+        if share > 0.1 and negative > 0.0:
+            findings.append(Finding(
+                None, {}, "sustained tension, but artificial_stress needs a "
+                f"non-negative kernel ({kernel} is negative from q = "
+                f"{negative:.3g}; the library refuses the pair)",
+                f"{min(shares) * 100:.0f} % of the free particles in "
+                "tension above 10 % of the peak stress" + stage))
+        elif share > 0.1 and _effect_available("artificial_stress"):
             findings.append(Finding(
                 "artificial_stress", _defaults("artificial_stress"),
                 "sustained tension (tensile instability: clumping, "
