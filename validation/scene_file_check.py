@@ -14,9 +14,9 @@ run's probe CSV, von Mises columns, interpolated on the FE's 0.05 us grid)
 is scored with :func:`sphsolid.metrics.worst_deviation` against the FE
 series at ``--fe-size`` and, to show the reference's own convergence, the
 FE series at twice that size against it.  ``--sweep`` runs the file
-besides with each named preset at each of ``--spacings`` (its block's
-``dx`` set), unplanned, scored alike: what a refused request could have
-had.  ``--requests ""`` runs the sweep alone.
+besides with each named preset at each of ``--spacings`` (its first
+body's ``dx`` set, the others' scaled alike), unplanned, scored alike:
+what a refused request could have had.  ``--requests ""`` runs the sweep alone.
 
 The FE answer (:func:`validation.fe_reference.piston_fe`: plane strain,
 quadratic quadrilaterals, Newmark) covers the scenes it can state: 2D, one
@@ -194,16 +194,31 @@ def check(path: Path, requests, probes, threads: int, fe_size: float,
     return rows
 
 
+#: a body's spacing line of a scene file: dx = "2mm" or dx = 0.002
+DX_LINE = r'(?m)^(\s*dx\s*=\s*)("[^"\n]*"|[-+0-9.eE]+)(\s*(?:#.*)?)$'
+
+
+def respaced(text: str, dx: float, where: str = "scene file") -> str:
+    """The scene file ``text`` with its first body's spacing set to ``dx``
+    [m] and every other body's scaled by the same factor."""
+    found = [length(m.group(2).strip('"'), f"{where}: dx")
+             for m in re.finditer(DX_LINE, text)]
+    if not found:
+        raise ValueError(f"{where}: no dx = \"...\" line to set the spacing")
+    factor = dx / found[0]
+    return re.sub(DX_LINE, lambda m: (
+        f'{m.group(1)}"{length(m.group(2).strip(chr(34))) * factor * 1e3:.12g}'
+        f'mm"{m.group(3)}'), text)
+
+
 def sweep_row(path: Path, preset: str, dx: float, names, fine: dict,
               threads: int, out: Path, log=print) -> dict:
     """The file run as a user would without a plan, ``sphsolid run FILE
-    --preset PRESET``, with its block's spacing set to ``dx``, scored as
-    the planned runs are: what a refused request could have had."""
-    text = path.read_text()
-    spaced, count = re.subn(r'(?m)^(\s*dx\s*=\s*)"[^"]*"',
-                            lambda m: f'{m.group(1)}"{dx * 1e3:g}mm"', text)
-    if count == 0:
-        raise ValueError(f"{path}: no dx = \"...\" line to set the spacing")
+    --preset PRESET``, with its first body's spacing set to ``dx`` and
+    every other body's scaled by the same factor (as the planner scales a
+    file's spacings), scored as the planned runs are: what a refused
+    request could have had."""
+    spaced = respaced(path.read_text(), dx, str(path))
     tag = f"{preset}_{dx * 1e3:g}mm"
     copy = out / f"sweep_{tag}.toml"
     copy.write_text(spaced)

@@ -1,4 +1,5 @@
 """The FE statement validation.scene_file_check reads from a scene file."""
+import re
 from pathlib import Path
 
 import pytest
@@ -63,3 +64,15 @@ def test_a_sweep_of_a_file_without_a_spacing_is_refused(tmp_path):
     bare.write_text((EXAMPLES / "pull.toml").read_text().replace('dx = "2mm"', ""))
     with pytest.raises(ValueError, match="no dx"):
         check.sweep_row(bare, "paper", 4e-3, ["top"], {}, 1, tmp_path)
+
+
+def test_a_sweep_scales_every_body_by_the_first_ones_factor():
+    # as the planner does: the first body's spacing becomes the sweep's,
+    # every other body's keeps its ratio to it (given in any unit)
+    text = ('[[bodies]]\ndx = "2mm"  # block\n[[bodies]]\n  dx = 0.003\n'
+            '[[bodies]]\ndx = "1 mm"\n')
+    out = check.respaced(text, 4e-3)
+    assert re.findall(r'dx = "([^"]*)"', out) == ["4mm", "6mm", "2mm"]
+    assert "# block" in out
+    with pytest.raises(ValueError, match="dx"):
+        check.respaced('dx = "fast"\n', 4e-3)
