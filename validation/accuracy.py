@@ -527,6 +527,24 @@ def estimate_checks(scene: Scene, settings, spacings, windows, threads,
 
 
 # ------------------------------------------------------------ document
+def _power_law(x0, x1, x, y0, y1):
+    """y at x on the power law through (x0, y0) and (x1, y1): error and
+    cost are both taken as powers of dx between two sweep levels."""
+    t = math.log(x / x0) / math.log(x1 / x0)
+    return math.exp((1 - t) * math.log(y0) + t * math.log(y1))
+
+
+def _levels(sweep, setting, keys):
+    """The sweep rows of ``setting`` from the coarsest spacing, or None
+    when one of them lacks a finite positive value of one of ``keys``."""
+    rows = sorted((w for w in sweep if w["setting"] == setting),
+                  key=lambda w: -w["dx"])
+    if not all(math.isfinite(w.get(key, math.nan)) and w[key] > 0
+               for w in rows for key in keys):
+        return None
+    return rows
+
+
 def margin_cost(sweep, norm, request, safety=planner.SAFETY_GOOD,
                 cost="particle_steps"):
     """What the safety factor alone costs: the particle-steps a planner
@@ -549,10 +567,8 @@ def margin_cost(sweep, norm, request, safety=planner.SAFETY_GOOD,
                      else safety)
         if margin_of is None:
             continue
-        rows = sorted((w for w in sweep if w["setting"] == setting),
-                      key=lambda w: -w["dx"])
-        if not all(math.isfinite(w.get(cost, math.nan)) and w[cost] > 0
-                   for w in rows):
+        rows = _levels(sweep, setting, (cost,))
+        if rows is None:
             continue
         margin = [margin_of * w[norm] for w in rows]
         for k, w in enumerate(rows):
@@ -560,12 +576,8 @@ def margin_cost(sweep, norm, request, safety=planner.SAFETY_GOOD,
                 continue
             value = float(w[cost])
             if k > 0:
-                # error and cost as powers of dx between the two levels
-                coarse = rows[k - 1]
-                t = (math.log(margin[k - 1] / request)
-                     / math.log(margin[k - 1] / margin[k]))
-                value = math.exp((1 - t) * math.log(coarse[cost])
-                                 + t * math.log(w[cost]))
+                value = _power_law(margin[k - 1], margin[k], request,
+                                   rows[k - 1][cost], w[cost])
             if best is None or value < best[0]:
                 best = (value, setting)
             break
@@ -624,22 +636,15 @@ def two_x_bound(sweep, norm, request, factors, within=2.0,
     budget = within * cheapest[0]
     best = None
     for setting, factor in factors.items():
-        rows = sorted((w for w in sweep if w["setting"] == setting),
-                      key=lambda w: -w["dx"])
-        if not rows or not all(
-                math.isfinite(w.get(cost, math.nan)) and w[cost] > 0
-                and math.isfinite(w[norm]) and w[norm] > 0 for w in rows):
-            continue
-        inside = [k for k, w in enumerate(rows) if w[cost] <= budget]
+        rows = _levels(sweep, setting, (cost, norm))
+        inside = [k for k, w in enumerate(rows or []) if w[cost] <= budget]
         if not inside:
             continue
         k = inside[-1]
         error, past = rows[k][norm], k + 1 == len(rows)
         if not past:
-            lo, hi = rows[k], rows[k + 1]
-            t = math.log(budget / lo[cost]) / math.log(hi[cost] / lo[cost])
-            error = math.exp((1 - t) * math.log(lo[norm])
-                             + t * math.log(hi[norm]))
+            error = _power_law(rows[k][cost], rows[k + 1][cost], budget,
+                               rows[k][norm], rows[k + 1][norm])
         ratio = request / (factor * error)
         if best is None or ratio > best[0]:
             best = (ratio, setting, past)

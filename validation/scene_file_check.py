@@ -206,9 +206,10 @@ def respaced(text: str, dx: float, where: str = "scene file") -> str:
     if not found:
         raise ValueError(f"{where}: no dx = \"...\" line to set the spacing")
     factor = dx / found[0]
+    scaled = iter(found)
     return re.sub(DX_LINE, lambda m: (
-        f'{m.group(1)}"{length(m.group(2).strip(chr(34))) * factor * 1e3:.12g}'
-        f'mm"{m.group(3)}'), text)
+        f'{m.group(1)}"{next(scaled) * factor * 1e3:.12g}mm"{m.group(3)}'),
+        text)
 
 
 def sweep_row(path: Path, preset: str, dx: float, names, fine: dict,
