@@ -289,13 +289,10 @@ sph_status damage_fragments(sph_sim *sim, double *out, long *count)
 
 sph_status sph_material_set(sph_sim *sim, int id, const char *key, double value)
 {
-    sph_status st = sph_need(sim, key, "sph_material_set", "key");
+    material *m = NULL;
+    const sph_status st = material_of_call(sim, "sph_material_set", "key", key, id, &m);
     if (st)
         return st;
-    if (id < 0 || id >= sim->n_materials)
-        return sph_fail(sim, SPH_ERR_ARGUMENT, "material=%d: %d materials are defined", id,
-                        sim->n_materials);
-    material *m = &sim->materials[id];
     double *slot = strcmp(key, "weibull_k") == 0   ? &m->weibull_k
                    : strcmp(key, "weibull_m") == 0 ? &m->weibull_m
                                                    : NULL;
@@ -461,10 +458,8 @@ sph_status sph_damage_fragment_labels(sph_sim *sim, const sph_particles *particl
                                       double *label, int *changed)
 {
     const char *fn = "sph_damage_fragment_labels";
-    sph_status st;
-    if ((st = sph_need(sim, particles, fn, "particles")) ||
-        (st = sph_need(sim, neighbours, fn, "neighbours")) ||
-        (st = sph_need(sim, changed, fn, "changed")))
+    sph_status st = caller_pairs(sim, fn, particles, neighbours, changed, "changed");
+    if (st)
         return st;
     *changed = 0;
     if (!sim->fx.damage)

@@ -227,10 +227,8 @@ sph_status sph_energy_power(sph_sim *sim, const sph_particles *particles,
                             const unsigned char *integrate_motion, double *power)
 {
     const char *fn = "sph_energy_power";
-    sph_status st;
-    if ((st = sph_need(sim, particles, fn, "particles")) ||
-        (st = sph_need(sim, neighbours, fn, "neighbours")) ||
-        (st = sph_need(sim, power, fn, "power")))
+    sph_status st = caller_pairs(sim, fn, particles, neighbours, power, "power");
+    if (st)
         return st;
     power[0] = power[1] = 0.0;
     const size_t n = particles->n_total, n_local = particles->n_local;

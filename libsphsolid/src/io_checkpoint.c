@@ -218,22 +218,12 @@ sph_status sph_checkpoint_write(sph_sim *sim, const char *path)
 
 sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (sim->n == 0)
-        return sph_fail(sim, SPH_ERR_STATE,
-                        "the simulation has no particles: build the scene the checkpoint was "
-                        "written from first");
-    quiet q;
-    io_quiet_begin(&q);
-    sph_status st = SPH_OK;
+    reading r;
+    sph_status st = io_read_open(sim, path, "checkpoint", "the checkpoint", &r);
+    if (st)
+        return st;
     state_copy s = {0};
-    hid_t g = -1;
-    hid_t f = -1;
-    long version = 0;
-    if ((st = io_open_checked(sim, path, "checkpoint", &f, &version)))
-        goto done;
-    g = H5Gopen2(f, "checkpoint", H5P_DEFAULT);
+    hid_t g = H5Gopen2(r.f, "checkpoint", H5P_DEFAULT);
     if (g < 0) {
         st = sph_fail(sim, SPH_ERR_IO, "'%s' has no /checkpoint group", path);
         goto done;
@@ -267,7 +257,7 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
                       path, n, nb, dim, sim->n, sim->n_bodies, sim->dim);
         goto done;
     }
-    if ((st = io_scene_matches(sim, f, path, 1, version)))
+    if ((st = io_scene_matches(sim, r.f, path, 1, r.version)))
         goto done;
     {
         /* the checksummed copy of the clock decides */
@@ -402,7 +392,7 @@ sph_status sph_checkpoint_read(sph_sim *sim, const char *path)
     }
     st = sph_ok(sim);
 done:
-    io_read_release(&q, &s, g, f);
+    io_read_release(&r.q, &s, g, r.f);
     return st;
 }
 

@@ -74,6 +74,15 @@ int io_read_attr_string(hid_t obj, const char *name, char *buf, size_t size);
 int io_read_attr_doubles(hid_t obj, const char *name, double *v, size_t size, size_t *count);
 sph_status io_open_checked(sph_sim *sim, const char *path, const char *content, hid_t *file,
                            long *version_out);
+/* A file being read into a simulation: HDF5's messages off (q), the file
+ * and its format version. */
+typedef struct reading {
+    quiet q;
+    hid_t f;
+    long version;
+} reading;
+sph_status io_read_open(sph_sim *sim, const char *path, const char *content, const char *written,
+                        reading *r);
 sph_status io_scene_matches(sph_sim *sim, hid_t f, const char *path, int with_effects,
                             long version);
 int io_read_doubles(io *c, hid_t loc, const char *name, long frame, size_t expect, double *out);

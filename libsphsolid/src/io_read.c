@@ -478,6 +478,29 @@ int io_state_read(io *c, hid_t loc, const char *const names[4], long frame, cons
     return c->failed ? -1 : 0;
 }
 
+/* Opens `path`, a file of `content` ("checkpoint", "output"), to read it
+ * into the simulation, which must hold the particles of the scene it was
+ * written from (`written`: what the error message calls the file); HDF5's
+ * messages are off from here (r->q) until io_read_release.  On failure
+ * nothing is held. */
+sph_status io_read_open(sph_sim *sim, const char *path, const char *content, const char *written,
+                        reading *r)
+{
+    r->f = -1;
+    r->version = 0;
+    if (!sim)
+        return SPH_ERR_ARGUMENT;
+    if (sim->n == 0)
+        return sph_fail(
+            sim, SPH_ERR_STATE,
+            "the simulation has no particles: build the scene %s was written from first", written);
+    io_quiet_begin(&r->q);
+    const sph_status st = io_open_checked(sim, path, content, &r->f, &r->version);
+    if (st)
+        io_quiet_end(&r->q);
+    return st;
+}
+
 /* Releases what a read holds (scratch, group, file, error handler). */
 void io_read_release(const quiet *q, state_copy *s, hid_t group, hid_t file)
 {
@@ -602,24 +625,15 @@ sph_status sph_read_frame_count(sph_sim *sim, const char *path, long *frames)
 
 sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
 {
-    if (!sim)
-        return SPH_ERR_ARGUMENT;
-    if (sim->n == 0)
-        return sph_fail(
-            sim, SPH_ERR_STATE,
-            "the simulation has no particles: build the scene the file was written from first");
-    quiet q;
-    io_quiet_begin(&q);
-    sph_status st = SPH_OK;
+    reading r;
+    sph_status st = io_read_open(sim, path, "output", "the file", &r);
+    if (st)
+        return st;
     long frames = 0, step = 0;
     double time = 0.0;
     state_copy s = {0};
     hid_t all = -1;
-    hid_t f = -1;
-    long version = 0;
-    if ((st = io_open_checked(sim, path, "output", &f, &version)))
-        goto done;
-    if ((st = frame_count(sim, f, path, version, &frames)))
+    if ((st = frame_count(sim, r.f, path, r.version, &frames)))
         goto done;
     const long asked = frame;
     if (frame < 0)
@@ -629,13 +643,13 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
                       frames);
         goto done;
     }
-    if ((st = io_scene_matches(sim, f, path, 0, version)))
+    if ((st = io_scene_matches(sim, r.f, path, 0, r.version)))
         goto done;
     if (io_state_alloc(&s, sim)) {
         st = sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate scratch arrays to read '%s'", path);
         goto done;
     }
-    all = H5Gopen2(f, "/particles/all", H5P_DEFAULT);
+    all = H5Gopen2(r.f, "/particles/all", H5P_DEFAULT);
     io c = {0};
     if (io_ok(&c, all, "/particles/all")) {
         static const char *const values[4] = {"position/value", "velocity/value", "density/value",
@@ -677,7 +691,7 @@ sph_status sph_read_frame(sph_sim *sim, const char *path, long frame)
     io_state_commit(sim, &s, step, time);
     st = sph_ok(sim);
 done:
-    io_read_release(&q, &s, all, f);
+    io_read_release(&r.q, &s, all, r.f);
     return st;
 }
 

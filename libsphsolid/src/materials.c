@@ -81,6 +81,17 @@ sph_status sph_add_material_K_nu(sph_sim *sim, double K, double nu, double rho0,
               : add_material(sim, K, 3.0 * K * (1.0 - 2.0 * nu) / (2.0 * (1.0 + nu)), rho0, id);
 }
 
+sph_status caller_pairs(sph_sim *sim, const char *fn, const sph_particles *particles,
+                        const sph_neighbours *neighbours, const void *out, const char *out_name)
+{
+    sph_status st;
+    if ((st = sph_need(sim, particles, fn, "particles")) ||
+        (st = sph_need(sim, neighbours, fn, "neighbours")) ||
+        (st = sph_need(sim, out, fn, out_name)))
+        return st;
+    return SPH_OK;
+}
+
 sph_status caller_arrays(sph_sim *sim, const char *fn, size_t n, const int *material_of,
                          const char *names, const void *const *arrays, int count)
 {
@@ -97,15 +108,27 @@ sph_status caller_arrays(sph_sim *sim, const char *fn, size_t n, const int *mate
     return SPH_OK;
 }
 
-sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
+/* Material `id` for the public call `fn`, whose argument `name` (p) must
+ * not be NULL; an error names the id when there is no such material. */
+sph_status material_of_call(sph_sim *sim, const char *fn, const char *name, const void *p, int id,
+                            material **m)
 {
-    sph_status st = sph_need(sim, info, "sph_material_info_get", "info");
+    const sph_status st = sph_need(sim, p, fn, name);
     if (st)
         return st;
     if (id < 0 || id >= sim->n_materials)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "material=%d: %d materials are defined", id,
                         sim->n_materials);
-    const material *m = &sim->materials[id];
+    *m = &sim->materials[id];
+    return SPH_OK;
+}
+
+sph_status sph_material_info_get(sph_sim *sim, int id, sph_material_info *info)
+{
+    material *m = NULL;
+    const sph_status st = material_of_call(sim, "sph_material_info_get", "info", info, id, &m);
+    if (st)
+        return st;
     info->bulk_modulus = m->K;
     info->shear_modulus = m->mu;
     info->rho0 = m->rho0;

@@ -183,6 +183,16 @@ sph_status sph_ok(sph_sim *sim);
 sph_status sph_need(sph_sim *sim, const void *p, const char *fn, const char *name);
 
 /* materials.c */
+/* Material `id` (*m) for the public call `fn`: sph_need's errors for its
+ * argument `name` (p), then one naming the id if there is no such
+ * material. */
+sph_status material_of_call(sph_sim *sim, const char *fn, const char *name, const void *p, int id,
+                            material **m);
+/* The particles and neighbours of another code that a public call `fn`
+ * takes, and its output `out` (named `out_name`): sph_need's errors for
+ * the first of them that is NULL. */
+sph_status caller_pairs(sph_sim *sim, const char *fn, const sph_particles *particles,
+                        const sph_neighbours *neighbours, const void *out, const char *out_name);
 /* The arrays of n particles a public call `fn` reads: SPH_ERR_ARGUMENT
  * without a handle; when n > 0, a message naming `names` if one of the
  * `count` arrays is NULL, then one naming the first particle whose index
