@@ -22,7 +22,7 @@ def parse(path):
     lines = {}
     with open(path) as f:
         for line in f:
-            m = re.match(r"(.* step \d+):(.*)$", line.rstrip("\n"))
+            m = re.match(r"(.*? step \d+):(.*)$", line.rstrip("\n"))
             if not m:
                 continue
             label, rest = m.groups()
