@@ -29,7 +29,10 @@ sph_status sph_create(int dimension, sph_sim **out)
         sim->failed = -1;
         return sph_fail(sim, SPH_ERR_ARGUMENT, "dimension=%d: must be 2 or 3", dimension);
     }
-    return SPH_OK;
+    const sph_status st = rates_path_from_environment(sim, &sim->rate_path);
+    if (st)
+        sim->failed = -1;
+    return st;
 }
 
 void sph_destroy(sph_sim *sim)

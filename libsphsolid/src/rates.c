@@ -157,6 +157,33 @@ int rates_path(int wanted)
 #endif
 }
 
+static const char *const path_names[] = {"baseline", "avx2", "avx512"};
+
+sph_status rates_path_from_environment(sph_sim *sim, int *path)
+{
+    *path = RATE_PATH_AUTO;
+    const char *name = getenv("SPHSOLID_RATE_PATH");
+    if (!name || !*name)
+        return SPH_OK;
+    int wanted = 0;
+    for (int k = 0; k < 3; ++k)
+        if (!strcmp(name, path_names[k]))
+            wanted = RATE_PATH_BASELINE + k;
+    if (!wanted)
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "SPHSOLID_RATE_PATH='%s': not a path of the pair loop (baseline, avx2, "
+                        "avx512; unset: the widest the CPU has)",
+                        name);
+    const int widest = rates_path(RATE_PATH_AUTO);
+    if (rates_path(wanted) != wanted)
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "SPHSOLID_RATE_PATH='%s': this build on this CPU has no wider path than "
+                        "'%s'",
+                        name, path_names[widest - RATE_PATH_BASELINE]);
+    *path = wanted;
+    return SPH_OK;
+}
+
 /* Pass 2: the pair sums.  Even chunks, then odd chunks, then the far
  * records in chunk order (each thread adds those of its own particles). */
 static void pass_pairs(const engine *e, int kernel, size_t n_sums)

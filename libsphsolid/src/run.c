@@ -14,7 +14,9 @@
 sph_status sim_prepare(sph_sim *sim)
 {
     if (sim->failed == -1)
-        return sph_fail(sim, SPH_ERR_STATE, "this handle was created with an invalid dimension");
+        return sph_fail(sim, SPH_ERR_STATE,
+                        "this handle's creation failed (sph_create: an invalid dimension or "
+                        "SPHSOLID_RATE_PATH)");
     if (sim->n == 0)
         return sph_fail(sim, SPH_ERR_STATE, "the simulation has no particles: add a body first");
     sph_status checked = state_check(sim);

@@ -252,6 +252,10 @@ enum {
 /* The path a call takes when `wanted` is asked for: `wanted` if the build
  * and the CPU have it, else the widest they have. */
 int rates_path(int wanted);
+/* The path the environment variable SPHSOLID_RATE_PATH asks for
+ * (*path: RATE_PATH_AUTO when unset or empty), or an error naming its
+ * value when it is not a path's name or the build or CPU lacks it. */
+sph_status rates_path_from_environment(sph_sim *sim, int *path);
 
 sph_status rates_run(sph_sim *sim, const rate_call *call);
 /* The rates of the handle's own particles (periodic, its half list) into its

@@ -497,12 +497,14 @@ def effect_registry() -> dict:
 
 
 def new_handle(dimension: int):
-    """Create an ``sph_sim`` handle; raise ValueError on a bad dimension."""
+    """Create an ``sph_sim`` handle; raise ValueError on a bad dimension or
+    a bad ``SPHSOLID_RATE_PATH`` in the environment (the library's message
+    names the value)."""
     handle = c_void_p()
     status = lib.sph_create(int(dimension), ctypes.byref(handle))
     if status != SPH_OK:
         try:
-            check(status, handle, f"dimension={dimension!r}")
+            check(status, handle)
         finally:
             if handle:
                 lib.sph_destroy(handle)

@@ -1,5 +1,6 @@
 /* Whole rate evaluations: velocity gradient exactness, Jaumann
  * objectivity, conservation of momentum and energy. */
+#define _POSIX_C_SOURCE 200112L /* setenv */
 #include "helpers.h"
 
 #include "kernel.h"
@@ -492,6 +493,39 @@ static void rate_paths_agree(void **state)
     }
     assert_true(paths >= 1);
     free_rates(base);
+    sph_destroy(sim);
+}
+
+/* SPHSOLID_RATE_PATH picks the path of every handle created while it is
+ * set: a path the build and CPU have is taken (the baseline always is),
+ * and a name that is not a path, or a path they lack, fails sph_create
+ * with the value named; the handle then refuses to run. */
+static void rate_path_from_the_environment(void **state)
+{
+    (void)state;
+    sph_sim *sim = NULL;
+    assert_int_equal(setenv("SPHSOLID_RATE_PATH", "baseline", 1), 0);
+    assert_int_equal(sph_create(2, &sim), SPH_OK);
+    assert_int_equal(sim->rate_path, RATE_PATH_BASELINE);
+    sph_destroy(sim);
+    assert_int_equal(setenv("SPHSOLID_RATE_PATH", "sse9", 1), 0);
+    assert_int_equal(sph_create(2, &sim), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "SPHSOLID_RATE_PATH='sse9'"));
+    sph_destroy(sim);
+    if (rates_path(RATE_PATH_AUTO) < RATE_PATH_AVX512) { /* a path this CPU lacks */
+        assert_int_equal(setenv("SPHSOLID_RATE_PATH", "avx512", 1), 0);
+        assert_int_equal(sph_create(3, &sim), SPH_ERR_ARGUMENT);
+        assert_non_null(strstr(sph_errmsg(sim), "no wider path than"));
+        sph_destroy(sim);
+    } else {
+        assert_int_equal(setenv("SPHSOLID_RATE_PATH", "avx512", 1), 0);
+        assert_int_equal(sph_create(3, &sim), SPH_OK);
+        assert_int_equal(sim->rate_path, RATE_PATH_AVX512);
+        sph_destroy(sim);
+    }
+    assert_int_equal(unsetenv("SPHSOLID_RATE_PATH"), 0);
+    assert_int_equal(sph_create(2, &sim), SPH_OK);
+    assert_int_equal(sim->rate_path, RATE_PATH_AUTO);
     sph_destroy(sim);
 }
 
@@ -1449,6 +1483,7 @@ int main(void)
         cmocka_unit_test(one_sided_correction_moment),
         cmocka_unit_test(pair_tensor_effects_repel),
         cmocka_unit_test(rate_paths_agree),
+        cmocka_unit_test(rate_path_from_the_environment),
         cmocka_unit_test(artificial_stress_exponent_paths_agree),
         cmocka_unit_test(artificial_stress_needs_a_non_negative_kernel),
         cmocka_unit_test(strided_entry_points_match_the_dense_ones),
