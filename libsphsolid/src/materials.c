@@ -84,12 +84,10 @@ sph_status sph_add_material_K_nu(sph_sim *sim, double K, double nu, double rho0,
 sph_status caller_pairs(sph_sim *sim, const char *fn, const sph_particles *particles,
                         const sph_neighbours *neighbours, const void *out, const char *out_name)
 {
-    sph_status st;
-    if ((st = sph_need(sim, particles, fn, "particles")) ||
-        (st = sph_need(sim, neighbours, fn, "neighbours")) ||
-        (st = sph_need(sim, out, fn, out_name)))
-        return st;
-    return SPH_OK;
+    sph_status st = sph_need(sim, particles, fn, "particles");
+    if (!st)
+        st = sph_need(sim, neighbours, fn, "neighbours");
+    return st ? st : sph_need(sim, out, fn, out_name);
 }
 
 sph_status caller_arrays(sph_sim *sim, const char *fn, size_t n, const int *material_of,

@@ -174,12 +174,12 @@ sph_status rates_path_from_environment(sph_sim *sim, int *path)
                         "SPHSOLID_RATE_PATH='%s': not a path of the pair loop (baseline, avx2, "
                         "avx512; unset: the widest the CPU has)",
                         name);
-    const int widest = rates_path(RATE_PATH_AUTO);
-    if (rates_path(wanted) != wanted)
+    const int taken = rates_path(wanted);
+    if (taken != wanted)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "SPHSOLID_RATE_PATH='%s': this build on this CPU has no wider path than "
                         "'%s'",
-                        name, path_names[widest - RATE_PATH_BASELINE]);
+                        name, path_names[taken - RATE_PATH_BASELINE]);
     *path = wanted;
     return SPH_OK;
 }
