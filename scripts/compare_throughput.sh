@@ -5,7 +5,8 @@
 # --throughput --repeats 1` alternately, REPEATS times each, so that load
 # on a shared machine falls on both alike.  Prints each case's median pair
 # interactions per CPU second of the process (less sensitive to other load
-# than wall seconds) and the ratio head / base.
+# than wall seconds) and the ratio head / base, with the range of the
+# per-repeat ratios (each head run over the base run beside it).
 #
 #   bash scripts/compare_throughput.sh [COMMIT] [REPEATS] [-- CMAKE_ARGS...]
 set -euo pipefail
@@ -37,9 +38,15 @@ awk -v base="$base" '
         return m % 2 ? a[(m + 1) / 2] : 0.5 * (a[m / 2] + a[m / 2 + 1])
     }
     END {
-        printf "%-26s %14s %14s %7s   (pair interactions per CPU second, medians of %d)\n", "case", base, "head", "ratio", n["head", "paper improved_euler"]
+        printf "%-26s %14s %14s %7s %13s     (pair interactions per CPU second, medians of %d)\n", "case", base, "head", "ratio", "per repeat", n["head", "paper improved_euler"]
         for (key in keys) {
             b = median("base", key); h = median("head", key)
-            printf "%-26s %14.4g %14.4g %7.3f\n", key, b, h, h / b
+            lo = hi = ""
+            for (i = 1; i <= n["head", key] && i <= n["base", key]; ++i) {
+                r = val["head", key, i] / val["base", key, i]
+                if (lo == "" || r < lo) lo = r
+                if (hi == "" || r > hi) hi = r
+            }
+            printf "%-26s %14.4g %14.4g %7.3f %6.2f-%-6.2f\n", key, b, h, h / b, lo, hi
         }
     }' "$work/runs.txt" | sort
