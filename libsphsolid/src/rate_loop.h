@@ -74,6 +74,7 @@ typedef struct engine {
     int reverse;    /* a far pair of locals is in both rows (no far records) */
     int ghost_sums; /* keep the terms of ghosts (b >= n_local) */
     int split;      /* the sums in a caller's buffer (else packed records) */
+    int sorted;     /* each row's indices ascending, none repeated */
     size_t chunk;   /* rows per chunk */
     long n_chunks;
     sums acc;
@@ -275,6 +276,7 @@ typedef struct gather_src {
     double box[3], half_box[3];
     size_t pstride;
     int c_per_pair; /* the sound speeds differ: c_mean per pair */
+    int sorted;     /* e->sorted */
 } gather_src;
 
 static ALWAYS_INLINE gather_src gather_src_of(const engine *e, const int pass)
@@ -290,6 +292,7 @@ static ALWAYS_INLINE gather_src gather_src_of(const engine *e, const int pass)
                     .pstride = (size_t)e->pstride};
     g.c_per_pair = mom && e->fx.artificial_viscosity && !(e->c0_all > 0.0);
     g.cut2 = e->cut2;
+    g.sorted = e->sorted;
     g.periodic = e->periodic;
     for (int i = 0; i < 3; ++i) {
         g.periodic_axis[i] = e->periodic_axis[i];
@@ -338,6 +341,39 @@ static ALWAYS_INLINE void gather_pair(const gather_src *g, const row_data *ra, s
     if (mom) /* the per-particle stress factors (pass_pair_data) */
         for (int c = 0; c < nsym; ++c)
             p->T[c][k] = ra->P[c] + Pb[c];
+}
+
+/* A run: lanes [k, k + RUN) of the block, the pairs of a with the RUN
+ * consecutive particles from b on, in the handle's usual case (`fast`),
+ * each quantity loaded RUN values at a time.  A run is taken without the
+ * support test: a pair beyond the support adds exact zeros (every
+ * kernel's w and f are zero there), so every sum keeps the bits it has
+ * with the pair skipped. */
+enum { RUN = 4 };
+
+static ALWAYS_INLINE void gather_run(const gather_src *g, const row_data *ra, size_t b,
+                                     const int dim, const int pass, row_block *blk, int k)
+{
+    const int nsym = dim == 2 ? 3 : 6;
+    const double *xb = g->x + b * (size_t)dim, *vb = g->v + b * (size_t)dim;
+    pair_block *p = &blk->p;
+    for (int j = 0; j < RUN; ++j)
+        blk->b[k + j] = (int)b + j;
+    for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < RUN; ++j) {
+            p->r[i][k + j] = ra->x[i] - xb[j * dim + i];
+            p->v[i][k + j] = ra->v[i] - vb[j * dim + i];
+        }
+    for (int j = 0; j < RUN; ++j) {
+        p->m_b[k + j] = g->mass[b + (size_t)j];
+        blk->rho_b[k + j] = g->rho[b + (size_t)j];
+    }
+    if (pass & PASS_MOMENTUM) {
+        const double *Pb = g->pair_data + b * (size_t)nsym;
+        for (int c = 0; c < nsym; ++c)
+            for (int j = 0; j < RUN; ++j)
+                p->T[c][k + j] = ra->P[c] + Pb[j * nsym + c];
+    }
 }
 
 /* Lanes [first, n) of the block hold pairs of row a: a's values, filled
@@ -522,11 +558,13 @@ static ALWAYS_INLINE void cursor_row(const engine *e, row_cursor *cur, size_t a,
 }
 
 /* Fills the block from the cursor on, row after row, until it holds
- * PAIR_BLOCK pairs or the rows before b1 end; a pair beyond the support is
- * not taken (every term of its an exact zero).  `fast`, a compile-time
- * constant of each of the two calls, is the handle's usual case: a half
- * list, no periodic axis, positions and velocities dim doubles apart and
- * the pair data without sound speeds (nsym doubles apart). */
+ * PAIR_BLOCK pairs or the rows before b1 end; a single pair beyond the
+ * support is not taken (every term of its an exact zero).  `fast`, a
+ * compile-time constant of each of the two calls, is the handle's usual
+ * case: a half list, no periodic axis, positions and velocities dim
+ * doubles apart and the pair data without sound speeds (nsym doubles
+ * apart); there, in sorted rows, RUN consecutive neighbours (a row of a
+ * lattice in index order) are gathered as a run. */
 static ALWAYS_INLINE void fill_block(const engine *e, const gather_src *g, row_cursor *cur,
                                      row_block *blk, size_t b1, size_t far_below, const int dim,
                                      const int pass, const int fast)
@@ -542,6 +580,14 @@ static ALWAYS_INLINE void fill_block(const engine *e, const gather_src *g, row_c
         const int first = n;
         for (; kk < end; ++kk) {
             const size_t b = (size_t)list[kk];
+            /* rows in ascending order without repeats: RUN entries from
+             * kk on are consecutive particles if the last is b + RUN - 1 */
+            if (fast && g->sorted && kk + RUN <= end && list[kk + RUN - 1] == list[kk] + RUN - 1) {
+                gather_run(g, &cur->ra, b, dim, pass, blk, n);
+                n += RUN;
+                kk += RUN - 1;
+                continue;
+            }
             if (!fast && b - lo < a - lo)
                 continue; /* a full list: the pair is computed in b's row */
             double r_ab[3];

@@ -481,6 +481,7 @@ static sph_status engine_setup(sph_sim *sim, const rate_call *call, engine *e)
     e->reverse = e->full || call->far_in_both_rows;
     e->ghost_sums = call->partial != NULL;
     e->split = call->partial != NULL;
+    e->sorted = call->sorted_rows;
     e->chunk = rates_chunk_rows(sim->dim, call->n_local);
     e->n_chunks = (long)((call->n_local + e->chunk - 1) / e->chunk);
     sums largest; /* far lists sized for the records of every pass */
@@ -688,6 +689,7 @@ sph_status rates_of_handle(sph_sim *sim, int pass)
     call.periodic = 1;
     call.half = 1;
     call.far_in_both_rows = 1;
+    call.sorted_rows = !sim->no_runs;
     call.damage = sim->damage;
     if (sim->nl.chunk != rates_chunk_rows(sim->dim, sim->n))
         return sph_fail(sim, SPH_ERR_STATE,

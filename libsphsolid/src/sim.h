@@ -78,6 +78,7 @@ struct sph_sim {
     int dim, ncomp, nsym;
     int threads;
     int rate_path; /* RATE_PATH_*: the pair loop's instruction set (0: the widest) */
+    int no_runs;   /* 1: the pair loop gathers pair by pair, no runs (tests) */
     char errmsg[SPH_ERRMSG_SIZE];
 
     /* model */
@@ -235,6 +236,8 @@ typedef struct rate_call {
                                n_total particles written here (ghosts too) */
     int pass;             /* PASS_*: the rates computed (0: all) */
     const double *damage; /* n_total, when effect damage is on (else NULL) */
+    int sorted_rows;      /* each row's indices ascending, none repeated
+                             (neighbour.c's lists) */
 } rate_call;
 enum {
     PASS_CONTINUITY = SPH_RATES_CONTINUITY, /* drho/dt, dS/dt, XSPH velocity */

@@ -496,6 +496,63 @@ static void rate_paths_agree(void **state)
     sph_destroy(sim);
 }
 
+/* In the handle's sorted rows, RUN consecutive neighbours (a lattice in
+ * index order) are gathered as a run without the support test: a run's
+ * pairs beyond 2h add exact zeros, so the rates are bitwise those of the
+ * pair-by-pair gather, on every path.  At h = 1.5 dx the lattice's
+ * neighbours at (3, 1) dx are listed (2h + skin = 3.375 dx) but beyond the
+ * support (3.16 dx > 2h), inside the runs of 7 of the next row. */
+static void runs_keep_the_bits(void **state)
+{
+    (void)state;
+    const int nx = 30, ny = 20;
+    const double dx = 1e-3;
+    const size_t n = (size_t)nx * (size_t)ny;
+    sph_sim *sim = free_block_2d(nx, ny, dx);
+    check(sim, sph_set_smoothing_ratio(sim, 1.5));
+    check(sim, sph_effect(sim, "kernel_correction", ""));
+    check(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 beta=2"));
+    check(sim, sph_effect(sim, "artificial_stress", "epsilon=0.3 n=4"));
+    check(sim, sph_effect(sim, "xsph", "epsilon=0.5"));
+    perturb(sim, 31u);
+    unsigned seed = 5u;
+    double *x = field_ptr(sim, SPH_FIELD_POSITION);
+    for (size_t k = 0; k < 2 * n; ++k)
+        x[k] += 0.02 * dx * uniform(&seed);
+    check(sim, sph_run(sim, 0));
+    /* listed pairs beyond the support, in runs of 4 consecutive indices */
+    const double h = sph_smoothing_length(sim);
+    size_t beyond = 0;
+    for (size_t a = 0; a < n; ++a)
+        for (uint32_t k = sim->nl.offsets32[a]; k < sim->nl.offsets32[a + 1]; ++k) {
+            const size_t b = (size_t)sim->nl.indices[k];
+            const double r2 = (x[2 * a] - x[2 * b]) * (x[2 * a] - x[2 * b]) +
+                              (x[2 * a + 1] - x[2 * b + 1]) * (x[2 * a + 1] - x[2 * b + 1]);
+            beyond += r2 > 4.0 * h * h && k + 1 < sim->nl.offsets32[a + 1] &&
+                      (size_t)sim->nl.indices[k + 1] == b + 1;
+        }
+    assert_true(beyond > n / 2);
+    for (int path = RATE_PATH_BASELINE; path <= RATE_PATH_AVX512; ++path) {
+        if (rates_path(path) != path)
+            continue;
+        sim->rate_path = path;
+        sim->no_runs = 1;
+        rates_buf single = handle_rates(sim);
+        double *u_single = malloc(2 * n * sizeof(double));
+        memcpy(u_single, sim->dx_dt, 2 * n * sizeof(double));
+        sim->no_runs = 0;
+        rates_buf runs = handle_rates(sim);
+        assert_memory_equal(runs.dv, single.dv, 2 * n * sizeof(double));
+        assert_memory_equal(runs.drho, single.drho, n * sizeof(double));
+        assert_memory_equal(runs.dS, single.dS, 4 * n * sizeof(double));
+        assert_memory_equal(sim->dx_dt, u_single, 2 * n * sizeof(double));
+        free(u_single);
+        free_rates(single);
+        free_rates(runs);
+    }
+    sph_destroy(sim);
+}
+
 /* SPHSOLID_RATE_PATH picks the path of every handle created while it is
  * set: a path the build and CPU have is taken (the baseline always is),
  * and a name that is not a path, or a path they lack, fails sph_create
@@ -1483,6 +1540,7 @@ int main(void)
         cmocka_unit_test(one_sided_correction_moment),
         cmocka_unit_test(pair_tensor_effects_repel),
         cmocka_unit_test(rate_paths_agree),
+        cmocka_unit_test(runs_keep_the_bits),
         cmocka_unit_test(rate_path_from_the_environment),
         cmocka_unit_test(artificial_stress_exponent_paths_agree),
         cmocka_unit_test(artificial_stress_needs_a_non_negative_kernel),
