@@ -520,6 +520,7 @@ static void runs_keep_the_bits(void **state)
     for (size_t k = 0; k < 2 * n; ++k)
         x[k] += 0.02 * dx * uniform(&seed);
     check(sim, sph_run(sim, 0));
+    x = field_ptr(sim, SPH_FIELD_POSITION); /* the run may have moved the arrays */
     /* listed pairs beyond the support, in runs of 4 consecutive indices */
     const double h = sph_smoothing_length(sim);
     size_t beyond = 0;
