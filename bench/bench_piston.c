@@ -19,7 +19,8 @@
  *     for the 2D paper scene and a 3D block.
  * Medians over the repeats, side by side; every figure comes from this one
  * run.  With --throughput only one-thread pair throughput: the paper scene
- * (dx = 1 mm) with each integrator and the 3D cylinder (dx = 3 mm), pair
+ * (dx = 1 mm, 300 steps) with each integrator and the 3D cylinder (dx =
+ * 3 mm, 60 steps), pair
  * interactions per wall and CPU second and the share of one core's
  * double-precision peak they make (flops per pair: docs/performance.md,
  * "Pair throughput and peak"); scripts/compare_throughput.sh runs it
@@ -188,7 +189,9 @@ static void throughput(int repeats)
     for (int dim = 2; dim <= 3; ++dim)
         for (int q = 0; q < 2; ++q) {
             integrator = integrators[q];
-            const long steps = dim == 2 ? 100 : 20;
+            /* about a second per case: shorter runs let the host's
+             * moments decide single repeats */
+            const long steps = dim == 2 ? 300 : 60;
             double pairs = 0.0, ev = 0.0;
             size_t n = 0;
             for (int r = 0; r < repeats; ++r) {
