@@ -581,7 +581,8 @@ SPH_API int sph_allow_large(const sph_sim *sim);
  * strings, valid for the life of the program) and bytes, and returns the
  * number of parts (SPH_MEMORY_PARTS); their sum is sph_memory_bytes().
  * Parts: particle state, integrator saved state, rates, pair data (per
- * particle factors of the pair terms), pair sums (scratch of the pair
+ * particle factors of the pair terms; a caller's strided positions and
+ * velocities copied dim apart), pair sums (scratch of the pair
  * pass), neighbour list, model (handle, materials, bodies, probes). */
 #define SPH_MEMORY_PARTS 7
 SPH_API int sph_memory_parts(const sph_sim *sim, const char **names, size_t *bytes, int max);
@@ -730,6 +731,10 @@ typedef struct sph_particles {
                              is on (ghosts too), else ignored */
 } sph_particles;
 
+/* Neighbours of each local particle a (row a): indices[offsets[a] ..
+ * offsets[a + 1]) or lists[a][0 .. counts[a]).  Rows in ascending order
+ * without repeats are the fastest: the pair pass then gathers runs of
+ * consecutive neighbours at once (each call tests the rows). */
 typedef struct sph_neighbours {
     const size_t *offsets;
     const int *indices;

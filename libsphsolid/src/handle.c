@@ -59,6 +59,7 @@ void sph_destroy(sph_sim *sim)
     free(sim->pair_data);
     free(sim->stress_R);
     free(sim->sum_scratch);
+    free(sim->motion_scratch);
     for (size_t c = 0; c < sim->n_far; ++c) {
         free(sim->far[c].target);
         free(sim->far[c].terms);

@@ -26,7 +26,7 @@ int sph_memory_parts(const sph_sim *sim, const char **names, size_t *bytes, int 
             part[2] += n * (dim + 1 + nc) * sizeof(double);
         if (sim->dx_dt)
             part[2] += n * dim * sizeof(double);
-        part[3] = sim->scratch_n * sim->pair_data_per * sizeof(double);
+        part[3] = (sim->scratch_n * sim->pair_data_per + sim->motion_scratch_n) * sizeof(double);
         if (sim->stress_R)
             part[3] += sim->scratch_n * ns * sizeof(double);
         part[4] = sim->sum_scratch_n * sizeof(double) + rates_far_bytes(sim);

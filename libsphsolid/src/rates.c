@@ -364,17 +364,24 @@ static sph_status grow_scratch(sph_sim *sim, size_t n)
     return SPH_OK;
 }
 
-/* Room for `doubles` in sim->sum_scratch. */
+/* Room for `doubles` in the scratch *buf of *have doubles (`what` names
+ * it in the error). */
+static sph_status grow_doubles(sph_sim *sim, double **buf, size_t *have, size_t doubles,
+                               const char *what)
+{
+    if (doubles <= *have)
+        return SPH_OK;
+    double *p = realloc(*buf, doubles * sizeof(double));
+    if (!p)
+        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu doubles of %s", doubles, what);
+    *buf = p;
+    *have = doubles;
+    return SPH_OK;
+}
+
 static sph_status grow_sum_scratch(sph_sim *sim, size_t doubles)
 {
-    if (doubles <= sim->sum_scratch_n)
-        return SPH_OK;
-    double *p = realloc(sim->sum_scratch, doubles * sizeof(double));
-    if (!p)
-        return sph_fail(sim, SPH_ERR_MEMORY, "cannot allocate %zu doubles of pair sums", doubles);
-    sim->sum_scratch = p;
-    sim->sum_scratch_n = doubles;
-    return SPH_OK;
+    return grow_doubles(sim, &sim->sum_scratch, &sim->sum_scratch_n, doubles, "pair sums");
 }
 
 /* One far list per chunk, emptied, for records of `record` doubles (a
@@ -526,8 +533,46 @@ static void zero_sums(const engine *e, size_t n)
     }
 }
 
+/* A caller's positions and velocities more than dim doubles apart
+ * (LAMMPS's 3 in 2D) copied dim apart, as the handle keeps them, for a
+ * half list without periodic axes: the gather's usual case (fill_block's
+ * `fast`, with its runs).  The same values: the same bits. */
+static sph_status compact_motion(sph_sim *sim, engine *e)
+{
+    const size_t n = e->n_total, d = (size_t)e->dim, xs = e->xs;
+    if (xs == d || e->full || e->periodic || n == 0)
+        return SPH_OK;
+    sph_status st = grow_doubles(sim, &sim->motion_scratch, &sim->motion_scratch_n, 2 * n * d,
+                                 "compact positions and velocities");
+    if (st)
+        return st;
+    double *x = sim->motion_scratch, *v = x + n * d;
+    const double *xc = e->x, *vc = e->v;
+    if (d == 2) /* the usual case (LAMMPS in 2D) with a constant width */
+#pragma omp parallel for schedule(static) num_threads(e->threads)
+        for (long a = 0; a < (long)n; ++a)
+            for (size_t i = 0; i < 2; ++i) {
+                x[(size_t)a * 2 + i] = xc[(size_t)a * xs + i];
+                v[(size_t)a * 2 + i] = vc[(size_t)a * xs + i];
+            }
+    else
+#pragma omp parallel for schedule(static) num_threads(e->threads)
+        for (long a = 0; a < (long)n; ++a)
+            for (size_t i = 0; i < d; ++i) {
+                x[(size_t)a * d + i] = xc[(size_t)a * xs + i];
+                v[(size_t)a * d + i] = vc[(size_t)a * xs + i];
+            }
+    e->x = x;
+    e->v = v;
+    e->xs = d;
+    return SPH_OK;
+}
+
 static sph_status pairs_run(sph_sim *sim, engine *e)
 {
+    sph_status st = compact_motion(sim, e);
+    if (st)
+        return st;
     double *R = sim->fx.artificial_stress && (e->pass & PASS_MOMENTUM) ? sim->stress_R : NULL;
     pass_pair_data(e, sim->pair_data, R);
     e->pair_data = sim->pair_data;
@@ -607,7 +652,11 @@ static sph_status check_particles(sph_sim *sim, const char *fn, const sph_partic
     if (p->n_total > 0 && sim->fx.damage && !p->damage)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "%s: effect damage is on but particles->damage (n_total) is NULL", fn);
-    for (size_t i = 0; i < p->n_total; ++i) {
+    /* one pass that vectorises, the particle named only if one is wrong */
+    size_t wrong = 0;
+    for (size_t i = 0; i < p->n_total; ++i)
+        wrong += ((unsigned)p->material[i] >= (unsigned)sim->n_materials) | !(p->rho[i] > 0.0);
+    for (size_t i = 0; wrong && i < p->n_total; ++i) {
         if (p->material[i] < 0 || p->material[i] >= sim->n_materials)
             return sph_fail(sim, SPH_ERR_ARGUMENT,
                             "%s: particle %zu has material %d, but %d materials are defined", fn, i,
@@ -626,6 +675,43 @@ static sph_status check_neighbours(sph_sim *sim, const char *fn, const sph_parti
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "%s: give neighbours as offsets+indices or lists+counts", fn);
     return SPH_OK;
+}
+
+/* Whether every row of a caller's list is strictly ascending (the pair
+ * pass's runs need it: rate_loop.h's fill_block).  For offsets+indices,
+ * one pass over the indices that the compiler vectorises: the descents
+ * of the whole array, less those where a row starts, are the rows'. */
+static int rows_ascending(size_t n_rows, const sph_neighbours *nb)
+{
+    if (!nb->offsets || !nb->indices) {
+        for (size_t a = 0; a < n_rows; ++a)
+            for (int k = 1; k < nb->counts[a]; ++k)
+                if (nb->lists[a][k] <= nb->lists[a][k - 1])
+                    return 0;
+        return 1;
+    }
+    const int *idx = nb->indices + nb->offsets[0];
+    const size_t total = nb->offsets[n_rows] - nb->offsets[0];
+    size_t descents = 0;
+    for (size_t k0 = 1; k0 < total; k0 += (size_t)1 << 30) { /* 32-bit counts vectorise */
+        const size_t k1 = total - k0 > (size_t)1 << 30 ? k0 + ((size_t)1 << 30) : total;
+        uint32_t d = 0;
+        for (size_t k = k0; k < k1; ++k)
+            d += idx[k] <= idx[k - 1];
+        descents += d;
+    }
+    if (!descents)
+        return 1;
+    /* the rows' starts after the first entry (without branches: a row that
+     * starts nothing reads entries 1 and 0, and counts nothing) */
+    size_t starts = 0;
+    for (size_t a = 1; a < n_rows; ++a) {
+        const size_t s = nb->offsets[a] - nb->offsets[0], e = nb->offsets[a + 1] - nb->offsets[0];
+        const int start = s > 0 && s < e;
+        const size_t j = start ? s : 1;
+        starts += (size_t)(start & (idx[j] <= idx[j - 1]));
+    }
+    return descents == starts;
 }
 
 static sph_status check_rates(sph_sim *sim, const char *fn, int pass, const sph_particles *p,
@@ -737,6 +823,8 @@ static sph_status public_call(sph_sim *sim, int kind, int pass, const sph_partic
     rate_call call = call_on(p->n_local, p->n_total, state, stride, p->material, pass);
     call.neighbours = nb;
     call.half = kind != CALL_EVALUATE;
+    call.sorted_rows = (kind == CALL_HALF || kind == CALL_PAIRS) && !sim->no_runs &&
+                       rows_ascending(p->n_local, nb);
     call.partial = sums;
     call.damage = sim->fx.damage ? p->damage : NULL;
     if (rates)

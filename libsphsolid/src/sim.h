@@ -124,13 +124,15 @@ struct sph_sim {
 
     /* scratch of the rate engine, sized to scratch_n particles */
     size_t scratch_n;
-    double *pair_data;    /* per particle: sigma/rho^2 and, unless every
+    double *pair_data;       /* per particle: sigma/rho^2 and, unless every
                              material has the same, c0 (rates.c) */
-    size_t pair_data_per; /* doubles per particle allocated in pair_data */
-    double *stress_R;     /* artificial stress, when on */
-    double *sum_scratch;  /* pair sums without room in the rate arrays */
-    size_t sum_scratch_n; /* doubles */
-    far_list *far;        /* one per chunk of the pair pass */
+    size_t pair_data_per;    /* doubles per particle allocated in pair_data */
+    double *stress_R;        /* artificial stress, when on */
+    double *sum_scratch;     /* pair sums without room in the rate arrays */
+    size_t sum_scratch_n;    /* doubles */
+    double *motion_scratch;  /* a caller's x and v, dim doubles apart */
+    size_t motion_scratch_n; /* doubles */
+    far_list *far;           /* one per chunk of the pair pass */
     size_t n_far;
 
     int allow_large; /* sph_set_allow_large: runs may take all available memory */
@@ -237,7 +239,7 @@ typedef struct rate_call {
     int pass;             /* PASS_*: the rates computed (0: all) */
     const double *damage; /* n_total, when effect damage is on (else NULL) */
     int sorted_rows;      /* each row's indices ascending, none repeated
-                             (neighbour.c's lists) */
+                             (neighbour.c's lists; a caller's: tested) */
 } rate_call;
 enum {
     PASS_CONTINUITY = SPH_RATES_CONTINUITY, /* drho/dt, dS/dt, XSPH velocity */

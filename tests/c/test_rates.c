@@ -502,9 +502,8 @@ static void rate_paths_agree(void **state)
  * pair-by-pair gather, on every path.  At h = 1.5 dx the lattice's
  * neighbours at (3, 1) dx are listed (2h + skin = 3.375 dx) but beyond the
  * support (3.16 dx > 2h), inside the runs of 7 of the next row. */
-static void runs_keep_the_bits(void **state)
+static sph_sim *runs_scene(void)
 {
-    (void)state;
     const int nx = 30, ny = 20;
     const double dx = 1e-3;
     const size_t n = (size_t)nx * (size_t)ny;
@@ -520,7 +519,15 @@ static void runs_keep_the_bits(void **state)
     for (size_t k = 0; k < 2 * n; ++k)
         x[k] += 0.02 * dx * uniform(&seed);
     check(sim, sph_run(sim, 0));
-    x = field_ptr(sim, SPH_FIELD_POSITION); /* the run may have moved the arrays */
+    return sim;
+}
+
+static void runs_keep_the_bits(void **state)
+{
+    (void)state;
+    sph_sim *sim = runs_scene();
+    const size_t n = sim->n;
+    const double *x = field_ptr(sim, SPH_FIELD_POSITION); /* the run may have moved them */
     /* listed pairs beyond the support, in runs of 4 consecutive indices */
     const double h = sph_smoothing_length(sim);
     size_t beyond = 0;
@@ -551,6 +558,98 @@ static void runs_keep_the_bits(void **state)
         free_rates(single);
         free_rates(runs);
     }
+    sph_destroy(sim);
+}
+
+/* sph_rates_pass_half's rates of every particle in one array: dv/dt,
+ * drho/dt, dS/dt and the XSPH velocity (9 doubles per particle in 2D). */
+static double *half_rates(sph_sim *sim, const sph_particles *p, const sph_neighbours *nb)
+{
+    const size_t n = p->n_local;
+    double *r = calloc(9 * n, sizeof *r);
+    sph_rates out = {.dv_dt = r, .drho_dt = r + 2 * n, .dS_dt = r + 3 * n, .dx_dt = r + 7 * n};
+    check(sim, sph_rates_pass_half(sim, SPH_RATES_ALL, p, nb, &out));
+    return r;
+}
+
+/* A caller's half list takes the runs where its rows are ascending,
+ * which each call tests.  Sorted rows give the pair-by-pair gather's bits,
+ * with the positions dim doubles apart and with LAMMPS's 2D stride of 3
+ * (copied dim apart for the pass); rows where an entry between a run's
+ * first and fourth is swapped with another of the row (the fourth still
+ * three above the first: not a run) are gathered pair by pair, bitwise
+ * again.  Both forms of sph_neighbours. */
+static void caller_rows_take_runs_when_sorted(void **state)
+{
+    (void)state;
+    sph_sim *sim = runs_scene();
+    const size_t n = sim->n;
+    size_t *off;
+    int *idx;
+    const sph_neighbours sorted = half_list(sim, &off, &idx);
+    int *mixed = malloc((off[n] + 1) * sizeof *mixed);
+    memcpy(mixed, idx, off[n] * sizeof *mixed);
+    size_t swapped = 0;
+    for (size_t a = 0; a < n; ++a)
+        for (size_t i = off[a]; i + 3 < off[a + 1]; ++i)
+            if (mixed[i + 3] == mixed[i] + 3 && off[a + 1] - off[a] > 4) {
+                const size_t j = i + 4 < off[a + 1] ? i + 4 : i - 1;
+                const int t = mixed[i + 1];
+                mixed[i + 1] = mixed[j];
+                mixed[j] = t;
+                ++swapped;
+                break;
+            }
+    assert_true(swapped > n / 2);
+    const int **lists = malloc(n * sizeof *lists);
+    int *counts = malloc(n * sizeof *counts);
+    for (size_t a = 0; a < n; ++a) {
+        lists[a] = mixed + off[a];
+        counts[a] = (int)(off[a + 1] - off[a]);
+    }
+    const sph_neighbours mixed_rows = {.offsets = off, .indices = mixed};
+    const sph_neighbours mixed_lists = {.lists = lists, .counts = counts};
+    sph_particles p2 = handle_particles(sim), p3 = p2;
+    double *x3 = calloc(3 * n, sizeof *x3), *v3 = calloc(3 * n, sizeof *v3);
+    for (size_t a = 0; a < n; ++a)
+        for (int i = 0; i < 2; ++i) {
+            x3[3 * a + i] = sim->x[2 * a + i];
+            v3[3 * a + i] = sim->v[2 * a + i];
+        }
+    p3.x = x3;
+    p3.v = v3;
+    p3.stride = 3;
+    const size_t bytes = 9 * n * sizeof(double);
+    for (int path = RATE_PATH_BASELINE; path <= RATE_PATH_AVX512; ++path) {
+        if (rates_path(path) != path)
+            continue;
+        sim->rate_path = path;
+        sim->no_runs = 1;
+        double *single = half_rates(sim, &p2, &sorted);
+        double *single_mixed = half_rates(sim, &p2, &mixed_rows);
+        sim->no_runs = 0;
+        double *runs2 = half_rates(sim, &p2, &sorted);
+        double *runs3 = half_rates(sim, &p3, &sorted);
+        double *mixed3 = half_rates(sim, &p3, &mixed_rows);
+        double *mixed_l = half_rates(sim, &p3, &mixed_lists);
+        assert_memory_equal(runs2, single, bytes);
+        assert_memory_equal(runs3, single, bytes);
+        assert_memory_equal(mixed3, single_mixed, bytes);
+        assert_memory_equal(mixed_l, single_mixed, bytes);
+        free(single);
+        free(single_mixed);
+        free(runs2);
+        free(runs3);
+        free(mixed3);
+        free(mixed_l);
+    }
+    free(x3);
+    free(v3);
+    free(lists);
+    free(counts);
+    free(mixed);
+    free(off);
+    free(idx);
     sph_destroy(sim);
 }
 
@@ -1546,6 +1645,7 @@ int main(void)
         cmocka_unit_test(artificial_stress_exponent_paths_agree),
         cmocka_unit_test(artificial_stress_needs_a_non_negative_kernel),
         cmocka_unit_test(strided_entry_points_match_the_dense_ones),
+        cmocka_unit_test(caller_rows_take_runs_when_sorted),
         cmocka_unit_test(split_evaluation_over_two_processes),
         cmocka_unit_test(passes_add_up_to_the_whole_evaluation),
         cmocka_unit_test(energy_is_conserved_without_viscosity),
