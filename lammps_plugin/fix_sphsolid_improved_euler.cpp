@@ -136,7 +136,6 @@ void FixSPHSolidImprovedEuler::copy_stage(bool to_rows)
 void FixSPHSolidImprovedEuler::final_integrate()
 {
   const int nlocal = atom->nlocal;
-  const int dim = pair->dimension();
   pack();
   account_evaluation();    // energy account: the evaluation at y*
   const sph_rates rates = stage_rates();
@@ -184,18 +183,5 @@ void FixSPHSolidImprovedEuler::final_integrate()
   // The first rate evaluation of the next step, at y_{n+1}.  Forces from
   // other fixes (gravity) are kept as they were added to f(y*): they do not
   // depend on the SPH state.
-  double **f = atom->f;
-  const double *dv_pair = pair->dv_dt();
-  for (int i = 0; i < nlocal; i++) {
-    const double m = pair->mass_of(i);
-    for (int d = 0; d < dim; d++)
-      other_force[(size_t) i * dim + d] = f[i][d] - m * dv_pair[(size_t) i * dim + d];
-  }
-  pair->evaluate_rates(true);    // ghosts' x, v, rho and S in one exchange
-  dv_pair = pair->dv_dt();
-  for (int i = 0; i < nlocal; i++) {
-    const double m = pair->mass_of(i);
-    for (int d = 0; d < dim; d++)
-      f[i][d] = m * dv_pair[(size_t) i * dim + d] + other_force[(size_t) i * dim + d];
-  }
+  evaluate_keeping_other_forces(SPH_RATES_ALL);
 }

@@ -202,16 +202,52 @@ void FixSPHSolidIntegrate::pack()
   // dv/dt of every force on the atom: pair sphsolid plus other fixes
   // (gravity); the stages advance x and v only of the atoms in the group,
   // so fix move's positions stand whatever the order of the fixes
-  double **f = atom->f;
+  // (LAMMPS's per-atom arrays are contiguous: f[i] is f[0] + 3 i; the
+  // pointers are read once, as the stores below could alias LAMMPS's own)
+  const double *f = nlocal > 0 ? atom->f[0] : nullptr;
   const int *mask = atom->mask;
+  const double *rmass = atom->rmass;
+  double *dv = dvbuf.data();
+  unsigned char *moves = integrate_motion.data();
+  const int bit = groupbit;
+  if (rmass) {
+    for (int i = 0; i < nlocal; i++) {
+      const double inverse_mass = 1.0 / rmass[i];
+      for (int d = 0; d < dim; d++) dv[(size_t) i * dim + d] = f[3 * i + d] * inverse_mass;
+    }
+  } else {    // one division per type
+    inverse_type_mass.resize((size_t) atom->ntypes + 1);
+    for (int t = 1; t <= atom->ntypes; t++) inverse_type_mass[t] = 1.0 / atom->mass[t];
+    const double *inverse = inverse_type_mass.data();
+    const int *type = atom->type;
+    for (int i = 0; i < nlocal; i++)
+      for (int d = 0; d < dim; d++) dv[(size_t) i * dim + d] = f[3 * i + d] * inverse[type[i]];
+  }
+  for (int i = 0; i < nlocal; i++) moves[i] = (mask[i] & bit) ? 1 : 0;
+  apply_rigid_bodies();
+}
+
+void FixSPHSolidIntegrate::evaluate_keeping_other_forces(int pass)
+{
+  const int nlocal = atom->nlocal;
+  const int dim = pair->dimension();
+  other_force.resize((size_t) std::max(nlocal, 1) * dim);
+  double *f = nlocal > 0 ? atom->f[0] : nullptr, *other = other_force.data();
   const double *rmass = atom->rmass, *type_mass = atom->mass;
   const int *type = atom->type;
+  const double *dv_pair = pair->dv_dt();
   for (int i = 0; i < nlocal; i++) {
-    const double inverse_mass = 1.0 / (rmass ? rmass[i] : type_mass[type[i]]);
-    for (int d = 0; d < dim; d++) dvbuf[(size_t) i * dim + d] = f[i][d] * inverse_mass;
-    integrate_motion[i] = (mask[i] & groupbit) ? 1 : 0;
+    const double m = rmass ? rmass[i] : type_mass[type[i]];
+    for (int d = 0; d < dim; d++)
+      other[(size_t) i * dim + d] = f[3 * i + d] - m * dv_pair[(size_t) i * dim + d];
   }
-  apply_rigid_bodies();
+  pair->evaluate_rates(true, pass);    // ghosts' x, v, rho and S in one exchange
+  dv_pair = pair->dv_dt();
+  for (int i = 0; i < nlocal; i++) {
+    const double m = rmass ? rmass[i] : type_mass[type[i]];
+    for (int d = 0; d < dim; d++)
+      f[3 * i + d] = m * dv_pair[(size_t) i * dim + d] + other[(size_t) i * dim + d];
+  }
 }
 
 /* the integrator's default step in units of h/c0 (sph_integrator_info_get) */

@@ -49,12 +49,16 @@ class FixSPHSolidIntegrate : public Fix {
   std::vector<FixSPHSolidForce *> rigid;    // fix sphsolid/force bodies
   std::vector<unsigned char> member;        // atoms of one of them
   std::vector<double> masses;
+  std::vector<double> inverse_type_mass;    // pack(): 1/m of each atom type
 
   void init_rigid_bodies();
   void apply_rigid_bodies();
   // dv/dt of every force into dvbuf (rigid bodies applied), and which
   // atoms the stages integrate (integrate_motion)
   void pack();
+  // pair sphsolid's rates of `pass` again at the current state, f set to
+  // m dv/dt plus the forces the other fixes (gravity) added to it before
+  void evaluate_keeping_other_forces(int pass);
   int saved_values() const;    // of the library's stages (sph_integrator_info_get)
   double default_factor();     // default step / (h/c0) of the integrator
   sph_rates stage_rates();

@@ -146,22 +146,7 @@ void FixSPHSolidLeapfrog::final_integrate()
       pair->grow_damage(update->dt, true, pair->drucker_prager_on() ? free_atoms() : nullptr);
   if (pair->energy_account_on()) pair->account_step(update->dt);
   if (!grew) return;
-  const int dim = pair->dimension();
-  double **f = atom->f;
-  const double *dv_pair = pair->dv_dt();
-  other_force.resize((size_t) std::max(nlocal, 1) * dim);
-  for (int i = 0; i < nlocal; i++) {
-    const double m = pair->mass_of(i);
-    for (int d = 0; d < dim; d++)
-      other_force[(size_t) i * dim + d] = f[i][d] - m * dv_pair[(size_t) i * dim + d];
-  }
-  pair->evaluate_rates(true, SPH_RATES_ALL);
-  dv_pair = pair->dv_dt();
-  for (int i = 0; i < nlocal; i++) {
-    const double m = pair->mass_of(i);
-    for (int d = 0; d < dim; d++)
-      f[i][d] = m * dv_pair[(size_t) i * dim + d] + other_force[(size_t) i * dim + d];
-  }
+  evaluate_keeping_other_forces(SPH_RATES_ALL);
   keep_rates(false);
   if (pair->energy_account_on()) {
     pack();    // the powers of the new rates open the next step
