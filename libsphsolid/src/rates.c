@@ -681,7 +681,7 @@ static sph_status check_neighbours(sph_sim *sim, const char *fn, const sph_parti
  * pass's runs need it: rate_loop.h's fill_block).  For offsets+indices,
  * one pass over the indices that the compiler vectorises: the descents
  * of the whole array, less those where a row starts, are the rows'. */
-static int rows_ascending(size_t n_rows, const sph_neighbours *nb)
+int rates_rows_ascending(size_t n_rows, const sph_neighbours *nb)
 {
     if (!nb->offsets || !nb->indices) {
         for (size_t a = 0; a < n_rows; ++a)
@@ -824,7 +824,7 @@ static sph_status public_call(sph_sim *sim, int kind, int pass, const sph_partic
     call.neighbours = nb;
     call.half = kind != CALL_EVALUATE;
     call.sorted_rows = (kind == CALL_HALF || kind == CALL_PAIRS) && !sim->no_runs &&
-                       rows_ascending(p->n_local, nb);
+                       rates_rows_ascending(p->n_local, nb);
     call.partial = sums;
     call.damage = sim->fx.damage ? p->damage : NULL;
     if (rates)

@@ -653,6 +653,55 @@ static void caller_rows_take_runs_when_sorted(void **state)
     sph_destroy(sim);
 }
 
+/* The row test of a caller's list agrees with a row-by-row check on random
+ * lists: rows empty or not, sorted or with one pair swapped or repeated,
+ * offsets that start past the array's first entry, and the lists+counts
+ * form.  A row's descent at its start (where the previous row ends
+ * higher) is no descent of the row. */
+static void row_test_matches_each_row(void **state)
+{
+    (void)state;
+    unsigned seed = 11u;
+    int ascending = 0, unsorted = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+        const size_t n_rows = (size_t)((uniform(&seed) + 0.5) * 12.0), base = trial % 3;
+        size_t off[13];
+        int idx[3 + 12 * 8] = {7, -1, 3}, *lists[12], counts[12];
+        off[0] = base;
+        int expect = 1;
+        for (size_t a = 0; a < n_rows; ++a) {
+            const int len = (int)((uniform(&seed) + 0.5) * 8.0);
+            int *row = idx + off[a], v = (int)((uniform(&seed) + 0.5) * 20.0);
+            for (int k = 0; k < len; ++k) {
+                row[k] = v;
+                v += 1 + (int)((uniform(&seed) + 0.5) * 3.0);
+            }
+            const double what = (uniform(&seed) + 0.5);
+            if (len >= 2 && what < 0.1) { /* two neighbours swapped */
+                const int k = (int)((uniform(&seed) + 0.5) * (len - 1));
+                const int t = row[k];
+                row[k] = row[k + 1];
+                row[k + 1] = t;
+            } else if (len >= 2 && what < 0.15) { /* one repeated */
+                const int k = (int)((uniform(&seed) + 0.5) * (len - 1));
+                row[k + 1] = row[k];
+            }
+            for (int k = 1; k < len; ++k)
+                expect &= row[k] > row[k - 1];
+            off[a + 1] = off[a] + (size_t)len;
+            lists[a] = row;
+            counts[a] = len;
+        }
+        const sph_neighbours csr = {.offsets = off, .indices = idx};
+        const sph_neighbours per_row = {.lists = (const int *const *)lists, .counts = counts};
+        assert_int_equal(rates_rows_ascending(n_rows, &csr), expect);
+        assert_int_equal(rates_rows_ascending(n_rows, &per_row), expect);
+        ascending += expect;
+        unsorted += !expect;
+    }
+    assert_true(ascending > 1000 && unsorted > 1000);
+}
+
 /* SPHSOLID_RATE_PATH picks the path of every handle created while it is
  * set: a path the build and CPU have is taken (the baseline always is),
  * and a name that is not a path, or a path they lack, fails sph_create
@@ -1646,6 +1695,7 @@ int main(void)
         cmocka_unit_test(artificial_stress_needs_a_non_negative_kernel),
         cmocka_unit_test(strided_entry_points_match_the_dense_ones),
         cmocka_unit_test(caller_rows_take_runs_when_sorted),
+        cmocka_unit_test(row_test_matches_each_row),
         cmocka_unit_test(split_evaluation_over_two_processes),
         cmocka_unit_test(passes_add_up_to_the_whole_evaluation),
         cmocka_unit_test(energy_is_conserved_without_viscosity),
