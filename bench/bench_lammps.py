@@ -207,8 +207,11 @@ NUMBER = r"([0-9.eE+-]+)"
 PLUGIN_PARTS = re.compile(
     r"pair sphsolid: CPU seconds per rank \(average\): library rate calls " + NUMBER
     + r", library integrator stages " + NUMBER + r", ghost exchanges " + NUMBER
-    + r", refresh after re-neighbouring " + NUMBER)
-PART_NAMES = ("rates", "stages", "exchanges", "refresh")
+    + r", refresh after re-neighbouring " + NUMBER
+    + r"(?:, the plugin's copies " + NUMBER + r")?")
+#: the parts of that line; "copies" is missing from older plugins'
+#: (--plugin-before), whose copies fall into the rest
+PART_NAMES = ("rates", "stages", "exchanges", "refresh", "copies")
 
 
 def lammps_figures(log: Path) -> dict:
@@ -231,7 +234,7 @@ def lammps_figures(log: Path) -> dict:
     spread = {m.group(1).lower(): least_largest(m) for m in SECTION.finditer(tail)}
     neighs = PAIRS.search(tail) or NEIGHS.search(tail)
     parts = PLUGIN_PARTS.search(tail)
-    return {"plugin_parts_seconds": ({name: float(parts.group(k + 1))
+    return {"plugin_parts_seconds": ({name: float(parts.group(k + 1) or 0.0)
                                       for k, name in enumerate(PART_NAMES)}
                                      if parts else None),
             "loop_seconds": loop, "ranks": int(match.group(2)),
@@ -450,10 +453,11 @@ def plugin_parts(summary: dict[str, dict], ranks: int, labels: dict | None = Non
     """Where each plugin case's loop CPU time goes, from pair sphsolid's
     end-of-run line (CPU seconds of the process in each part): the library's
     work (rate calls and integrator stages), the ghost exchanges, the
-    refresh after re-neighbouring, and the rest of the loop (the plugin's
-    own copies between LAMMPS's arrays and the library's, and LAMMPS's own
-    work: neighbour checks, force clearing, other fixes, output); each as a
-    share of the loop's CPU time.  For one rank, the library's work and
+    refresh after re-neighbouring, the plugin's own copies between LAMMPS's
+    arrays and the library's (f += m dv/dt, dv/dt = f/m, the other fixes'
+    forces kept around an evaluation, stage buffers), and LAMMPS's own
+    work, the rest of the loop (neighbour checks, force clearing, other
+    fixes, output); each as a share of the loop's CPU time.  For one rank, the library's work and
     the rest against the loop CPU time of the library case with the same
     integrator (the same steps): their sum is the plugin / library ratio."""
     lines = ["plugin cases, where the loop's CPU time goes (CPU seconds per rank, pair "
@@ -464,10 +468,11 @@ def plugin_parts(summary: dict[str, dict], ranks: int, labels: dict | None = Non
             continue
         loop = s["loop_cpu_seconds"]
         library = parts["rates"] + parts["stages"]
-        rest = loop - library - parts["exchanges"] - parts["refresh"]
+        copies = parts.get("copies", 0.0)
+        rest = loop - library - parts["exchanges"] - parts["refresh"] - copies
         rows = [("library", library), ("rate calls", parts["rates"]),
                 ("stages", parts["stages"]), ("exchanges", parts["exchanges"]),
-                ("refresh", parts["refresh"]), ("rest", rest)]
+                ("refresh", parts["refresh"]), ("copies", copies), ("LAMMPS and the rest", rest)]
         text = ", ".join(f"{name} {value:.3f} ({value / loop:.1%})" for name, value in rows)
         label = (labels or LABELS).get(case, case).format(ranks=ranks)
         lines.append(f"  {label}: loop CPU {loop:.3f}: {text}")
@@ -475,7 +480,8 @@ def plugin_parts(summary: dict[str, dict], ranks: int, labels: dict | None = Non
         if alone in summary and case.startswith("plugin-1"):
             base = summary[alone]["loop_cpu_seconds"]
             lines.append(f"    / the library's loop CPU: library's work {library / base:.3f} + "
-                         f"the rest {(loop - library) / base:.3f} = {loop / base:.3f}")
+                         f"the rest {(loop - library) / base:.3f} (copies {copies / base:.3f}) "
+                         f"= {loop / base:.3f}")
     return lines
 
 

@@ -108,6 +108,7 @@ void FixSPHSolidImprovedEuler::pre_exchange()
    of the state fix's `saved`, for the stage_atoms owned atoms */
 void FixSPHSolidImprovedEuler::copy_stage(bool to_rows)
 {
+  const double start = PairSPHSolid::cpu_seconds();
   const int dim = pair->dimension(), ncomp = pair->stress_components();
   const int nsaved = saved_values();
   FixSPHSolidState *state = pair->state();
@@ -129,6 +130,7 @@ void FixSPHSolidImprovedEuler::copy_stage(bool to_rows)
     offset += n * block;
     column += block;
   }
+  pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -204,6 +204,7 @@ void FixSPHSolidIntegrate::pack()
   // so fix move's positions stand whatever the order of the fixes
   // (LAMMPS's per-atom arrays are contiguous: f[i] is f[0] + 3 i; the
   // pointers are read once, as the stores below could alias LAMMPS's own)
+  const double start = PairSPHSolid::cpu_seconds();
   const double *f = nlocal > 0 ? atom->f[0] : nullptr;
   const int *mask = atom->mask;
   const double *rmass = atom->rmass;
@@ -224,11 +225,13 @@ void FixSPHSolidIntegrate::pack()
       for (int d = 0; d < dim; d++) dv[(size_t) i * dim + d] = f[3 * i + d] * inverse[type[i]];
   }
   for (int i = 0; i < nlocal; i++) moves[i] = (mask[i] & bit) ? 1 : 0;
+  pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
   apply_rigid_bodies();
 }
 
 void FixSPHSolidIntegrate::evaluate_keeping_other_forces(int pass)
 {
+  double start = PairSPHSolid::cpu_seconds();
   const int nlocal = atom->nlocal;
   const int dim = pair->dimension();
   other_force.resize((size_t) std::max(nlocal, 1) * dim);
@@ -241,13 +244,16 @@ void FixSPHSolidIntegrate::evaluate_keeping_other_forces(int pass)
     for (int d = 0; d < dim; d++)
       other[(size_t) i * dim + d] = f[3 * i + d] - m * dv_pair[(size_t) i * dim + d];
   }
+  pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
   pair->evaluate_rates(true, pass);    // ghosts' x, v, rho and S in one exchange
+  start = PairSPHSolid::cpu_seconds();
   dv_pair = pair->dv_dt();
   for (int i = 0; i < nlocal; i++) {
     const double m = rmass ? rmass[i] : type_mass[type[i]];
     for (int d = 0; d < dim; d++)
       f[3 * i + d] = m * dv_pair[(size_t) i * dim + d] + other[(size_t) i * dim + d];
   }
+  pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
 }
 
 /* the integrator's default step in units of h/c0 (sph_integrator_info_get) */

@@ -115,6 +115,7 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
  * (only_missing: for the atoms without). */
 void FixSPHSolidLeapfrog::keep_rates(bool only_missing)
 {
+  const double start = PairSPHSolid::cpu_seconds();
   FixSPHSolidState *state = pair->state();
   const int nlocal = atom->nlocal, ncomp = pair->stress_components();
   const double *drho = pair->drho_dt(), *dS = pair->dS_dt();
@@ -123,6 +124,7 @@ void FixSPHSolidLeapfrog::keep_rates(bool only_missing)
     state->carried_rho[i] = drho[i];
     for (int k = 0; k < ncomp; k++) state->carried_S[i][k] = dS[(size_t) i * ncomp + k];
   }
+  pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
 }
 
 void FixSPHSolidLeapfrog::final_integrate()

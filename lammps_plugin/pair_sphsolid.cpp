@@ -1061,12 +1061,17 @@ void PairSPHSolid::compute(int eflag, int vflag)
   ev_init(eflag, vflag);
   evaluate_rates(false, compute_pass);
 
-  double **f = atom->f;
+  // f[0] + 3 i is f[i]; the pointers read once (the stores could alias them)
+  const double start = cpu_seconds();
   const int nlocal = atom->nlocal;
+  double *f = nlocal > 0 ? atom->f[0] : nullptr;
+  const double *rmass = atom->rmass, *type_mass = atom->mass, *dv = rate_dv.data();
+  const int *type = atom->type;
   for (int i = 0; i < nlocal; i++) {
-    const double m = mass_of(i);
-    for (int d = 0; d < dim; d++) f[i][d] += m * rate_dv[(size_t) i * dim + d];
+    const double m = rmass ? rmass[i] : type_mass[type[i]];
+    for (int d = 0; d < dim; d++) f[3 * i + d] += m * dv[(size_t) i * dim + d];
   }
+  part_seconds[PART_COPIES] += cpu_seconds() - start;
 }
 
 /* ----------------------------------------------------------------------
@@ -1099,9 +1104,10 @@ void PairSPHSolid::finish()
         lmp,
         "pair sphsolid: CPU seconds per rank (average): library rate calls {:.6g}, library "
         "integrator stages {:.6g}, ghost exchanges {:.6g}, refresh after "
-        "re-neighbouring {:.6g}\n",
+        "re-neighbouring {:.6g}, the plugin's copies {:.6g}\n",
         seconds[PART_RATES] / comm->nprocs, seconds[PART_STAGES] / comm->nprocs,
-        seconds[PART_EXCHANGE] / comm->nprocs, seconds[PART_REFRESH] / comm->nprocs);
+        seconds[PART_EXCHANGE] / comm->nprocs, seconds[PART_REFRESH] / comm->nprocs,
+        seconds[PART_COPIES] / comm->nprocs);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -164,11 +164,13 @@ class PairSPHSolid : public Pair {
    * end-of-run line of finish(): the library's rate calls, the integrator
    * fix's library stages, the ghost exchanges of evaluate_rates() (and,
    * newton on, the sums sent back), and the refresh of masses, materials
-   * and the neighbour rows after a re-neighbouring.  What the loop holds
-   * beyond these is the plugin's own copying (f = m dv/dt, dv/dt = f/m,
-   * the carried rates) and LAMMPS's own work.  CPU time, not wall time:
-   * on a shared machine it is what the parts cost, whatever else runs. */
-  enum Part { PART_RATES, PART_STAGES, PART_EXCHANGE, PART_REFRESH, N_PARTS };
+   * and the neighbour rows after a re-neighbouring, and the plugin's own
+   * copies between LAMMPS's arrays and the library's (f += m dv/dt,
+   * dv/dt = f/m, the other fixes' forces kept around an evaluation, the
+   * stage buffers and carried rates).  What the loop holds beyond these is
+   * LAMMPS's own work.  CPU time, not wall time: on a shared machine it is
+   * what the parts cost, whatever else runs. */
+  enum Part { PART_RATES, PART_STAGES, PART_EXCHANGE, PART_REFRESH, PART_COPIES, N_PARTS };
   void add_seconds(Part part, double seconds) { part_seconds[part] += seconds; }
   void reset_seconds()
   {

@@ -111,7 +111,8 @@ def test_end_of_run_line_says_where_the_plugin_spends_its_time(tmp_path, plugin,
     # PLUGIN_PARTS) to split LAMMPS's Pair and Modify sections between the
     # library's work, the ghost exchanges and the plugin's own copies.
     # Every step of either integrator calls the library's pair pass and its
-    # stages, so those parts took some time; none is negative.
+    # stages and copies f/m before a stage, so those parts took some time;
+    # none is negative.
     sys.path.insert(0, str(REPOSITORY / "bench"))
     import bench_lammps
     variables = {"dx": 0.002, "t_end": 5.0e-5, "every": 10, "probes": "p.txt",
@@ -121,7 +122,7 @@ def test_end_of_run_line_says_where_the_plugin_spends_its_time(tmp_path, plugin,
     assert found, "no end-of-run line of pair sphsolid's timers"
     parts = dict(zip(bench_lammps.PART_NAMES, map(float, found.groups())))
     assert min(parts.values()) >= 0.0, parts
-    assert parts["rates"] > 0.0 and parts["stages"] > 0.0, parts
+    assert parts["rates"] > 0.0 and parts["stages"] > 0.0 and parts["copies"] > 0.0, parts
 
 
 SPINNING_BLOCK = textwrap.dedent("""\
