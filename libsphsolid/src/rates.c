@@ -636,6 +636,10 @@ static sph_status finish_run(sph_sim *sim, const rate_call *call, const double *
 
 /* ------------------------------------------------------- public entry points */
 
+/* Below this many items a public call's checks run on one thread (a
+ * parallel region costs more than the loop). */
+#define PER_CALL_SERIAL 20000
+
 static sph_status check_particles(sph_sim *sim, const char *fn, const sph_particles *p,
                                   size_t *stride)
 {
@@ -652,10 +656,17 @@ static sph_status check_particles(sph_sim *sim, const char *fn, const sph_partic
     if (p->n_total > 0 && sim->fx.damage && !p->damage)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "%s: effect damage is on but particles->damage (n_total) is NULL", fn);
-    /* one pass that vectorises, the particle named only if one is wrong */
+    /* one pass that vectorises (and runs on the pair pass's threads), the
+     * particle named only if one is wrong */
     size_t wrong = 0;
-    for (size_t i = 0; i < p->n_total; ++i)
-        wrong += ((unsigned)p->material[i] >= (unsigned)sim->n_materials) | !(p->rho[i] > 0.0);
+    const long n = (long)p->n_total;
+    const int *material = p->material;
+    const double *rho = p->rho;
+    const unsigned n_materials = (unsigned)sim->n_materials;
+#pragma omp parallel for schedule(static) num_threads(sim_threads(sim)) \
+    reduction(+ : wrong) if (n > PER_CALL_SERIAL)
+    for (long i = 0; i < n; ++i)
+        wrong += ((unsigned)material[i] >= n_materials) | !(rho[i] > 0.0);
     for (size_t i = 0; wrong && i < p->n_total; ++i) {
         if (p->material[i] < 0 || p->material[i] >= sim->n_materials)
             return sph_fail(sim, SPH_ERR_ARGUMENT,
@@ -681,8 +692,9 @@ static sph_status check_neighbours(sph_sim *sim, const char *fn, const sph_parti
  * pass's runs need it: rate_loop.h's fill_block).  For offsets+indices,
  * one pass over the indices that the compiler vectorises: the descents
  * of the whole array, less those where a row starts, are the rows'. */
-int rates_rows_ascending(size_t n_rows, const sph_neighbours *nb)
+int rates_rows_ascending(size_t n_rows, const sph_neighbours *nb, int threads)
 {
+    (void)threads; /* used by the OpenMP pragmas only */
     if (!nb->offsets || !nb->indices) {
         for (size_t a = 0; a < n_rows; ++a)
             for (int k = 1; k < nb->counts[a]; ++k)
@@ -690,11 +702,17 @@ int rates_rows_ascending(size_t n_rows, const sph_neighbours *nb)
                     return 0;
         return 1;
     }
-    const int *idx = nb->indices + nb->offsets[0];
-    const size_t total = nb->offsets[n_rows] - nb->offsets[0];
+    const size_t *off = nb->offsets;
+    const int *idx = nb->indices + off[0];
+    const size_t total = off[n_rows] - off[0];
+    /* entries [1, total) in blocks of 2^16, whose 32-bit counts vectorise */
+    const long blocks = (long)((total + 0xffff) >> 16);
     size_t descents = 0;
-    for (size_t k0 = 1; k0 < total; k0 += (size_t)1 << 30) { /* 32-bit counts vectorise */
-        const size_t k1 = total - k0 > (size_t)1 << 30 ? k0 + ((size_t)1 << 30) : total;
+#pragma omp parallel for schedule(static) num_threads(threads) \
+    reduction(+ : descents) if (total > PER_CALL_SERIAL)
+    for (long c = 0; c < blocks; ++c) {
+        const size_t k0 = c ? (size_t)c << 16 : 1;
+        const size_t k1 = total - ((size_t)c << 16) > 0x10000 ? ((size_t)c + 1) << 16 : total;
         uint32_t d = 0;
         for (size_t k = k0; k < k1; ++k)
             d += idx[k] <= idx[k - 1];
@@ -705,8 +723,10 @@ int rates_rows_ascending(size_t n_rows, const sph_neighbours *nb)
     /* the rows' starts after the first entry (without branches: a row that
      * starts nothing reads entries 1 and 0, and counts nothing) */
     size_t starts = 0;
-    for (size_t a = 1; a < n_rows; ++a) {
-        const size_t s = nb->offsets[a] - nb->offsets[0], e = nb->offsets[a + 1] - nb->offsets[0];
+#pragma omp parallel for schedule(static) num_threads(threads) \
+    reduction(+ : starts) if (n_rows > PER_CALL_SERIAL)
+    for (long a = 1; a < (long)n_rows; ++a) {
+        const size_t s = off[a] - off[0], e = off[a + 1] - off[0];
         const int start = s > 0 && s < e;
         const size_t j = start ? s : 1;
         starts += (size_t)(start & (idx[j] <= idx[j - 1]));
@@ -824,7 +844,7 @@ static sph_status public_call(sph_sim *sim, int kind, int pass, const sph_partic
     call.neighbours = nb;
     call.half = kind != CALL_EVALUATE;
     call.sorted_rows = (kind == CALL_HALF || kind == CALL_PAIRS) && !sim->no_runs &&
-                       rates_rows_ascending(p->n_local, nb);
+                       rates_rows_ascending(p->n_local, nb, sim_threads(sim));
     call.partial = sums;
     call.damage = sim->fx.damage ? p->damage : NULL;
     if (rates)

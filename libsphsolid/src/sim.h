@@ -270,8 +270,9 @@ int sim_threads(const sph_sim *sim);
 size_t rates_chunk_rows(int dim, size_t n);
 size_t rates_far_bytes(const sph_sim *sim);
 /* Whether each of the n_rows rows of a caller's list ascends without
- * repeats (the pair pass then takes runs of consecutive neighbours). */
-int rates_rows_ascending(size_t n_rows, const sph_neighbours *nb);
+ * repeats (the pair pass then takes runs of consecutive neighbours), on
+ * `threads` threads for a long list. */
+int rates_rows_ascending(size_t n_rows, const sph_neighbours *nb, int threads);
 
 /* bodies.c (sim_support, sim_shrink_to_fit, rotation_velocity); run.c (sim_prepare) */
 double sim_support(const sph_sim *sim);

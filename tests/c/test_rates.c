@@ -694,12 +694,84 @@ static void row_test_matches_each_row(void **state)
         }
         const sph_neighbours csr = {.offsets = off, .indices = idx};
         const sph_neighbours per_row = {.lists = (const int *const *)lists, .counts = counts};
-        assert_int_equal(rates_rows_ascending(n_rows, &csr), expect);
-        assert_int_equal(rates_rows_ascending(n_rows, &per_row), expect);
+        assert_int_equal(rates_rows_ascending(n_rows, &csr, 1), expect);
+        assert_int_equal(rates_rows_ascending(n_rows, &per_row, 1), expect);
         ascending += expect;
         unsorted += !expect;
     }
     assert_true(ascending > 1000 && unsorted > 1000);
+
+    /* a long list, counted in blocks of 2^16 entries on 1 and 3 threads:
+     * rows of 5 that each start below the last one's end; then one descent
+     * inside a row, at the first entry of the second block */
+    const size_t rows = 50000, len = 5;
+    size_t *off = malloc((rows + 1) * sizeof *off);
+    int *idx = malloc(rows * len * sizeof *idx);
+    for (size_t a = 0; a <= rows; ++a)
+        off[a] = a * len;
+    for (size_t k = 0; k < rows * len; ++k)
+        idx[k] = (int)(k % len);
+    const sph_neighbours long_list = {.offsets = off, .indices = idx};
+    for (int threads = 1; threads <= 3; threads += 2)
+        assert_int_equal(rates_rows_ascending(rows, &long_list, threads), 1);
+    const size_t k = (size_t)1 << 16; /* inside a row: k % 5 == 1 */
+    assert_true(k % len != 0);
+    idx[k] = idx[k - 1];
+    for (int threads = 1; threads <= 3; threads += 2)
+        assert_int_equal(rates_rows_ascending(rows, &long_list, threads), 0);
+    free(off);
+    free(idx);
+}
+
+/* A public call's particle check on an array long enough to count on the
+ * pair pass's threads names the first wrong particle. */
+static void particle_check_names_the_particle(void **state)
+{
+    (void)state;
+    sph_sim *sim = free_block_2d(4, 4, 1e-3);
+    check(sim, sph_run(sim, 0));
+    check(sim, sph_set_threads(sim, 3));
+    const size_t n = 30000;
+    double *x = calloc(2 * n, sizeof *x), *v = calloc(2 * n, sizeof *v);
+    double *rho = malloc(n * sizeof *rho), *S = calloc(4 * n, sizeof *S);
+    double *mass = malloc(n * sizeof *mass), *out = calloc(9 * n, sizeof *out);
+    int *material = calloc(n, sizeof *material), index = 0;
+    size_t *off = calloc(n + 1, sizeof *off);
+    for (size_t a = 0; a < n; ++a) {
+        rho[a] = 2300.0;
+        mass[a] = 1e-3;
+    }
+    material[25000] = 7;
+    material[26000] = -1;
+    const sph_particles p = {.n_local = n,
+                             .n_total = n,
+                             .x = x,
+                             .v = v,
+                             .rho = rho,
+                             .S = S,
+                             .mass = mass,
+                             .material = material};
+    const sph_neighbours nb = {.offsets = off, .indices = &index};
+    sph_rates r = {
+        .dv_dt = out, .drho_dt = out + 2 * n, .dS_dt = out + 3 * n, .dx_dt = out + 7 * n};
+    assert_int_equal(sph_rates_pass_half(sim, SPH_RATES_ALL, &p, &nb, &r), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "particle 25000 has material 7"));
+    material[25000] = 0;
+    material[26000] = 0;
+    rho[29999] = -1.0;
+    assert_int_equal(sph_rates_pass_half(sim, SPH_RATES_ALL, &p, &nb, &r), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "particle 29999 has density rho=-1"));
+    rho[29999] = 2300.0;
+    check(sim, sph_rates_pass_half(sim, SPH_RATES_ALL, &p, &nb, &r));
+    free(x);
+    free(v);
+    free(rho);
+    free(S);
+    free(mass);
+    free(out);
+    free(material);
+    free(off);
+    sph_destroy(sim);
 }
 
 /* SPHSOLID_RATE_PATH picks the path of every handle created while it is
@@ -1696,6 +1768,7 @@ int main(void)
         cmocka_unit_test(strided_entry_points_match_the_dense_ones),
         cmocka_unit_test(caller_rows_take_runs_when_sorted),
         cmocka_unit_test(row_test_matches_each_row),
+        cmocka_unit_test(particle_check_names_the_particle),
         cmocka_unit_test(split_evaluation_over_two_processes),
         cmocka_unit_test(passes_add_up_to_the_whole_evaluation),
         cmocka_unit_test(energy_is_conserved_without_viscosity),
