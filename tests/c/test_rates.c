@@ -723,6 +723,22 @@ static void row_test_matches_each_row(void **state)
     free(idx);
 }
 
+/* One process's particles (n_local owned, then ghosts) for the split-pass
+ * tests. */
+static sph_particles process_particles(size_t n_local, size_t n_total, const double *x,
+                                       const double *v, const double *rho, const double *S,
+                                       const double *mass, const int *material)
+{
+    return (sph_particles){.n_local = n_local,
+                           .n_total = n_total,
+                           .x = x,
+                           .v = v,
+                           .rho = rho,
+                           .S = S,
+                           .mass = mass,
+                           .material = material};
+}
+
 /* A public call's particle check on an array long enough to count on the
  * pair pass's threads names the first wrong particle. */
 static void particle_check_names_the_particle(void **state)
@@ -743,14 +759,7 @@ static void particle_check_names_the_particle(void **state)
     }
     material[25000] = 7;
     material[26000] = -1;
-    const sph_particles p = {.n_local = n,
-                             .n_total = n,
-                             .x = x,
-                             .v = v,
-                             .rho = rho,
-                             .S = S,
-                             .mass = mass,
-                             .material = material};
+    const sph_particles p = process_particles(n, n, x, v, rho, S, mass, material);
     const sph_neighbours nb = {.offsets = off, .indices = &index};
     sph_rates r = {
         .dv_dt = out, .drho_dt = out + 2 * n, .dS_dt = out + 3 * n, .dx_dt = out + 7 * n};
@@ -1229,22 +1238,6 @@ static double energy_drift(double dt_factor, double duration, double *kinetic_sh
  * as sph_rates_evaluate with the full list, to the bit.  Kernel correction
  * and XSPH on, so every partial sum is exercised; the block spans several
  * chunks of the pair pass. */
-
-/* One process's particles (n_local owned, then ghosts) for the split-pass
- * tests. */
-static sph_particles process_particles(size_t n_local, size_t n_total, const double *x,
-                                       const double *v, const double *rho, const double *S,
-                                       const double *mass, const int *material)
-{
-    return (sph_particles){.n_local = n_local,
-                           .n_total = n_total,
-                           .x = x,
-                           .v = v,
-                           .rho = rho,
-                           .S = S,
-                           .mass = mass,
-                           .material = material};
-}
 
 static void split_evaluation_over_two_processes(void **state)
 {
