@@ -457,9 +457,10 @@ def plugin_parts(summary: dict[str, dict], ranks: int, labels: dict | None = Non
     arrays and the library's (f += m dv/dt, dv/dt = f/m, the other fixes'
     forces kept around an evaluation, stage buffers), and LAMMPS's own
     work, the rest of the loop (neighbour checks, force clearing, other
-    fixes, output); each as a share of the loop's CPU time.  For one rank, the library's work and
-    the rest against the loop CPU time of the library case with the same
-    integrator (the same steps): their sum is the plugin / library ratio."""
+    fixes, output); each as a share of the loop's CPU time.  For one rank,
+    the library's work and the rest (copies included) against the loop CPU
+    time of the library case with the same integrator (the same steps):
+    their sum is the plugin / library ratio."""
     lines = ["plugin cases, where the loop's CPU time goes (CPU seconds per rank, pair "
              "sphsolid's timers; share of the loop CPU time):"]
     for case, s in summary.items():

@@ -236,11 +236,10 @@ void FixSPHSolidIntegrate::evaluate_keeping_other_forces(int pass)
   const int dim = pair->dimension();
   other_force.resize((size_t) std::max(nlocal, 1) * dim);
   double *f = nlocal > 0 ? atom->f[0] : nullptr, *other = other_force.data();
-  const double *rmass = atom->rmass, *type_mass = atom->mass;
-  const int *type = atom->type;
+  const PairSPHSolid::AtomMasses mass = pair->atom_masses();
   const double *dv_pair = pair->dv_dt();
   for (int i = 0; i < nlocal; i++) {
-    const double m = rmass ? rmass[i] : type_mass[type[i]];
+    const double m = mass[i];
     for (int d = 0; d < dim; d++)
       other[(size_t) i * dim + d] = f[3 * i + d] - m * dv_pair[(size_t) i * dim + d];
   }
@@ -249,7 +248,7 @@ void FixSPHSolidIntegrate::evaluate_keeping_other_forces(int pass)
   start = PairSPHSolid::cpu_seconds();
   dv_pair = pair->dv_dt();
   for (int i = 0; i < nlocal; i++) {
-    const double m = rmass ? rmass[i] : type_mass[type[i]];
+    const double m = mass[i];
     for (int d = 0; d < dim; d++)
       f[3 * i + d] = m * dv_pair[(size_t) i * dim + d] + other[(size_t) i * dim + d];
   }

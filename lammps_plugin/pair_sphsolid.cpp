@@ -1065,10 +1065,10 @@ void PairSPHSolid::compute(int eflag, int vflag)
   const double start = cpu_seconds();
   const int nlocal = atom->nlocal;
   double *f = nlocal > 0 ? atom->f[0] : nullptr;
-  const double *rmass = atom->rmass, *type_mass = atom->mass, *dv = rate_dv.data();
-  const int *type = atom->type;
+  const double *dv = rate_dv.data();
+  const AtomMasses mass = atom_masses();
   for (int i = 0; i < nlocal; i++) {
-    const double m = rmass ? rmass[i] : type_mass[type[i]];
+    const double m = mass[i];
     for (int d = 0; d < dim; d++) f[3 * i + d] += m * dv[(size_t) i * dim + d];
   }
   part_seconds[PART_COPIES] += cpu_seconds() - start;

@@ -92,7 +92,15 @@ class PairSPHSolid : public Pair {
   const int *atom_materials() const { return materialbuf.data(); }
   double particle_spacing() const { return spacing; }
   double kernel_support() const { return support; }
-  double mass_of(int i) const { return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]]; }
+  // the mass of each atom (per atom or per type) with LAMMPS's arrays read
+  // once: for loops whose stores the compiler cannot tell from atom->...
+  struct AtomMasses {
+    const double *rmass, *type_mass;
+    const int *type;
+    double operator[](int i) const { return rmass ? rmass[i] : type_mass[type[i]]; }
+  };
+  AtomMasses atom_masses() const { return {atom->rmass, atom->mass, atom->type}; }
+  double mass_of(int i) const { return atom_masses()[i]; }
   /* Library default time step of `integrator` (0.5 h / c0 for
    * improved_euler, h / c0 for leapfrog) for the current coefficients, or 0
    * if some atom type has no material yet. */

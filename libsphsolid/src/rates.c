@@ -533,6 +533,20 @@ static void zero_sums(const engine *e, size_t n)
     }
 }
 
+/* x and v of n particles, xs doubles apart in xc and vc, written d apart
+ * (d a constant where the call gives one). */
+static ALWAYS_INLINE void copy_motion(double *x, double *v, const double *xc, const double *vc,
+                                      long n, size_t d, size_t xs, int threads)
+{
+    (void)threads; /* used by the OpenMP pragma only */
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (long a = 0; a < n; ++a)
+        for (size_t i = 0; i < d; ++i) {
+            x[(size_t)a * d + i] = xc[(size_t)a * xs + i];
+            v[(size_t)a * d + i] = vc[(size_t)a * xs + i];
+        }
+}
+
 /* A caller's positions and velocities more than dim doubles apart
  * (LAMMPS's 3 in 2D) copied dim apart, as the handle keeps them, for a
  * half list without periodic axes: the gather's usual case (fill_block's
@@ -547,21 +561,10 @@ static sph_status compact_motion(sph_sim *sim, engine *e)
     if (st)
         return st;
     double *x = sim->motion_scratch, *v = x + n * d;
-    const double *xc = e->x, *vc = e->v;
     if (d == 2) /* the usual case (LAMMPS in 2D) with a constant width */
-#pragma omp parallel for schedule(static) num_threads(e->threads)
-        for (long a = 0; a < (long)n; ++a)
-            for (size_t i = 0; i < 2; ++i) {
-                x[(size_t)a * 2 + i] = xc[(size_t)a * xs + i];
-                v[(size_t)a * 2 + i] = vc[(size_t)a * xs + i];
-            }
+        copy_motion(x, v, e->x, e->v, (long)n, 2, xs, e->threads);
     else
-#pragma omp parallel for schedule(static) num_threads(e->threads)
-        for (long a = 0; a < (long)n; ++a)
-            for (size_t i = 0; i < d; ++i) {
-                x[(size_t)a * d + i] = xc[(size_t)a * xs + i];
-                v[(size_t)a * d + i] = vc[(size_t)a * xs + i];
-            }
+        copy_motion(x, v, e->x, e->v, (long)n, d, xs, e->threads);
     e->x = x;
     e->v = v;
     e->xs = d;
