@@ -174,16 +174,34 @@ void FixSPHSolidIntegrate::apply_rigid_bodies()
    here on (the set-up's rate evaluation is not part of it) */
 void FixSPHSolidIntegrate::setup(int /*vflag*/)
 {
+  forces_of_pair_only = pair_forces_only();
   pair->reset_seconds();
   // the energy account's starting energy, the first time it runs
   if (pair->energy_account_on()) pair->account_start();
 }
 
 /* energy account: the powers of the rate evaluation whose accelerations
-   pack() just put into dvbuf */
+   pack() just put into stage_dv */
 void FixSPHSolidIntegrate::account_evaluation()
 {
-  if (pair->energy_account_on()) pair->account_evaluation(dvbuf.data(), integrate_motion.data());
+  if (pair->energy_account_on()) pair->account_evaluation(stage_dv, integrate_motion.data());
+}
+
+/* ----------------------------------------------------------------------
+   LAMMPS clears f before the force computation; pair sphsolid's compute
+   adds m dv/dt.  Other styles add in their compute and fixes in pre_force,
+   pre_reverse or post_force (gravity, setforce, addforce, ...).  Without
+   any of them f is m dv/dt exactly, so dv/dt is the pair's own and the
+   other forces are zero: pack() and evaluate_keeping_other_forces() then
+   make one copy instead of three per evaluation.
+------------------------------------------------------------------------- */
+
+bool FixSPHSolidIntegrate::pair_forces_only() const
+{
+  if (force->pair != pair || force->kspace || force->bond || force->angle || force->dihedral ||
+      force->improper)
+    return false;
+  return modify->n_pre_force == 0 && modify->n_pre_reverse == 0 && modify->n_post_force_any == 0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -205,12 +223,20 @@ void FixSPHSolidIntegrate::pack()
   // (LAMMPS's per-atom arrays are contiguous: f[i] is f[0] + 3 i; the
   // pointers are read once, as the stores below could alias LAMMPS's own)
   const double start = PairSPHSolid::cpu_seconds();
-  const double *f = nlocal > 0 ? atom->f[0] : nullptr;
   const int *mask = atom->mask;
-  const double *rmass = atom->rmass;
-  double *dv = dvbuf.data();
   unsigned char *moves = integrate_motion.data();
   const int bit = groupbit;
+  for (int i = 0; i < nlocal; i++) moves[i] = (mask[i] & bit) ? 1 : 0;
+  if (forces_of_pair_only && rigid.empty()) {
+    // f / m would give back the pair's dv/dt, rounded twice
+    stage_dv = pair->dv_dt();
+    pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
+    return;
+  }
+  const double *f = nlocal > 0 ? atom->f[0] : nullptr;
+  const double *rmass = atom->rmass;
+  double *dv = dvbuf.data();
+  stage_dv = dv;
   if (rmass) {
     for (int i = 0; i < nlocal; i++) {
       const double inverse_mass = 1.0 / rmass[i];
@@ -224,19 +250,30 @@ void FixSPHSolidIntegrate::pack()
     for (int i = 0; i < nlocal; i++)
       for (int d = 0; d < dim; d++) dv[(size_t) i * dim + d] = f[3 * i + d] * inverse[type[i]];
   }
-  for (int i = 0; i < nlocal; i++) moves[i] = (mask[i] & bit) ? 1 : 0;
   pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
   apply_rigid_bodies();
 }
 
 void FixSPHSolidIntegrate::evaluate_keeping_other_forces(int pass)
 {
-  double start = PairSPHSolid::cpu_seconds();
   const int nlocal = atom->nlocal;
   const int dim = pair->dimension();
-  other_force.resize((size_t) std::max(nlocal, 1) * dim);
-  double *f = nlocal > 0 ? atom->f[0] : nullptr, *other = other_force.data();
+  double *f = nlocal > 0 ? atom->f[0] : nullptr;
   const PairSPHSolid::AtomMasses mass = pair->atom_masses();
+  if (forces_of_pair_only) {    // the other forces are zero
+    pair->evaluate_rates(true, pass);
+    const double start = PairSPHSolid::cpu_seconds();
+    const double *dv_pair = pair->dv_dt();
+    for (int i = 0; i < nlocal; i++) {
+      const double m = mass[i];
+      for (int d = 0; d < dim; d++) f[3 * i + d] = m * dv_pair[(size_t) i * dim + d];
+    }
+    pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
+    return;
+  }
+  double start = PairSPHSolid::cpu_seconds();
+  other_force.resize((size_t) std::max(nlocal, 1) * dim);
+  double *other = other_force.data();
   const double *dv_pair = pair->dv_dt();
   for (int i = 0; i < nlocal; i++) {
     const double m = mass[i];
@@ -278,7 +315,7 @@ int FixSPHSolidIntegrate::saved_values() const
 sph_rates FixSPHSolidIntegrate::stage_rates()
 {
   sph_rates rates;
-  rates.dv_dt = dvbuf.data();
+  rates.dv_dt = const_cast<double *>(stage_dv);
   rates.drho_dt = const_cast<double *>(pair->drho_dt());
   rates.dS_dt = const_cast<double *>(pair->dS_dt());
   rates.dx_dt = const_cast<double *>(pair->dx_dt());

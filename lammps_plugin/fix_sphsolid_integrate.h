@@ -45,6 +45,11 @@ class FixSPHSolidIntegrate : public Fix {
   PairSPHSolid *pair;
   bool timestep_from_library;
   std::vector<double> dvbuf, other_force, stage;
+  // dv/dt for the stages, set by pack(): dvbuf, or pair sphsolid's own
+  // rates when f holds nothing else (pair_forces_only)
+  const double *stage_dv = nullptr;
+  // set at setup(): no other style or fix adds to f (pair_forces_only())
+  bool forces_of_pair_only = false;
   std::vector<unsigned char> integrate_motion;
   std::vector<FixSPHSolidForce *> rigid;    // fix sphsolid/force bodies
   std::vector<unsigned char> member;        // atoms of one of them
@@ -52,8 +57,11 @@ class FixSPHSolidIntegrate : public Fix {
   std::vector<double> inverse_type_mass;    // pack(): 1/m of each atom type
 
   void init_rigid_bodies();
+  // whether f holds exactly m dv/dt of pair sphsolid after the force
+  // computation: no other pair, bond, long-range style or force-adding fix
+  bool pair_forces_only() const;
   void apply_rigid_bodies();
-  // dv/dt of every force into dvbuf (rigid bodies applied), and which
+  // dv/dt of every force into stage_dv (rigid bodies applied), and which
   // atoms the stages integrate (integrate_motion)
   void pack();
   // pair sphsolid's rates of `pass` again at the current state, f set to
@@ -64,7 +72,7 @@ class FixSPHSolidIntegrate : public Fix {
   sph_rates stage_rates();
   void check_finite();
   // pair sphsolid's energy account on: the powers of the evaluation whose
-  // accelerations pack() put into dvbuf (after each pack() of an
+  // accelerations pack() put into stage_dv (after each pack() of an
   // evaluation the account has not seen); the step is closed with
   // pair->account_step() once its stages are done
   void account_evaluation();

@@ -19,9 +19,11 @@ number of ranks and are those of the library's particle of index ID - 1.
   of the effect off, and the effect off gives bitwise the series the
   plugin gave before the effect existed (tests/data/piston_probes_4mm.txt,
   written by the plugin of commit 441ff53) on the pair loop's baseline
-  path (SPHSOLID_RATE_PATH=baseline), and on the widest path the CPU has
-  (which fuses multiplies and adds) the same series to 1e-10 of each
-  probe's largest value (docs/performance.md).
+  path (SPHSOLID_RATE_PATH=baseline) when dv/dt goes through f as it did
+  then (a fix adding zero forces); with the pair's forces alone, and on
+  the widest path the CPU has (which fuses multiplies and adds), the same
+  series to 1e-12 and 1e-10 of each probe's largest value
+  (docs/performance.md).
 """
 from __future__ import annotations
 
@@ -300,11 +302,18 @@ def test_drucker_prager_returns_the_stress_as_the_library_does(tmp_path, plugin,
     np.testing.assert_allclose(spec[:, 2:4], x, rtol=0, atol=1e-12)
 
 
-def probe_series(tmp_path: Path, plugin, name: str, pair_extra: str) -> np.ndarray:
-    """The piston deck at dx = 4 mm, 40 steps, probes every 4 steps."""
+def probe_series(tmp_path: Path, plugin, name: str, pair_extra: str,
+                 zero_force: bool = False) -> np.ndarray:
+    """The piston deck at dx = 4 mm, 40 steps, probes every 4 steps
+    (zero_force: with a fix adding zero forces, so that the integrating fix
+    takes dv/dt = f/m of every force, not the pair's own)."""
     work = tmp_path / name
     work.mkdir()
     text = PISTON_DECK.read_text()
+    if zero_force:
+        text = text.replace("run             ${steps}",
+                            "fix zero all addforce 0.0 0.0 0.0\nrun             ${steps}")
+        assert "addforce" in text
     if pair_extra:
         text = text.replace("pair_coeff      * * K 12.2e9 mu 2.67e9 rho0 2300.0",
                             "pair_coeff      * * K 12.2e9 mu 2.67e9 rho0 2300.0 "
@@ -324,10 +333,22 @@ def test_damage_off_leaves_the_series_bitwise(tmp_path, plugin, monkeypatch):
     # the reference rounds as every path did before the wide ones fused
     # multiplies and adds: the baseline path still does
     monkeypatch.setenv("SPHSOLID_RATE_PATH", "baseline")
-    off = probe_series(tmp_path, plugin, "off", "")
+    # the reference's plugin took dv/dt = f/m, as the integrating fix still
+    # does when another fix adds forces (zero ones here)
+    through_f = probe_series(tmp_path, plugin, "through_f", "", zero_force=True)
     reference = np.loadtxt(DATA / "piston_probes_4mm.txt", comments="#", ndmin=2)
-    assert off.shape == reference.shape == (11, 20)
-    np.testing.assert_array_equal(off, reference)
+    assert through_f.shape == reference.shape == (11, 20)
+    np.testing.assert_array_equal(through_f, reference)
+    # with pair sphsolid's forces alone it takes the pair's dv/dt, which
+    # (m dv/dt) / m gives back to within one rounding: the same series to
+    # round-off, each probe to 1e-12 of its largest value
+    off = probe_series(tmp_path, plugin, "off", "")
+    np.testing.assert_array_equal(off[:, :2], reference[:, :2])
+    assert not np.array_equal(off, reference)    # the two paths were taken
+    for probe in range(3):
+        cols = slice(2 + 6 * probe, 8 + 6 * probe)
+        scale = np.abs(reference[:, cols]).max()
+        np.testing.assert_allclose(off[:, cols], reference[:, cols], rtol=0, atol=1e-12 * scale)
     # on, with flaws too rare to activate: the same series, bitwise
     on = probe_series(tmp_path, plugin, "on", "damage seed 3")
     np.testing.assert_array_equal(on, off)
