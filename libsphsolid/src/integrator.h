@@ -90,8 +90,18 @@ void body_stages_free(body_stage *bs, const body_stage *small);
 void body_stage_rotation(body_stage *b, double dt);
 /* x = c + R (x_n - c), v = omega x (x - c); returns |x - x_n|. */
 double rotate_particle(int dim, const body_stage *b, const double *x_n, double *x, double *v);
-void watchdog_bounds(const sph_sim *sim, const material *m, int integrate, double *vmax2,
-                     double *rho_lo, double *rho_hi);
+/* The watchdog's bounds for one material; a zero setting switches a bound
+ * off.  Prescribed particles (integrate = 0) are not held to the speed.
+ * Inline: the stages on caller arrays take them per particle. */
+static inline void watchdog_bounds(const sph_sim *sim, const material *m, int integrate,
+                                   double *vmax2, double *rho_lo, double *rho_hi)
+{
+    *vmax2 = integrate && sim->watch_speed > 0.0
+                 ? (sim->watch_speed * m->c_p) * (sim->watch_speed * m->c_p)
+                 : INFINITY;
+    *rho_lo = sim->watch_rho_min * m->rho0;
+    *rho_hi = sim->watch_rho_max > 0.0 ? sim->watch_rho_max * m->rho0 : INFINITY;
+}
 static inline int watchdog_trips(int dim, const double *v, double rho, double vmax2, double rho_lo,
                                  double rho_hi)
 {

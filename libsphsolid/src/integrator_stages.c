@@ -57,18 +57,6 @@ sph_status sph_rigid_force_apply(sph_sim *sim, size_t n, const double *applied, 
 
 /* ------------------------------------------------------------- watchdog */
 
-/* The watchdog's bounds for one material; a zero setting switches a bound
- * off.  Prescribed particles (integrate = 0) are not held to the speed. */
-void watchdog_bounds(const sph_sim *sim, const material *m, int integrate, double *vmax2,
-                     double *rho_lo, double *rho_hi)
-{
-    *vmax2 = integrate && sim->watch_speed > 0.0
-                 ? (sim->watch_speed * m->c_p) * (sim->watch_speed * m->c_p)
-                 : INFINITY;
-    *rho_lo = sim->watch_rho_min * m->rho0;
-    *rho_hi = sim->watch_rho_max > 0.0 ? sim->watch_rho_max * m->rho0 : INFINITY;
-}
-
 /* The watchdog's report for particle a of external arrays, which tripped
  * it: its speed if that is above the bound, else its density ratio. */
 sph_status watchdog_report(sph_sim *sim, long a, int dim, const double *v_a, double rho_a,
