@@ -184,7 +184,7 @@ void FixSPHSolidIntegrate::setup(int /*vflag*/)
    pack() just put into stage_dv */
 void FixSPHSolidIntegrate::account_evaluation()
 {
-  if (pair->energy_account_on()) pair->account_evaluation(stage_dv, integrate_motion.data());
+  if (pair->energy_account_on()) pair->account_evaluation(stage_dv(), integrate_motion.data());
 }
 
 /* ----------------------------------------------------------------------
@@ -195,6 +195,11 @@ void FixSPHSolidIntegrate::account_evaluation()
    other forces are zero: pack() and evaluate_keeping_other_forces() then
    make one copy instead of three per evaluation.
 ------------------------------------------------------------------------- */
+
+const double *FixSPHSolidIntegrate::stage_dv() const
+{
+  return dv_of_pair ? pair->dv_dt() : dvbuf.data();
+}
 
 bool FixSPHSolidIntegrate::pair_forces_only() const
 {
@@ -227,16 +232,14 @@ void FixSPHSolidIntegrate::pack()
   unsigned char *moves = integrate_motion.data();
   const int bit = groupbit;
   for (int i = 0; i < nlocal; i++) moves[i] = (mask[i] & bit) ? 1 : 0;
-  if (forces_of_pair_only && rigid.empty()) {
-    // f / m would give back the pair's dv/dt, rounded twice
-    stage_dv = pair->dv_dt();
+  dv_of_pair = forces_of_pair_only && rigid.empty();
+  if (dv_of_pair) {    // f / m would give back the pair's dv/dt, rounded twice
     pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
     return;
   }
   const double *f = nlocal > 0 ? atom->f[0] : nullptr;
   const double *rmass = atom->rmass;
   double *dv = dvbuf.data();
-  stage_dv = dv;
   if (rmass) {
     for (int i = 0; i < nlocal; i++) {
       const double inverse_mass = 1.0 / rmass[i];
@@ -315,7 +318,7 @@ int FixSPHSolidIntegrate::saved_values() const
 sph_rates FixSPHSolidIntegrate::stage_rates()
 {
   sph_rates rates;
-  rates.dv_dt = const_cast<double *>(stage_dv);
+  rates.dv_dt = const_cast<double *>(stage_dv());
   rates.drho_dt = const_cast<double *>(pair->drho_dt());
   rates.dS_dt = const_cast<double *>(pair->dS_dt());
   rates.dx_dt = const_cast<double *>(pair->dx_dt());

@@ -45,9 +45,10 @@ class FixSPHSolidIntegrate : public Fix {
   PairSPHSolid *pair;
   bool timestep_from_library;
   std::vector<double> dvbuf, other_force, stage;
-  // dv/dt for the stages, set by pack(): dvbuf, or pair sphsolid's own
-  // rates when f holds nothing else (pair_forces_only)
-  const double *stage_dv = nullptr;
+  // where pack() left dv/dt for the stages: pair sphsolid's own rates when
+  // f holds nothing else (pair_forces_only), else dvbuf
+  bool dv_of_pair = false;
+  const double *stage_dv() const;
   // set at setup(): no other style or fix adds to f (pair_forces_only())
   bool forces_of_pair_only = false;
   std::vector<unsigned char> integrate_motion;

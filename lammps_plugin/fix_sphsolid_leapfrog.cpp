@@ -135,7 +135,7 @@ void FixSPHSolidLeapfrog::final_integrate()
   long bad = -1;
   const double begin = PairSPHSolid::cpu_seconds();
   const sph_status status = sph_leapfrog_end_strided(
-      pair->handle(), nlocal, update->dt, atom->v[0], 3, pair->state()->rho, stage_dv,
+      pair->handle(), nlocal, update->dt, atom->v[0], 3, pair->state()->rho, stage_dv(),
       integrate_motion.data(), pair->atom_materials(), &bad);
   pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - begin);
   if (status != SPH_OK) fail(status, bad, "kick");
