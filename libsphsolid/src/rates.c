@@ -537,8 +537,8 @@ static void zero_sums(const engine *e, size_t n)
  * (d is 2 or 3).  The loop is written out for the two dimensions: OpenMP
  * outlines it before inlining could make d a constant, and a loop over d
  * per particle took 10 ns per particle in the plugin's 2D runs. */
-static void copy_motion(double *x, double *v, const double *xc, const double *vc, long n,
-                        size_t d, size_t xs, int threads)
+static void copy_motion(double *x, double *v, const double *xc, const double *vc, long n, size_t d,
+                        size_t xs, int threads)
 {
     (void)threads; /* used by the OpenMP pragma only */
 #pragma omp parallel for schedule(static) num_threads(threads)
