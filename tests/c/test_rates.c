@@ -653,6 +653,82 @@ static void caller_rows_take_runs_when_sorted(void **state)
     sph_destroy(sim);
 }
 
+/* In 3D a caller's positions and velocities more than 3 doubles apart
+ * (here 4, the fourth a NaN the pass must not read) are copied 3 apart for
+ * the pass, as in 2D: the rates are bitwise those of the dense arrays, on
+ * every path.  A perturbed, moving block, so that every component of x and
+ * v enters the rates. */
+static void wider_stride_in_3d_keeps_the_bits(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(3);
+    int mat, body;
+    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
+    const double dx = 1e-3, lo[3] = {0, 0, 0}, hi[3] = {6 * dx, 5 * dx, 4 * dx};
+    check(sim, sph_add_block(sim, "block", mat, lo, hi, dx, &body));
+    check(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 beta=2"));
+    check(sim, sph_effect(sim, "xsph", "epsilon=0.5"));
+    const size_t n = sph_particle_count(sim);
+    double *x = field_ptr(sim, SPH_FIELD_POSITION), *v = field_ptr(sim, SPH_FIELD_VELOCITY);
+    double *rho = field_ptr(sim, SPH_FIELD_DENSITY);
+    double *S = field_ptr(sim, SPH_FIELD_DEVIATORIC_STRESS);
+    unsigned seed = 7u;
+    for (size_t a = 0; a < n; ++a) {
+        for (int i = 0; i < 3; ++i) {
+            x[3 * a + i] += 0.02 * dx * uniform(&seed);
+            v[3 * a + i] = 0.1 * uniform(&seed);
+        }
+        rho[a] = PAPER_RHO0 * (1.0 + 1e-4 * uniform(&seed));
+        for (int c = 0; c < 6; ++c)
+            S[6 * a + c] = 1e5 * uniform(&seed);
+    }
+    check(sim, sph_run(sim, 0));
+    size_t *off;
+    int *idx;
+    const sph_neighbours nb = half_list(sim, &off, &idx);
+    sph_particles p3 = handle_particles(sim), p4 = p3;
+    double *x4 = malloc(4 * n * sizeof *x4), *v4 = malloc(4 * n * sizeof *v4);
+    for (size_t a = 0; a < n; ++a) {
+        for (int i = 0; i < 3; ++i) {
+            x4[4 * a + i] = sim->x[3 * a + i];
+            v4[4 * a + i] = sim->v[3 * a + i];
+        }
+        x4[4 * a + 3] = v4[4 * a + 3] = NAN;
+    }
+    p4.x = x4;
+    p4.v = v4;
+    p4.stride = 4;
+    const size_t per = 3 + 1 + 6 + 3, bytes = per * n * sizeof(double);
+    double *dense = calloc(per * n, sizeof *dense), *wide = calloc(per * n, sizeof *wide);
+    for (int path = RATE_PATH_BASELINE; path <= RATE_PATH_AVX512; ++path) {
+        if (rates_path(path) != path)
+            continue;
+        sim->rate_path = path;
+        const struct {
+            const sph_particles *p;
+            double *r;
+        } runs[2] = {{&p3, dense}, {&p4, wide}};
+        for (int k = 0; k < 2; ++k) {
+            double *r = runs[k].r;
+            sph_rates out = {
+                .dv_dt = r, .drho_dt = r + 3 * n, .dS_dt = r + 4 * n, .dx_dt = r + 10 * n};
+            check(sim, sph_rates_pass_half(sim, SPH_RATES_ALL, runs[k].p, &nb, &out));
+        }
+        assert_memory_equal(wide, dense, bytes);
+        double largest = 0.0;
+        for (size_t k = 0; k < 3 * n; ++k)
+            largest = fmax(largest, fabs(dense[k]));
+        assert_true(largest > 0.0);
+    }
+    free(dense);
+    free(wide);
+    free(x4);
+    free(v4);
+    free(off);
+    free(idx);
+    sph_destroy(sim);
+}
+
 /* The row test of a caller's list agrees with a row-by-row check on random
  * lists: rows empty or not, sorted or with one pair swapped or repeated,
  * offsets that start past the array's first entry, and the lists+counts
@@ -1760,6 +1836,7 @@ int main(void)
         cmocka_unit_test(artificial_stress_needs_a_non_negative_kernel),
         cmocka_unit_test(strided_entry_points_match_the_dense_ones),
         cmocka_unit_test(caller_rows_take_runs_when_sorted),
+        cmocka_unit_test(wider_stride_in_3d_keeps_the_bits),
         cmocka_unit_test(row_test_matches_each_row),
         cmocka_unit_test(particle_check_names_the_particle),
         cmocka_unit_test(split_evaluation_over_two_processes),
