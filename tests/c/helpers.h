@@ -62,17 +62,22 @@ static inline sph_sim *external_particles_2d(int *material)
     return sim;
 }
 
-/* A free 2D block of nx x ny particles of spacing dx centred on the origin,
- * paper material. */
-static inline sph_sim *free_block_2d(int nx, int ny, double dx)
+/* A free block of nx x ny (x nz in 3D: nz > 0) particles of spacing dx
+ * centred on the origin, paper material. */
+static inline sph_sim *free_block(int nx, int ny, int nz, double dx)
 {
-    sph_sim *sim = new_sim(2);
+    sph_sim *sim = new_sim(nz > 0 ? 3 : 2);
     int mat, body;
     check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
-    const double lo[3] = {-0.5 * nx * dx, -0.5 * ny * dx, 0},
-                 hi[3] = {0.5 * nx * dx, 0.5 * ny * dx, 0};
+    const double lo[3] = {-0.5 * nx * dx, -0.5 * ny * dx, nz > 0 ? -0.5 * nz * dx : 0.0},
+                 hi[3] = {0.5 * nx * dx, 0.5 * ny * dx, nz > 0 ? 0.5 * nz * dx : 0.0};
     check(sim, sph_add_block(sim, "block", mat, lo, hi, dx, &body));
     return sim;
+}
+
+static inline sph_sim *free_block_2d(int nx, int ny, double dx)
+{
+    return free_block(nx, ny, 0, dx);
 }
 
 static inline double *field_ptr(sph_sim *sim, sph_field_id f)

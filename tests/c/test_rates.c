@@ -661,11 +661,8 @@ static void caller_rows_take_runs_when_sorted(void **state)
 static void wider_stride_in_3d_keeps_the_bits(void **state)
 {
     (void)state;
-    sph_sim *sim = new_sim(3);
-    int mat, body;
-    check(sim, sph_add_material_K_mu(sim, PAPER_K, PAPER_MU, PAPER_RHO0, &mat));
-    const double dx = 1e-3, lo[3] = {0, 0, 0}, hi[3] = {6 * dx, 5 * dx, 4 * dx};
-    check(sim, sph_add_block(sim, "block", mat, lo, hi, dx, &body));
+    const double dx = 1e-3;
+    sph_sim *sim = free_block(6, 5, 4, dx);
     check(sim, sph_effect(sim, "artificial_viscosity", "alpha=1 beta=2"));
     check(sim, sph_effect(sim, "xsph", "epsilon=0.5"));
     const size_t n = sph_particle_count(sim);
