@@ -263,34 +263,30 @@ void FixSPHSolidIntegrate::evaluate_keeping_other_forces(int pass)
   const int dim = pair->dimension();
   double *f = nlocal > 0 ? atom->f[0] : nullptr;
   const PairSPHSolid::AtomMasses mass = pair->atom_masses();
-  if (forces_of_pair_only) {    // the other forces are zero
-    pair->evaluate_rates(true, pass);
-    const double start = PairSPHSolid::cpu_seconds();
+  // without other forces (forces_of_pair_only) f is m dv/dt: nothing to keep
+  const bool keep = !forces_of_pair_only;
+  double start = PairSPHSolid::cpu_seconds();
+  double *other = nullptr;
+  if (keep) {
+    other_force.resize((size_t) std::max(nlocal, 1) * dim);
+    other = other_force.data();
     const double *dv_pair = pair->dv_dt();
     for (int i = 0; i < nlocal; i++) {
       const double m = mass[i];
-      for (int d = 0; d < dim; d++) f[3 * i + d] = m * dv_pair[(size_t) i * dim + d];
+      for (int d = 0; d < dim; d++)
+        other[(size_t) i * dim + d] = f[3 * i + d] - m * dv_pair[(size_t) i * dim + d];
     }
-    pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
-    return;
-  }
-  double start = PairSPHSolid::cpu_seconds();
-  other_force.resize((size_t) std::max(nlocal, 1) * dim);
-  double *other = other_force.data();
-  const double *dv_pair = pair->dv_dt();
-  for (int i = 0; i < nlocal; i++) {
-    const double m = mass[i];
-    for (int d = 0; d < dim; d++)
-      other[(size_t) i * dim + d] = f[3 * i + d] - m * dv_pair[(size_t) i * dim + d];
   }
   pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
   pair->evaluate_rates(true, pass);    // ghosts' x, v, rho and S in one exchange
   start = PairSPHSolid::cpu_seconds();
-  dv_pair = pair->dv_dt();
+  const double *dv_pair = pair->dv_dt();
   for (int i = 0; i < nlocal; i++) {
     const double m = mass[i];
-    for (int d = 0; d < dim; d++)
-      f[3 * i + d] = m * dv_pair[(size_t) i * dim + d] + other[(size_t) i * dim + d];
+    for (int d = 0; d < dim; d++) {
+      const double pair_force = m * dv_pair[(size_t) i * dim + d];
+      f[3 * i + d] = keep ? pair_force + other[(size_t) i * dim + d] : pair_force;
+    }
   }
   pair->add_seconds(PairSPHSolid::PART_COPIES, PairSPHSolid::cpu_seconds() - start);
 }
