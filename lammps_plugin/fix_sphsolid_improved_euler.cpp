@@ -67,7 +67,7 @@ void FixSPHSolidImprovedEuler::initial_integrate(int /*vflag*/)
   pack();
   account_evaluation();    // energy account: the evaluation at y_n
   const sph_rates rates = stage_rates();
-  const int nsaved = saved_values();
+  const int nsaved = saved_doubles_per_atom();
   stage.resize((size_t) std::max(nlocal, 1) * nsaved);
 
   FixSPHSolidState *state = pair->state();
@@ -110,7 +110,7 @@ void FixSPHSolidImprovedEuler::copy_stage(bool to_rows)
 {
   const double start = PairSPHSolid::cpu_seconds();
   const int dim = pair->dimension(), ncomp = pair->stress_components();
-  const int nsaved = saved_values();
+  const int nsaved = saved_doubles_per_atom();
   FixSPHSolidState *state = pair->state();
   const size_t n = stage_atoms;
   const int blocks[4] = {dim, 1, ncomp, nsaved - dim - 1 - ncomp};
@@ -141,7 +141,7 @@ void FixSPHSolidImprovedEuler::final_integrate()
   pack();
   account_evaluation();    // energy account: the evaluation at y*
   const sph_rates rates = stage_rates();
-  const int nsaved = saved_values();
+  const int nsaved = saved_doubles_per_atom();
   stage.resize((size_t) std::max(nlocal, 1) * nsaved);
 
   if (stage_atoms < 0)

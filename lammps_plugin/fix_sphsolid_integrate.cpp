@@ -303,7 +303,7 @@ double FixSPHSolidIntegrate::default_factor()
 }
 
 /* values per atom of the library's stage buffer (sph_integrator_info_get) */
-int FixSPHSolidIntegrate::saved_values() const
+int FixSPHSolidIntegrate::saved_doubles_per_atom() const
 {
   sph_integrator_info info;
   if (sph_integrator_info_get(pair->handle(), integrator, &info) != SPH_OK)

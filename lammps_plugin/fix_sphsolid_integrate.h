@@ -68,8 +68,8 @@ class FixSPHSolidIntegrate : public Fix {
   // pair sphsolid's rates of `pass` again at the current state, f set to
   // m dv/dt plus the forces the other fixes (gravity) added to it before
   void evaluate_keeping_other_forces(int pass);
-  int saved_values() const;    // of the library's stages (sph_integrator_info_get)
-  double default_factor();     // default step / (h/c0) of the integrator
+  int saved_doubles_per_atom() const;    // of the library's stages (sph_integrator_info_get)
+  double default_factor();               // default step / (h/c0) of the integrator
   sph_rates stage_rates();
   void check_finite();
   // pair sphsolid's energy account on: the powers of the evaluation whose

@@ -86,7 +86,7 @@ void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
   sph_rates start = stage_rates();
   start.drho_dt = state->carried_rho;
   start.dS_dt = state->carried_S_data();
-  stage.resize((size_t) std::max(nlocal, 1) * saved_values());
+  stage.resize((size_t) std::max(nlocal, 1) * saved_doubles_per_atom());
   double *x = atom->x[0], *v = atom->v[0];
   double begin = PairSPHSolid::cpu_seconds();
   sph_status status =

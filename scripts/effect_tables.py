@@ -5,7 +5,7 @@
     python scripts/effect_tables.py --check   # exit 1 if a doc disagrees
     python scripts/effect_tables.py --write   # rewrite the docs' tables
 
-The registry (libsphsolid/src/effects.c, asked through
+The registry (libsphsolid/src/effects/effects.c, asked through
 ``sphsolid._lib.effect_registry``) is the one place an effect, its
 parameters, defaults and ranges are written; docs/library.md holds its
 Markdown table and docs/lammps/pair_sphsolid.rst one keyword line per

@@ -2,7 +2,7 @@
  * strain rule of activation, determinism and the cost of leaving it off. */
 #include "helpers.h"
 
-#include "damage.h"
+#include "effects/damage.h"
 
 /* A periodic block of n^dim particles of spacing dx (paper material),
  * which stays uniform under a uniform state. */

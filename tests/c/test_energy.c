@@ -1,7 +1,7 @@
 /* sph_energy_fields() gives the per-particle terms that sph_energy() sums. */
 #include "helpers.h"
 
-#include "sim.h"
+#include "core/sim.h"
 
 static void fields_sum_to_the_elastic_energy(void **state)
 {

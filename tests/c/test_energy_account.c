@@ -9,7 +9,7 @@
  */
 #include "helpers.h"
 
-#include "sim.h"
+#include "core/sim.h"
 
 /* status and message of a call that must be refused */
 #define refused(sim, call, text)                                                                \

@@ -23,7 +23,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "sim.h"
+#include "core/sim.h"
 
 /* HDF5 1.10 keeps the core driver's buffer (and the file's name) when a
  * file's closing flush fails, as on the full disk below: the file

@@ -1,7 +1,7 @@
 /* HDF5 output read back exactly; checkpoints resume bit for bit. */
 #include "helpers.h"
 
-#include "sim.h"
+#include "core/sim.h"
 
 static sph_sim *paper(double dx)
 {

@@ -2,7 +2,7 @@
  * support. */
 #include "helpers.h"
 
-#include "kernel.h"
+#include "physics/kernel.h"
 
 /* Integral of W over the plane/space by the midpoint rule on a fine grid;
  * must be 1 by the normalisation sigma_d / h^d. */

@@ -5,7 +5,7 @@
  * without periodic axes, in 2D and 3D. */
 #include "helpers.h"
 
-#include "sim.h"
+#include "core/sim.h"
 
 static double uniform(unsigned *seed)
 {

@@ -4,7 +4,7 @@
  * stress, external particles and bad input. */
 #include "helpers.h"
 
-#include "plasticity.h"
+#include "effects/plasticity.h"
 
 /* sqrt(J2) of a deviator of 6 components (xx yy zz xy xz yz). */
 static double root_J2(const double *S)

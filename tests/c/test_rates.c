@@ -3,8 +3,8 @@
 #define _POSIX_C_SOURCE 200112L /* setenv */
 #include "helpers.h"
 
-#include "kernel.h"
-#include "sim.h"
+#include "physics/kernel.h"
+#include "core/sim.h"
 
 typedef struct rates_buf {
     double *dv, *drho, *dS;

@@ -2,7 +2,7 @@
  * the XDMF companion that points into it. */
 #include "helpers.h"
 
-#include "sim.h"
+#include "core/sim.h"
 
 static sph_sim *paper(double dx)
 {

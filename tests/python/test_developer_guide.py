@@ -10,6 +10,8 @@ import pytest
 from sphsolid import _lib, cli
 from sphsolid.dynamics import dynamics_for
 
+from public_header import public_header_text
+
 ROOT = Path(__file__).resolve().parents[2]
 GUIDE = ROOT / "docs" / "developer.md"
 PLUGIN = ROOT / "lammps_plugin" / "sphsolid_plugin.cpp"
@@ -103,16 +105,16 @@ def test_every_path_a_checklist_names_exists(title):
 @pytest.mark.parametrize("name", _lib.integrator_names())
 def test_every_integrator_has_its_record_fix_page_and_class(name):
     src = ROOT / "libsphsolid" / "src"
-    records = [p for p in src.glob("*.c")
+    records = [p for p in src.rglob("*.c")
                if f"const integrator integrator_{name} " in p.read_text()
                or f"const integrator integrator_{name}=" in p.read_text()]
     assert len(records) == 1, records
     assert records[0].name in (ROOT / "libsphsolid" /
                                "CMakeLists.txt").read_text()
     assert f"&integrator_{name}" in \
-        (src / "integrator_registry.c").read_text()
+        (src / "integrators" / "integrator_registry.c").read_text()
     assert re.search(rf"extern const integrator integrator_{name}\b",
-                     (src / "integrator.h").read_text())
+                     (src / "integrators" / "integrator.h").read_text())
     assert dynamics_for(name).integrator == name
     # the plugin runs integrator <name> as fix sphsolid/<name>
     fix = name
@@ -123,7 +125,7 @@ def test_every_integrator_has_its_record_fix_page_and_class(name):
     assert source.is_file() and f"fix_sphsolid_{fix}.cpp" in \
         (ROOT / "lammps_plugin" / "CMakeLists.txt").read_text()
     # the fix runs the integrator through its stage API of sphsolid.h
-    header = (ROOT / "libsphsolid" / "include" / "sphsolid.h").read_text()
+    header = public_header_text()
     stages = set(re.findall(r"\b(sph_\w+_strided)\(", source.read_text()))
     assert stages and all(f"{s}(" in header for s in stages)
 
@@ -141,12 +143,12 @@ def test_the_planners_effects_are_registered():
 
 
 def test_every_effect_and_kernel_has_its_registry_row():
-    effects = (ROOT / "libsphsolid" / "src" / "effects.c").read_text()
+    effects = (ROOT / "libsphsolid" / "src" / "effects" / "effects.c").read_text()
     rows = effects[effects.index("#define SPH_EFFECTS(X)"):]
     for name in _lib.effect_names():
         assert re.search(rf"\bX\({name},", rows), name
-    kernel_h = (ROOT / "libsphsolid" / "src" / "kernel.h").read_text()
-    header = (ROOT / "libsphsolid" / "include" / "sphsolid.h").read_text()
+    kernel_h = (ROOT / "libsphsolid" / "src" / "physics" / "kernel.h").read_text()
+    header = public_header_text()
     for name in _lib.kernel_names():
         assert re.search(rf"\bX\(SPH_KERNEL_{name.upper()}, {name},",
                          kernel_h), name

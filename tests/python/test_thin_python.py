@@ -13,6 +13,8 @@ import pytest
 import sphsolid
 from sphsolid import _lib, build, scenes
 
+from public_header import public_header_text
+
 ROOT = Path(__file__).resolve().parents[2]
 HEADER = ROOT / "libsphsolid" / "include" / "sphsolid.h"
 SOURCES = ROOT / "libsphsolid" / "src"
@@ -20,7 +22,7 @@ SOURCES = ROOT / "libsphsolid" / "src"
 
 def _enum(name: str) -> dict:
     """{constant: value} of ``typedef enum name {...}`` in sphsolid.h."""
-    text = HEADER.read_text()
+    text = public_header_text()
     body = re.search(r"typedef enum %s \{(.*?)\} %s;" % (name, name), text,
                      re.S).group(1)
     body = re.sub(r"/\*.*?\*/", "", body, flags=re.S)
@@ -46,7 +48,7 @@ def test_field_and_motion_ids_match_the_header(enum, prefix):
 
 @pytest.mark.skipif(not HEADER.is_file(), reason="no source tree")
 def test_stress_components_match_the_header_macro():
-    text = HEADER.read_text()
+    text = public_header_text()
     two, three = re.search(r"#define SPH_STRESS_COMPONENTS\(dim\) "
                            r"\(\(dim\) == 2 \? (\d+) : (\d+)\)", text).groups()
     assert (_lib.stress_components(2), _lib.stress_components(3)) == \
@@ -132,7 +134,7 @@ def test_the_library_judges_and_names_the_value(call, message, source):
     assert message in str(info.value)
     if SOURCES.is_dir():
         # the message is the library's: its format is in the C sources
-        assert any(source in p.read_text() for p in SOURCES.glob("*.c"))
+        assert any(source in p.read_text() for p in SOURCES.rglob("*.c"))
 
 
 def test_cli_passes_the_librarys_inset_message(tmp_path):
