@@ -2,6 +2,10 @@
 (docs/accuracy.md).
 
     python -m validation.accuracy [--quick] [--out docs] [--threads 1]
+        [--report validation/reports/accuracy/quick.md]
+
+The data (FE series, results.json) stay in ``--out``/accuracy; the
+generated report goes to ``--report`` and docs/accuracy.md quotes it.
 
 For three scenes with a trusted answer -- the paper's piston test against
 the finite-element reference (:mod:`validation.fe_reference`), the
@@ -1008,12 +1012,19 @@ def main(argv=None) -> int:
                         default="strip,gravity,strip_tension,piston,"
                         "piston_nu045,"
                         "piston_squat,piston_slender,cylinder")
+    parser.add_argument("--report", type=Path, default=None,
+                        help="the generated report (default: "
+                        "validation/reports/accuracy/quick.md with --quick, "
+                        "else full.md there); docs/accuracy.md quotes it")
     parser.add_argument("--document-only", action="store_true",
-                        help="rewrite accuracy.md from accuracy/results.json")
+                        help="rewrite the report from accuracy/results.json")
     parser.add_argument("--estimate-only", action="store_true",
                         help="keep the planner checks of results.json, run "
                         "the per-run estimate checks again")
     args = parser.parse_args(argv)
+    if args.report is None:
+        args.report = REPORTS / ("quick.md" if args.quick else "full.md")
+    args.report.parent.mkdir(parents=True, exist_ok=True)
     data = args.out / "accuracy"
     data.mkdir(parents=True, exist_ok=True)
     clock = wallclock.perf_counter()
@@ -1026,7 +1037,7 @@ def main(argv=None) -> int:
                if results_path.exists() else {})
     from validation.record import HELD_OUT, reference_scene
     if args.document_only:
-        write_document(args.out / "accuracy.md", results, args)
+        write_document(args.report, results, args)
         return 0
     visc = {"artificial_viscosity": {"alpha": 1.0, "beta": 0.0}}
     for name in args.scenes.split(","):
@@ -1078,10 +1089,14 @@ def main(argv=None) -> int:
             result["load"] = [load_start, os.getloadavg()[0]]
         results[name] = result
         results_path.write_text(json.dumps(results, indent=1, default=float))
-        write_document(args.out / "accuracy.md", results, args)
-    log(f"done; wrote {args.out / 'accuracy.md'}")
+        write_document(args.report, results, args)
+    log(f"done; wrote {args.report}")
     return 0
 
+
+#: Where the generated reports go (the quick one and the full mode's, one
+#: per scene set); docs/accuracy.md is the hand-written reference.
+REPORTS = Path("validation/reports/accuracy")
 
 RECORD_HEADER = """## Verification record
 
@@ -1210,22 +1225,22 @@ def write_document(path: Path, results: dict, args) -> None:
 #: the record's planner, its time and its verdict (measured figures).
 FULL_STRIP = ("run with this record's planner on the strip and the "
               "pulled strip (`python -m validation.accuracy --full --scenes "
-              "strip,strip_tension --out DIR`, 100 s on one thread: "
-              "accuracy/full_strip.md, its link to planner.md made relative "
-              "to that folder) and on gravity (`--scenes gravity`, "
-              "24 minutes: accuracy/full_gravity.md), the machine's other "
+              "strip,strip_tension --out DIR --report "
+              "validation/reports/accuracy/full_strip.md`, 100 s on one "
+              "thread) and on gravity (`--scenes gravity`, "
+              "24 minutes: full_gravity.md), the machine's other "
               "core busy: on each strip 12 of the 19 rows planned and met, "
               "the 7 refused missed by the exhaustive sweep too; on gravity "
               "19 of 19 planned and met. On the piston (`--scenes "
-              "piston`, 37 minutes, sweep to 0.5 mm: accuracy/"
+              "piston`, 37 minutes, sweep to 0.5 mm: "
               "full_piston.md) 19 of 19 planned and met, RMS 1 % and max "
               "2 % included; on the held-out scenes, each with another run "
-              "beside it: the slender specimen (10 minutes: accuracy/"
+              "beside it: the slender specimen (10 minutes: "
               "full_slender.md) 12 of 19 planned and met, the 7 refused "
               "missed by the sweep too; the squat specimen (5 minutes: "
-              "accuracy/full_squat.md) 6 of 19 planned and met, the 13 "
+              "full_squat.md) 6 of 19 planned and met, the 13 "
               "refused missed by the sweep too; the piston with nu = 0.45 "
-              "(12 minutes: accuracy/full_nu045.md) 15 of 19 planned and "
+              "(12 minutes: full_nu045.md) 15 of 19 planned and "
               "13 met: **RMS 2 % achieved 2.02 % against a bound of "
               "1.98 %** on 1 and 2 threads (true over central prediction "
               "1.27, above the safety factor 1.25; the FE reference's own "
@@ -1435,7 +1450,7 @@ load, CPU times much less: compare the CPU predictions.** Threads wait
 passively at OpenMP barriers (`OMP_WAIT_POLICY=PASSIVE`, which this
 module sets unless the environment sets a policy): on the shared
 machine a spinning thread takes the core from the one it waits for
-([planner.md](planner.md)).
+(docs/planner.md).
 
 What is checked, per request (10, 5, 3, 2 %, in the max and the RMS norm,
 on 1 and 2 threads; 2.5 % max and 1 % RMS besides):

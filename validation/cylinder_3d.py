@@ -2,7 +2,7 @@
 
     python validation/cylinder_3d.py [--out docs/validation/cylinder_3d] [--quick]
 
-writes ``cylinder_3d.md`` (the section of docs/validation.md),
+writes ``cylinder_3d.md`` (docs/validation.md, section 9, quotes it),
 ``results_3d.json`` and figures into ``--out``.  Checks:
 
 1. P-wave arrival on the cylinder's axis against (L - y)/c_p, with
@@ -374,17 +374,6 @@ def run_study(out: Path, quick: bool = False, threads: int = 1, log=print,
     text = _markdown(results, figure.name)
     (out / "cylinder_3d.md").write_text(text)
     log(f"wrote {out / 'cylinder_3d.md'}, {out / 'results_3d.json'}, {figure}")
-    # splice into docs/validation.md between its markers, with the figure's
-    # path relative to that page
-    page = out.parent.parent / "validation.md"
-    begin, end = "<!-- cylinder_3d:begin -->", "<!-- cylinder_3d:end -->"
-    if page.exists() and begin in page.read_text() and not quick:
-        old = page.read_text()
-        relative = figure.relative_to(page.parent) if figure.is_relative_to(page.parent) else figure
-        body = text.replace(f"]({figure.name})", f"]({relative})")
-        page.write_text(old[:old.index(begin) + len(begin)] + "\n" + body + "\n"
-                        + old[old.index(end):])
-        log(f"updated {page}")
     return results
 
 

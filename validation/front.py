@@ -1,5 +1,6 @@
 """Accuracy versus cost of the piston test over the scheme's options
-(docs/validation.md, section 4, "The accuracy front").
+(docs/validation.md, section 4, "The accuracy front"; the generated table
+and figure: docs/validation/front.md, docs/validation/front/front.png).
 
     python -m validation.front                         # whole study + doc
     python -m validation.front --dx 5e-4 --options waves --no-doc   # part
@@ -46,7 +47,7 @@ WINDOW = decomposition.WINDOW
 DXS = (2e-3, 1e-3, 5e-4)
 FE = Path("docs/accuracy/fe_piston_1mm.npz")
 RUNS = Path("docs/validation/front")
-DOC = Path("docs/validation.md")
+DOC = Path("docs/validation/front.md")
 FIGURE = "front.png"
 BEGIN, END = "<!-- front:begin -->", "<!-- front:end -->"
 
@@ -263,6 +264,7 @@ def main(argv=None):
     if args.no_doc:
         return
     points = load(args.runs)
+    (args.doc.parent / args.doc.stem).mkdir(parents=True, exist_ok=True)
     plot([q for q in points if q["rms"] <= UNSTABLE],
          args.doc.parent / args.doc.stem / FIGURE)
     write_doc(args.doc, section(points, f"{args.doc.stem}/{FIGURE}"))

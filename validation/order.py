@@ -2,7 +2,7 @@
 (docs/validation.md, section "What limits the observed order").
 
     python -m validation.order --experiments strip specimen sweep \
-        --out docs/validation/order --doc docs/validation.md
+        --out docs/validation/order
     (--dx 2e-3 1e-3 5e-4 by default; --only LABEL ... runs some again and
     merges them into DIR/order.json; --series keeps the probe series in
     --series-dir, and --rescore scores the kept series again against the

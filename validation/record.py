@@ -1,5 +1,6 @@
 """The verification record of the planner's settings
-(:mod:`sphsolid.planner.record`; docs/accuracy.md, "Verification record").
+(:mod:`sphsolid.planner.record`; docs/accuracy.md, "Verification record";
+the whole table in validation/reports/accuracy/quick.md).
 
     python -m validation.record [--scenes piston,strip,...] [--threads 1]
                                 [--only 'step=0.5']
@@ -402,7 +403,8 @@ def combine(per_scene: dict, fitted, held_out) -> dict:
 
 
 def record_text(record: dict, raw: dict) -> str:
-    """docs/accuracy.md's table of the verification record: per setting
+    """The table of the verification record (validation/reports/
+    accuracy/quick.md): per setting
     and norm the factor and bias the planner uses, and each scene's
     largest ratio of true to predicted error (held-out scenes marked, with
     whether the factor covers them)."""

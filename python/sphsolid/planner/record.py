@@ -30,8 +30,9 @@ when one of those is among a plan's candidates, the dominated one is not
 calibrated (the leapfrog dominates Improved Euler with the same kernel and
 effects: the same errors for half the evaluations per step). Scenes declared held out are run and reported beside the fitted
 ones, never used for the factors. The file ships with the package
-(``record.json``, next to this module); docs/accuracy.md's verification
-table is generated from it.
+(``record.json``, next to this module); the verification
+table of validation/reports/accuracy/quick.md is generated from it
+(docs/accuracy.md summarises it).
 """
 from __future__ import annotations
 
