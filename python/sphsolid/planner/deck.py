@@ -234,15 +234,14 @@ def plan_deck(deck, error: float, until: float | None = None, probes=(),
     if affordable:
         result.adopt(affordable[0])
     elif usable:
-        best = min(usable, key=lambda c: c.model.upper(c.model.smallest_dx))
-        result.best_reachable_error = best.model.upper(
-            best.model.smallest_dx)
+        best = min(usable, key=lambda c: c.model.reachable()[0])
+        result.best_reachable_error, at = best.model.reachable()
         result.reason = (f"no variable setting meets {error * 100:g} %"
                          + (f" within {max_seconds:g} s" if max_seconds
                             else "") + f"; best reachable: "
                          f"{result.best_reachable_error * 100:.2f} % with "
                          f"{best.setting.label()} at {variable} = "
-                         f"{best.model.smallest_dx:.3g}")
+                         f"{at:.3g}")
     else:
         result.reason = "every deck run failed"
     result.calibration_seconds = wallclock.perf_counter() - clock

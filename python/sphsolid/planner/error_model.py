@@ -24,16 +24,7 @@ def fit_order(spacings: Sequence[float], differences: Sequence[float],
     This is the Eça-Hoekstra least-squares estimate written on the
     differences, so no extrapolated limit series is needed. Returns
     (q, C, RMS log-residual)."""
-    h = np.asarray(spacings, float)
-    d = np.asarray(differences, float)
-    if len(d) != len(h) - 1 or len(d) < 2:
-        raise ValueError(f"need 3 or more spacings and one difference per "
-                         f"consecutive pair, got {len(h)} and {len(d)}")
-    if np.any(~np.isfinite(d)) or np.any(d <= 0):
-        raise ValueError(f"differences must be positive and finite, got "
-                         f"{list(d)}")
-    if np.any(np.diff(h) >= 0):
-        raise ValueError(f"spacings must decrease, got {list(h)}")
+    h, d = _checked(spacings, differences)
     best = None
     for q in orders:
         basis = np.log(h[:-1] ** q - h[1:] ** q)
@@ -44,6 +35,97 @@ def fit_order(spacings: Sequence[float], differences: Sequence[float],
             best = (score, float(q), logc)
     score, q, logc = best
     return q, math.exp(logc), math.sqrt(score / len(d))
+
+
+def _checked(spacings, differences) -> tuple[np.ndarray, np.ndarray]:
+    h = np.asarray(spacings, float)
+    d = np.asarray(differences, float)
+    if len(d) != len(h) - 1 or len(d) < 2:
+        raise ValueError(f"need 3 or more spacings and one difference per "
+                         f"consecutive pair, got {len(h)} and {len(d)}")
+    if np.any(~np.isfinite(d)) or np.any(d <= 0):
+        raise ValueError(f"differences must be positive and finite, got "
+                         f"{list(d)}")
+    if np.any(np.diff(h) >= 0):
+        raise ValueError(f"spacings must decrease, got {list(h)}")
+    return h, d
+
+
+#: Width of the verification record's order prior beyond its range: an
+#: order this far outside the orders a setting's true errors fell at on
+#: the record's fitted scenes is one standard deviation from them.
+PRIOR_WIDTH = 0.1
+#: The least scatter the data of a fit with a prior are weighted by
+#: (RMS log-residual: 1 %): a ladder that follows its law closer than
+#: that is not made more certain of its order.
+LEAST_SCATTER = 0.01
+
+
+def _outside(q: float, prior) -> float:
+    """How far q lies outside the prior's range (0 inside it)."""
+    if prior is None:
+        return 0.0
+    low, high = prior
+    return max(0.0, low - q, q - high)
+
+
+def fit_order_with_prior(spacings: Sequence[float],
+                         differences: Sequence[float], prior=None,
+                         sigma: float | None = None,
+                         orders=np.arange(0.1, 6.001, 0.005)):
+    """The order and coefficient of :func:`fit_order` with a prior on the
+    order: the orders ``prior = (low, high)`` the verification record
+    measured for the setting are equally likely, one beyond them by
+    :data:`PRIOR_WIDTH` one standard deviation less so. Minimises
+
+        sum_i r_i(q)^2 / sigma^2 + (distance of q from [low, high] / w)^2
+
+    over a scan of q, ``r_i`` the log-residuals of :func:`fit_order`
+    (log C in closed form for each q), ``sigma`` the scatter of the data
+    (default: their RMS log-residual about the free fit, at least
+    :data:`LEAST_SCATTER`). Data that follow a power law give the free
+    fit (three levels always do: two differences, two parameters);
+    scattered data lean on the prior, the more the more they scatter.
+    Without a prior this is :func:`fit_order`.
+
+    Returns (q, C, RMS log-residual at q, covariance of (log C, q)): the
+    covariance of the linearised fit, the residuals' mean square as the
+    data's variance and the prior as a normal distribution of the same
+    variance, (high - low)^2 / 12 + w^2 (zero when the residual is: an
+    exact power law has no scatter to propagate)."""
+    h, d = _checked(spacings, differences)
+    if sigma is None:
+        sigma = max(LEAST_SCATTER, fit_order(h, d)[2])
+    best = None
+    for q in orders:
+        basis = np.log(h[:-1] ** q - h[1:] ** q)
+        logc = float(np.mean(np.log(d) - basis))
+        resid = np.log(d) - basis - logc
+        score = (float(np.sum(resid ** 2)) / sigma ** 2
+                 + (_outside(float(q), prior) / PRIOR_WIDTH) ** 2)
+        if best is None or score < best[0] - 1e-12:
+            best = (score, float(q), logc, float(np.mean(resid ** 2)))
+    _, q, logc, variance = best
+    return q, math.exp(logc), math.sqrt(variance), _covariance(
+        h, q, variance, prior)
+
+
+def _covariance(h: np.ndarray, q: float, variance: float, prior) -> list:
+    """Covariance of (log C, q) of the fit of log D_i =
+    log C + log(h_i^q - h_{i+1}^q): (J^T J / s^2 + P)^-1 with J the
+    derivatives of the model in log C and q, s^2 the residuals' mean
+    square and P the prior's precision on q (see
+    :func:`fit_order_with_prior`)."""
+    if variance <= 0:
+        return [[0.0, 0.0], [0.0, 0.0]]
+    a, b = h[:-1] ** q, h[1:] ** q
+    slope = (a * np.log(h[:-1]) - b * np.log(h[1:])) / (a - b)
+    jac = np.column_stack([np.ones_like(slope), slope])
+    info = jac.T @ jac / variance
+    if prior is not None:
+        info[1, 1] += 1.0 / ((prior[1] - prior[0]) ** 2 / 12.0
+                             + PRIOR_WIDTH ** 2)
+    return np.linalg.pinv(info).tolist()
 
 
 @dataclass
@@ -78,6 +160,16 @@ class ErrorModel:
     #: the record's bias: an error refinement does not remove, below
     #: which the setting is never planned
     bias: float = 0.0
+    #: the orders (low, high) the verification record measured for the
+    #: setting, the prior of the fit (:func:`fit_order_with_prior`)
+    prior: tuple | None = None
+    #: covariance of (log C, order) of the fit: the scatter that
+    #: :meth:`upper` propagates (None: none)
+    covariance: list | None = None
+    #: every calibrated level as (dx, its difference from the next
+    #: coarser level, None for the coarsest), coarsest first (default:
+    #: ``levels`` and ``differences``)
+    calibrated: list | None = None
 
     @property
     def data_range(self) -> float:
@@ -111,22 +203,95 @@ class ErrorModel:
         """Central prediction of the error at ``dx``."""
         return self.power(dx) + self.floor
 
-    def upper(self, dx: float) -> float:
-        """Conservative prediction: safety x power law + floor, or
-        3 Delta_M + floor where that bound applies and is smaller, times
-        the verification record's factor; never below the record's
+    def scatter(self, dx: float) -> float:
+        """exp(s(dx)), s the standard error of log C dx^q at ``dx`` that
+        the fit's scatter implies (:func:`fit_order_with_prior`; 1 for an
+        exact power law and for anomalous data, whose bound is the data
+        range)."""
+        if self.anomalous or self.covariance is None:
+            return 1.0
+        g = np.array([1.0, math.log(dx)])
+        variance = float(g @ np.asarray(self.covariance) @ g)
+        return math.exp(math.sqrt(max(variance, 0.0)))
+
+    def law_upper(self, dx: float) -> float:
+        """The bound of the fitted law at ``dx``: safety x power law x
+        :meth:`scatter` + floor, or 3 Delta_M + floor for anomalous data,
+        times the verification record's factor; never below the record's
         bias."""
         if self.anomalous:
             bound = SAFETY_POOR * self.data_range + self.floor
         else:
-            bound = self.safety * self.power(dx) + self.floor
+            bound = (self.safety * self.power(dx) * self.scatter(dx)
+                     + self.floor)
         return max(self.verified * bound, self.bias)
 
+    def level_bounds(self) -> list[tuple[float, float, float]]:
+        """(dx, difference from the next coarser level, bound) at every
+        calibrated level but the coarsest: what its own differences say
+        about its error at the slowest order the record allows.
+
+        With ``D`` the difference from the coarser level (ratio r) and
+        ``D'`` the one to the finer level (ratio r'), a level's error in
+        one shape converging at order q is ``D / (r^q - 1)``, and also
+        ``D' r'^q / (r'^q - 1)``; the bound takes the larger, at the
+        lower end of the record's orders (or the fitted order, if lower;
+        the fitted one without a record), times the safety factor, the
+        share that repeats, the record's factor, plus the floor, never
+        below the record's bias. Anomalous data: 3 Delta_M at every level
+        (:meth:`law_upper`)."""
+        steps = self.calibrated
+        if steps is None:
+            steps = [(dx, None if i == 0 else self.differences[i - 1])
+                     for i, (dx, _) in enumerate(self.levels)]
+        if self.anomalous:
+            return [(dx, diff, self.law_upper(dx)) for dx, diff in steps[1:]
+                    if self.finest * (1 - 1e-6) <= dx
+                    <= self.coarsest * (1 + 1e-6)]
+        q = (self.order if self.prior is None
+             else min(self.order, self.prior[0]))
+        out = []
+        for k in range(1, len(steps)):
+            dx, diff = steps[k]
+            coarser = steps[k - 1][0]
+            error = diff / ((coarser / dx) ** q - 1.0)
+            if k + 1 < len(steps):
+                finer, after = steps[k + 1]
+                grow = (dx / finer) ** q
+                error = max(error, after * grow / (grow - 1.0))
+            bound = self.safety * self.repeating * error + self.floor
+            out.append((float(dx), float(diff),
+                        max(self.verified * bound, self.bias)))
+        return out
+
+    def _level_bound(self, dx: float) -> float | None:
+        for level, _, bound in self.level_bounds():
+            if abs(level - dx) <= 1e-6 * level:
+                return bound
+        return None
+
+    def upper(self, dx: float) -> float:
+        """Conservative prediction: :meth:`law_upper`, or at a calibrated
+        level the bound of its own differences
+        (:meth:`level_bounds`) where that is smaller."""
+        bound = self.law_upper(dx)
+        level = self._level_bound(dx)
+        return bound if level is None else min(bound, level)
+
     def spacing_for(self, error: float) -> float | None:
-        """Largest dx whose :meth:`upper` is within ``error`` (None if the
-        floor, or for anomalous data the bound 3 Delta_M, is already at or
-        above it; anomalous data give the coarsest calibrated spacing,
-        where the bound holds)."""
+        """Largest dx whose :meth:`upper` is within ``error``: where the
+        fitted law's bound meets it, or a calibrated level whose own bound
+        is within it, whichever is coarser (None if neither: the floor,
+        or for anomalous data the bound 3 Delta_M, is already at or above
+        it; anomalous data give the coarsest calibrated spacing, where
+        the bound holds)."""
+        levels = [dx for dx, _, bound in self.level_bounds()
+                  if bound <= error]
+        law = self._law_spacing(error)
+        found = [dx for dx in levels + [law] if dx is not None]
+        return max(found) if found else None
+
+    def _law_spacing(self, error: float) -> float | None:
         if error <= self.bias:
             return None
         room = error / self.verified - self.floor
@@ -135,8 +300,59 @@ class ErrorModel:
         if self.anomalous:
             return (self.coarsest if SAFETY_POOR * self.data_range <= room
                     else None)
-        return (room / (self.safety * self.repeating * self.coefficient)
-                ) ** (1.0 / self.order)
+        scale = self.safety * self.repeating * self.coefficient
+
+        def fits(dx):
+            return scale * dx ** self.order * self.scatter(dx) <= room
+        # the law alone (scatter 1) gives the coarsest candidate; the
+        # scatter grows away from the levels, so step down from there
+        # (to a millionth of the finest level, where it may outgrow the
+        # law: then the smallest spacing searched, which no plan uses)
+        dx = (room / scale) ** (1.0 / self.order)
+        lowest = self.finest * 1e-6
+        while not fits(dx) and dx > lowest:
+            dx *= 0.98
+        if not fits(dx):
+            return lowest
+        high = dx / 0.98
+        for _ in range(40):                       # bisection in log dx
+            mid = math.sqrt(dx * high)
+            dx, high = (mid, high) if fits(mid) else (dx, mid)
+        return dx
+
+    def reachable(self, dx: float | None = None) -> tuple[float, float]:
+        """(bound, dx): the smallest :meth:`upper` at ``dx`` (default the
+        extrapolation limit, :attr:`smallest_dx`) or at a calibrated
+        level, the coarser spacing of equal bounds: never more than a
+        calibrated level's own bound."""
+        dx = self.smallest_dx if dx is None else dx
+        options = [(self.upper(dx), -dx)] + [
+            (bound, -level) for level, _, bound in self.level_bounds()]
+        bound, spacing = min(options)
+        return bound, -spacing
+
+    def asymptotic_issues(self) -> list[str]:
+        """Why the ladder is not in its asymptotic range, in words (empty
+        when nothing shows it): differences that do not fall with dx, an
+        observed order outside the record's orders for the setting."""
+        issues = []
+        rising = [(a, b, i) for i, (a, b) in enumerate(
+            zip(self.differences, self.differences[1:])) if b >= a]
+        if self.anomalous or rising:
+            spacings = [dx for dx, _ in self.levels]
+            where = "; ".join(
+                f"{a * 100:.2f} % from {spacings[i] * 1e3:.3g} to "
+                f"{spacings[i + 1] * 1e3:.3g} mm, then {b * 100:.2f} % to "
+                f"{spacings[i + 2] * 1e3:.3g} mm" for a, b, i in rising)
+            issues.append("its differences do not fall with dx"
+                          + (f" ({where})" if where else ""))
+        q = self.observed_order
+        if self.prior is not None and q is not None and (
+                q < self.prior[0] - 1e-9 or q > self.prior[1] + 1e-9):
+            issues.append(f"its fitted order {q:.2f} is outside the "
+                          f"record's range for that setting "
+                          f"({self.prior[0]:.2f}-{self.prior[1]:.2f})")
+        return issues
 
     @property
     def smallest_dx(self) -> float:
@@ -152,6 +368,9 @@ class ErrorModel:
                 "data_range": self.data_range,
                 "range_bound": self.range_bound,
                 "log_residual": self.residual,
+                "order_prior": (None if self.prior is None
+                                else list(self.prior)),
+                "level_bounds": [list(b) for b in self.level_bounds()],
                 "levels": [list(level) for level in self.levels],
                 "differences": list(self.differences)}
 
@@ -180,7 +399,8 @@ FORMAL_ORDER = 1.0
 def fit_error_model(spacings: Sequence[float], differences: Sequence[float],
                     floor: float = 0.0, max_refinement: float = 4.0,
                     spread: float | None = None,
-                    max_order: float | None = None) -> ErrorModel:
+                    max_order: float | None = None,
+                    prior: tuple | None = None) -> ErrorModel:
     """:func:`fit_order` over every level plus the safety factor of Eça &
     Hoekstra (2014): 1.25 when the observed order is in [0.5, 2.1] and,
     with three or more differences, the fit is good (RMS log-residual
@@ -204,7 +424,15 @@ def fit_error_model(spacings: Sequence[float], differences: Sequence[float],
     order where the observed one exceeds it). On the strip, cubic_o4's
     differences fell at order 1.8 over 1.4-0.47 mm while its error against
     the exact front fell at 0.8-1.1; the order-1.8 prediction was 1.5x
-    below the error (a 10 % plan achieved 11.7 %)."""
+    below the error (a 10 % plan achieved 11.7 %).
+
+    The order and coefficient used are those of
+    :func:`fit_order_with_prior` with ``prior``, the orders (low, high)
+    the verification record measured for the setting (None: the free
+    fit); the observed order, the safety factor and the anomalous test
+    are the free fit's. The fit's scatter is kept as the covariance of
+    (log C, q) that :meth:`ErrorModel.upper` propagates (where the order
+    is capped at ``max_order``, that of log C alone)."""
     h = np.asarray(spacings, float)
     q, c, resid = fit_order(h, differences)
     observed = q
@@ -222,13 +450,20 @@ def fit_error_model(spacings: Sequence[float], differences: Sequence[float],
         len(differences) >= 3 and resid > ANOMALOUS_RESIDUAL
         and min(fit_order(h, differences, orders=[p])[2]
                 for p in (1.0, 2.0)) > ANOMALOUS_RESIDUAL)
+    if prior is not None:
+        low, high = (max(0.1, float(x)) for x in prior)
+        prior = (min(low, high), max(low, high))
+    q, c, scatter, covariance = fit_order_with_prior(h, differences, prior)
     if max_order is not None and q > max_order:
         q, c, _ = fit_order(h, differences, orders=[float(max_order)])
+        # the order is set: only log C carries the scatter
+        covariance = [[scatter ** 2 / len(differences), 0.0], [0.0, 0.0]]
     return ErrorModel(q, c, SAFETY_GOOD if good else SAFETY_POOR,
                       float(floor), resid,
                       [(float(d), float(c * d ** q)) for d in h],
                       [float(x) for x in differences], float(h.min()),
-                      max_refinement, spread, anomalous, float(observed))
+                      max_refinement, spread, anomalous, float(observed),
+                      prior=prior, covariance=covariance)
 
 
 #: Correlations from level to level that :func:`repeating_factor` scans.

@@ -138,6 +138,39 @@ class Record:
                 logs.append(math.log(entry / best))
         return sum(logs) / len(logs) if logs else None
 
+    def orders(self, setting, norm: str) -> tuple[float, float] | None:
+        """The range (low, high) of the orders at which the setting's true
+        errors fell on the fitted scenes that verified it in ``norm``:
+        per scene the least-squares slope of log error against log dx
+        over its levels (three or more); None when no fitted scene has
+        them. The slope of the whole error, bias included, not of the
+        part refinement removes: the slower of the two, so a prior on it
+        errs towards larger errors below the ladder. The prior of the
+        error model's fit (:func:`~.error_model.fit_order_with_prior`)."""
+        fitted = set(self.data.get("fitted", []))
+        key = setting if isinstance(setting, str) else family(setting)
+        scenes = (self.settings.get(key) or {}).get("scenes") or {}
+        slopes = []
+        for scene, by_norm in scenes.items():
+            entry = (by_norm or {}).get(norm) or {}
+            errors = entry.get("errors") or []
+            spacings = entry.get("spacings") or []
+            if (scene not in fitted or len(errors) < 3
+                    or len(errors) != len(spacings)
+                    or not all(isinstance(e, (int, float)) and e > 0
+                               for e in errors)):
+                continue
+            x = [math.log(dx) for dx in spacings]
+            y = [math.log(e) for e in errors]
+            mx, my = sum(x) / len(x), sum(y) / len(y)
+            sxx = sum((a - mx) ** 2 for a in x)
+            if sxx > 0:
+                slopes.append(sum((a - mx) * (b - my)
+                                  for a, b in zip(x, y)) / sxx)
+        if not slopes:
+            return None
+        return float(min(slopes)), float(max(slopes))
+
     def _scene_errors(self, norm: str, key: str):
         scenes = (self.settings.get(key) or {}).get("scenes") or {}
         for scene, by_norm in scenes.items():

@@ -814,7 +814,7 @@ def plan(scene_factory: Callable, error: float = 0.03,
                          f"floor {cand.model.floor * 100:.2f} % >= request")
             return None
         dx = float(f"{min(dx, ladder[0]):.3g}")
-        while cand.model.upper(dx) > error:
+        while cand.model.upper(dx) > error and dx > cand.model.finest * 1e-6:
             dx *= 0.99
         if dx < cand.model.smallest_dx:
             # never build a scene this fine: scale from the ladder
@@ -831,7 +831,9 @@ def plan(scene_factory: Callable, error: float = 0.03,
     def fit_verified(cand):
         """The setting's error model on its levels, with the record's
         factor and bias (its floor is the caller's)."""
-        _fit_candidate(cand, norm, max_refinement, threads, max_order)
+        _fit_candidate(cand, norm, max_refinement, threads, max_order,
+                       record.orders(cand.setting, norm) if record
+                       else None)
         verdict = verdicts.get(cand.setting)
         if verdict is not None:
             cand.model.verified = verdict["factor"]
@@ -1185,21 +1187,26 @@ def _smoothed(run: LadderRun, grid) -> dict:
 
 
 def _fit_candidate(cand, norm, max_refinement, threads,
-                   max_order=FORMAL_ORDER) -> None:
+                   max_order=FORMAL_ORDER, prior=None) -> None:
     """Error model on the finest four levels (three differences: the
     coarsest levels of a long ladder are the least asymptotic), all on
-    the finest level's scale; cost model on all its runs."""
-    spacings = [r.dx for r in cand.runs][-4:]
-    levels = cand.smoothed[-4:]
-    scales = {n: metrics.scale_of(s, norm) for n, s in levels[-1].items()}
+    the finest level's scale, with the record's orders ``prior``
+    (:func:`fit_error_model`); every level's difference from the next
+    coarser one is kept for its own bound
+    (:meth:`ErrorModel.level_bounds`); cost model on all its runs."""
+    every = [r.dx for r in cand.runs]
+    scales = {n: metrics.scale_of(s, norm)
+              for n, s in cand.smoothed[-1].items()}
 
     def distance(a, b):
         return max(metrics.deviation(a[n], b[n], norm, scales[n]) for n in a)
-    diffs = [distance(a, b) for a, b in zip(levels, levels[1:])]
+    steps = [distance(a, b) for a, b in zip(cand.smoothed, cand.smoothed[1:])]
+    spacings, levels, diffs = every[-4:], cand.smoothed[-4:], steps[-3:]
     spread = max(distance(a, b) for a, b in
                  itertools.combinations(levels, 2))
     cand.model = fit_error_model(spacings, diffs, 0.0, max_refinement,
-                                 spread, max_order)
+                                 spread, max_order, prior)
+    cand.model.calibrated = list(zip(every, [None] + steps))
     if not cand.model.anomalous:
         cand.model.repeating = repeating_factor(spacings, levels,
                                                 cand.model.order, norm)[0]
@@ -1213,31 +1220,76 @@ def _default_dt(scene_factory, dx, integrator) -> float:
     return make_dynamics(scene, integrator, progress=False).dt
 
 
+def _reach(cand, max_seconds):
+    """(bound, dx): the smallest bound ``cand`` reaches within the
+    extrapolation limit and ``max_seconds`` (the largest affordable
+    refinement, or an affordable calibrated level's own bound)."""
+    def affordable(dx):
+        return (max_seconds is None or len(cand.runs) < 2
+                or cand.cost.predict(*_size_at(cand.runs, dx))
+                <= max_seconds)
+    model = cand.model
+    dx = model.smallest_dx
+    while not affordable(dx) and dx < model.finest * 4:
+        dx *= 1.25
+    options = [(model.upper(dx), -dx)] + [
+        (bound, -level) for level, _, bound in model.level_bounds()
+        if affordable(level)]
+    bound, spacing = min(options)
+    return bound, -spacing
+
+
+def _measured(cand) -> str:
+    """What the calibration of ``cand`` measured, for a refusal: its
+    finest level, the self-convergence difference there and the bound
+    the record allows on it; and, where its ladder is not in its
+    asymptotic range, why, and the level that would settle it."""
+    model = cand.model
+    finest, diff = (model.calibrated or [(model.finest, None)])[-1]
+    bounds = model.level_bounds()
+    line = f"{cand.setting.label()}: finest level {finest * 1e3:.3g} mm"
+    if diff is not None and bounds:
+        order = (model.order if model.prior is None
+                 else min(model.order, model.prior[0]))
+        line += (f", self-convergence difference there {diff * 100:.2f} %,"
+                 f" bound {bounds[-1][2] * 100:.2f} % ("
+                 + ("3 x the largest difference of its levels"
+                    if model.anomalous else
+                    f"order {order:.2f}, safety {model.safety:g}, "
+                    f"share that repeats {model.repeating:.2f}")
+                 + f", record factor {model.verified:.2f}"
+                 + (f", floor {model.floor * 100:.2f} %" if model.floor
+                    else "")
+                 + (f", record bias {model.bias * 100:.2f} %" if model.bias
+                    else "") + ")")
+    issues = model.asymptotic_issues()
+    if issues:
+        line += ("; its ladder is not in its asymptotic range: "
+                 + "; ".join(issues))
+        finer = float(f"{finest / 1.5:.3g}")
+        line += f"; a level at {finer * 1e3:.3g} mm would settle it"
+        if len(cand.runs) >= 2 and cand.cost is not None:
+            n, steps = _size_at(cand.runs, finer)
+            line += (f" ({n} particles, {steps} steps, predicted "
+                     f"{cand.cost.predict_cpu(n, steps):.3g} s of CPU)")
+    return line
+
+
 def _refusal(modelled, error, max_seconds, scene_factory, until):
     """The best error any setting reaches (within max_seconds and the
-    extrapolation limit) and the reason for refusing."""
+    extrapolation limit; at a calibrated level, that level's own bound
+    where it is smaller) and the reason for refusing, with what each
+    setting's calibration measured (:func:`_measured`)."""
     if not modelled:
         return None, ("no setting could be calibrated (every candidate "
                       "failed or was unavailable)")
     # the best error within the extrapolation limit alone: when it meets
     # the request, the time budget is what refuses
-    unlimited = min(c.model.upper(c.model.smallest_dx) for c in modelled)
-    best, where = math.inf, None
-    for cand in modelled:
-        dx = cand.model.smallest_dx
-        if max_seconds is not None:
-            # largest affordable refinement
-            while dx < cand.model.finest * 4:
-                if cand.cost.predict(*_size_at(cand.runs, dx)) <= max_seconds:
-                    break
-                dx *= 1.25
-        reach = cand.model.upper(dx)
-        if reach < best:
-            best, where = reach, (cand, dx)
+    unlimited = min(_reach(c, None)[0] for c in modelled)
+    best, dx, cand = min(((*_reach(c, max_seconds), c) for c in modelled),
+                         key=lambda x: (x[0], -x[1]))
     floors = min(c.model.floor for c in modelled)
-    cand, dx = where
     if cand.model.anomalous:
-        dx = cand.model.coarsest
         reason = (f"no setting meets {error * 100:g} %: the calibration "
                   f"levels show no convergence (observed order "
                   f"{cand.model.observed_order:.2f}, fit residual "
@@ -1258,6 +1310,12 @@ def _refusal(modelled, error, max_seconds, scene_factory, until):
         reason = (f"no setting meets {error * 100:g} % within the "
                   f"extrapolation limit (dx >= finest ladder spacing / "
                   f"{cand.model.max_refinement:g})")
+    level = any(abs(level - dx) <= 1e-6 * level
+                for level, _, _ in cand.model.level_bounds())
     reason += (f"; best reachable: {best * 100:.2f} % with "
-               f"{cand.setting.label()} at dx = {dx * 1e3:.3g} mm")
+               f"{cand.setting.label()} at dx = {dx * 1e3:.3g} mm"
+               + (" (a calibrated level: the bound of its own differences)"
+                  if level else ""))
+    reason += "\nmeasured, per setting calibrated:" + "".join(
+        "\n  " + _measured(c) for c in modelled)
     return float(best), reason
