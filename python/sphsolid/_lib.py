@@ -513,6 +513,23 @@ def new_handle(dimension: int):
     return handle
 
 
+def flag(value, name: str) -> bool:
+    """A yes/no argument: True or False (numpy's bools, and the integers 0
+    and 1, too); anything else is a ValueError naming ``name``, never cast
+    (``bool("no")`` is True)."""
+    if isinstance(value, bool):
+        return value
+    try:
+        import numpy
+        if isinstance(value, numpy.bool_):
+            return bool(value)
+    except ImportError:                      # pragma: no cover
+        pass
+    if isinstance(value, int) and value in (0, 1):
+        return bool(value)
+    raise ValueError(f"{name} must be True or False, got {value!r}")
+
+
 def number(value, name: str) -> float:
     """A float from a real number (not a bool or a string), with a
     ValueError naming ``name``."""

@@ -21,7 +21,8 @@ __all__ = ["quantity", "quantities", "length", "lengths", "time",
 
 _LENGTH = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6,
            "nm": 1e-9, "km": 1e3}
-_TIME = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "ns": 1e-9}
+_TIME = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "ns": 1e-9,
+         "min": 60.0, "h": 3600.0}
 
 #: unit -> (kind, factor to SI)
 UNITS: dict[str, tuple[str, float]] = {}
