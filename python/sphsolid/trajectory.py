@@ -133,7 +133,7 @@ class Trajectory:
         self.scene = scene
         self._file = None
         self._closed = False
-        self.xdmf = xdmf
+        self.xdmf = _lib.flag(xdmf, "xdmf")
         if mode == "r":
             self._open_read()
         elif mode == "w":

@@ -34,6 +34,33 @@ def small_scene(**kwargs):
 
 
 # --------------------------------------------------------------- Python API
+def _energy_account_no():
+    small_scene().energy_account("no")
+
+
+def _energy_all_bodies_string():
+    small_scene().energy(all_bodies="yes")
+
+
+def _periodic_strings():
+    sphsolid.Scene(2, [small()], domain=((-1, -1), (1, 1)),
+                   periodic=("no", "no"))
+
+
+def _allow_large_string():
+    small_scene(allow_large="false")
+
+
+def _allowing_large_none():
+    with sphsolid.allowing_large(None):
+        pass
+
+
+def _set_dt_allow_unstable_string():
+    scene = small_scene()
+    sphsolid.ImprovedEuler(scene, allow_unstable="no")
+
+
 def _material_bool():
     sphsolid.Material(K=True, mu=1e9, rho0=1000)
 
@@ -288,6 +315,12 @@ PYTHON_CASES = [
     (_far_apart_3d, ValueError, r"body 'b': particle 0 at x=1.1e\+07 m lies 1.1e\+10 spacings"),
     (_trajectory_of_old_format, OSError,
      r"old.h5' is a libsphsolid output of file format 1 without /parameters"),
+    (_energy_account_no, ValueError, r"energy_account: on must be True or False, got 'no'"),
+    (_energy_all_bodies_string, ValueError, r"all_bodies must be True or False, got 'yes'"),
+    (_periodic_strings, ValueError, r"periodic\[0\] must be True or False, got 'no'"),
+    (_allow_large_string, ValueError, r"allow_large must be True or False, got 'false'"),
+    (_allowing_large_none, ValueError, r"allow must be True or False, got None"),
+    (_set_dt_allow_unstable_string, ValueError, r"allow_unstable must be True or False, got 'no'"),
     (_trajectory_probes_without_probes, ValueError,
      r"probe interval 5, but there are no probes to sample"),
     (_trajectory_of_old_checkpoint, OSError,
