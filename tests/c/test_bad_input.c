@@ -77,6 +77,50 @@ static void long_rate_path_is_clipped(void **state)
 
 /* ------------------------------------------------------------ materials */
 
+/* The registry of material keys is the setter's list: each key is taken
+ * at its default and at its bounds, refused beyond them and when not
+ * finite, and an unknown key's message lists exactly the registry's keys
+ * (a key sph_material_set learns must be added to material_keys.c). */
+static void material_key_registry_is_the_setters(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int id = -1;
+    check(sim, sph_add_material_K_mu(sim, 12.2e9, 2.67e9, 2300, &id));
+    const int count = sph_material_key_count();
+    assert_true(count >= 2);
+    char known[512] = "(known: ";
+    for (int k = 0; k < count; ++k) {
+        sph_material_key_info info;
+        assert_int_equal(sph_material_key_get(k, &info), SPH_OK);
+        assert_non_null(info.key);
+        assert_non_null(info.unit);
+        assert_true(info.description && *info.description);
+        assert_true(info.min <= info.default_value && info.default_value <= info.max);
+        check(sim, sph_material_set(sim, id, info.key, info.default_value));
+        check(sim, sph_material_set(sim, id, info.key, info.min));
+        if (isfinite(info.max))
+            check(sim, sph_material_set(sim, id, info.key, info.max));
+        const double below = info.min - fmax(1.0, fabs(info.min));
+        refused(sim, sph_material_set(sim, id, info.key, below), SPH_ERR_ARGUMENT, info.key);
+        if (isfinite(info.max)) {
+            const double above = info.max + fmax(1.0, fabs(info.max));
+            refused(sim, sph_material_set(sim, id, info.key, above), SPH_ERR_ARGUMENT, info.key);
+        }
+        refused(sim, sph_material_set(sim, id, info.key, NAN), SPH_ERR_ARGUMENT, info.key);
+        if (k)
+            strcat(known, ", ");
+        strcat(known, info.key);
+    }
+    strcat(known, ")");
+    refused(sim, sph_material_set(sim, id, "no_such_key", 1.0), SPH_ERR_ARGUMENT, known);
+    sph_material_key_info info;
+    assert_int_equal(sph_material_key_get(count, &info), SPH_ERR_ARGUMENT);
+    assert_int_equal(sph_material_key_get(-1, &info), SPH_ERR_ARGUMENT);
+    assert_int_equal(sph_material_key_get(0, NULL), SPH_ERR_ARGUMENT);
+    sph_destroy(sim);
+}
+
 static void material_overflowing_constants(void **state)
 {
     (void)state;
@@ -643,6 +687,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(threads_beyond_the_cores),
         cmocka_unit_test(long_rate_path_is_clipped),
+        cmocka_unit_test(material_key_registry_is_the_setters),
         cmocka_unit_test(material_overflowing_constants),
         cmocka_unit_test(material_nan_bulk_modulus),
         cmocka_unit_test(material_poisson_one_half),
