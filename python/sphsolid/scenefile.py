@@ -321,6 +321,16 @@ class SceneFile:
         if self.preset is not None:
             ratio = self.preset.smoothing_ratio if ratio is None else ratio
             kernel = self.preset.kernel if kernel is None else kernel
+        if "damage" in self.effects and not any(
+                isinstance(b.motion, build.Free)
+                and b.material.weibull_k > 0 and b.material.weibull_m > 0
+                for b in self.bodies):
+            # the library's rule, said in the file's words (it names
+            # sph_material_set, the C call)
+            raise SceneFileError(
+                f"{name}: [effects] damage needs flaws: give weibull_k "
+                "[m^-3] and weibull_m > 0 in the [materials.NAME] table of a "
+                "free body's material")
         from .scene import Scene
         try:
             self.scene = Scene(self.dimension, self.bodies,

@@ -156,4 +156,6 @@ def test_a_scene_file_with_weibull_flaws_and_damage_runs_and_breaks(
     path.write_text(text.replace('weibull_k = "1e28 m^-3"\n', ""))
     assert main(["run", str(path), "--out", str(tmp_path / "no")]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "weibull_k" in err, err
+    assert err.count("\n") == 1, err
+    assert ("[effects] damage needs flaws: give weibull_k [m^-3] and "
+            "weibull_m > 0 in the [materials.NAME] table") in err, err
