@@ -157,8 +157,10 @@ def main(argv=None) -> int:
     """Run ``sphsolid`` with ``argv`` (default: the command line); returns
     the exit status: 2 with a one-line message on a bad value or any error
     of the library, whether raised while the parser, a scene or a handle
-    is built or during the run (``SPHSOLID_RATE_PATH=sse9`` included);
-    130 on an interrupt.  ``SPHSOLID_TRACEBACK=1`` re-raises instead."""
+    is built or during the run (``SPHSOLID_RATE_PATH=sse9`` included), and
+    with a one-line internal error for any other built-in exception; 130
+    on an interrupt.  ``SPHSOLID_TRACEBACK=1`` re-raises instead, as do
+    exceptions of other modules (a caller's own)."""
     import os
     try:
         # the parser asks the library for its registries: inside the
@@ -173,7 +175,12 @@ def main(argv=None) -> int:
         print("sphsolid: interrupted", file=sys.stderr)
         return 130
     except Exception as error:
-        if os.environ.get("SPHSOLID_TRACEBACK"):
+        # a built-in exception outside EXPECTED is a bug, said in one line;
+        # another program's own exception (a caller's, a test's) is its
+        # to handle
+        if (os.environ.get("SPHSOLID_TRACEBACK")
+                or (not isinstance(error, EXPECTED)
+                    and type(error).__module__ != "builtins")):
             raise
         message = one_line(
             error.args[0] if isinstance(error, KeyError) and error.args
