@@ -10,6 +10,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "sphsolid_error.h"
 #include "force.h"
 #include "memory.h"
 #include "neigh_list.h"
@@ -149,8 +150,8 @@ void ComputeSPHSolidAtom::compute_peratom()
     const sph_status status = sph_energy_fields(pair->handle(), nlocal, mass.data(), state->rho,
                                                 state->S_data(), material.data(), values);
     if (status != SPH_OK)
-      error->one(FLERR, "compute {}: {} ({})", style, sph_errmsg(pair->handle()),
-                 sph_status_name(status));
+      sphsolid_one(lmp, FLERR, "compute {}: {} ({})", style, sph_errmsg(pair->handle()),
+                   sph_status_name(status));
     for (int i = 0; i < nlocal; i++)
       if (!(mask[i] & groupbit)) values[i] = 0.0;
     return;
@@ -161,8 +162,8 @@ void ComputeSPHSolidAtom::compute_peratom()
                          quantity == STRESS && nlocal > 0 ? columns[0] : nullptr,
                          quantity == VON_MISES ? values : nullptr);
   if (status != SPH_OK)
-    error->one(FLERR, "compute {}: {} ({})", style, sph_errmsg(pair->handle()),
-               sph_status_name(status));
+    sphsolid_one(lmp, FLERR, "compute {}: {} ({})", style, sph_errmsg(pair->handle()),
+                 sph_status_name(status));
   for (int i = 0; i < nlocal; i++) {
     if (mask[i] & groupbit) continue;
     if (quantity == STRESS)
@@ -209,8 +210,8 @@ void ComputeSPHSolidAtom::fragments()
     const sph_status status = sph_damage_fragment_labels(pair->handle(), &particles, &neighbours,
                                                          member.data(), label.data(), &changed);
     if (status != SPH_OK)
-      error->one(FLERR, "compute {}: fragments: {} ({})", style, sph_errmsg(pair->handle()),
-                 sph_status_name(status));
+      sphsolid_one(lmp, FLERR, "compute {}: fragments: {} ({})", style, sph_errmsg(pair->handle()),
+                   sph_status_name(status));
     MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, world);
     if (!any) break;
     if (round > atom->natoms)

@@ -11,6 +11,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "sphsolid_error.h"
 #include "force.h"
 #include "update.h"
 
@@ -107,8 +108,8 @@ void ComputeSPHSolidProbe::compute_vector()
   std::vector<double> sums(SPH_PROBE_VALUES(dim) + 1, 0.0), total(sums.size(), 0.0);
   sph_status status = sph_probe_accumulate(pair->handle(), &particles, point, sums.data());
   if (status != SPH_OK)
-    error->one(FLERR, "compute sphsolid/probe {} at step {}: {} ({})", id, update->ntimestep,
-               sph_errmsg(pair->handle()), sph_status_name(status));
+    sphsolid_one(lmp, FLERR, "compute sphsolid/probe {} at step {}: {} ({})", id, update->ntimestep,
+                 sph_errmsg(pair->handle()), sph_status_name(status));
   MPI_Allreduce(sums.data(), total.data(), (int) sums.size(), MPI_DOUBLE, MPI_SUM, world);
   status = sph_probe_finish(pair->handle(), total.data(), vector);
   // outside every body: an error by default (the library's behaviour), or

@@ -15,6 +15,7 @@
 #include "atom.h"
 #include "comm.h"
 #include "error.h"
+#include "sphsolid_error.h"
 #include "update.h"
 
 #include <algorithm>
@@ -62,8 +63,8 @@ void FixSPHSolidImprovedEuler::initial_integrate(int /*vflag*/)
 {
   const int nlocal = atom->nlocal;
   if (pair->rates_count() != nlocal)
-    error->one(FLERR, "fix {}: the stored rates are for {} atoms, this rank owns {}", style,
-               pair->rates_count(), nlocal);
+    sphsolid_one(lmp, FLERR, "fix {}: the stored rates are for {} atoms, this rank owns {}", style,
+                 pair->rates_count(), nlocal);
   pack();
   account_evaluation();    // energy account: the evaluation at y_n
   const sph_rates rates = stage_rates();
@@ -77,8 +78,8 @@ void FixSPHSolidImprovedEuler::initial_integrate(int /*vflag*/)
       &rates, integrate_motion.data(), stage.data());
   pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - start);
   if (status != SPH_OK)
-    error->one(FLERR, "fix {}: predictor at step {}: {} ({})", style, update->ntimestep,
-               sph_errmsg(pair->handle()), sph_status_name(status));
+    sphsolid_one(lmp, FLERR, "fix {}: predictor at step {}: {} ({})", style, update->ntimestep,
+                 sph_errmsg(pair->handle()), sph_status_name(status));
 
   // y_n stays in the library's block layout in `stage` unless atoms move
   // or are reordered before the corrector (pre_exchange).
@@ -96,10 +97,10 @@ void FixSPHSolidImprovedEuler::pre_exchange()
 {
   if (stage_atoms < 0 || stage_in_rows) return;
   if (atom->nlocal != stage_atoms)
-    error->one(FLERR,
-               "fix {}: {} atoms before re-neighbouring, {} after the predictor "
-               "(atoms deleted or created inside a step are not supported)",
-               style, atom->nlocal, stage_atoms);
+    sphsolid_one(lmp, FLERR,
+                 "fix {}: {} atoms before re-neighbouring, {} after the predictor "
+                 "(atoms deleted or created inside a step are not supported)",
+                 style, atom->nlocal, stage_atoms);
   copy_stage(true);
   stage_in_rows = true;
 }
@@ -145,14 +146,15 @@ void FixSPHSolidImprovedEuler::final_integrate()
   stage.resize((size_t) std::max(nlocal, 1) * nsaved);
 
   if (stage_atoms < 0)
-    error->one(FLERR, "fix {}: corrector at step {} without a predictor", style, update->ntimestep);
+    sphsolid_one(lmp, FLERR, "fix {}: corrector at step {} without a predictor", style,
+                 update->ntimestep);
   if (stage_in_rows) {
     // atoms were exchanged or sorted since the predictor: gather the rows
     stage_atoms = nlocal;
     copy_stage(false);
   } else if (stage_atoms != nlocal) {
-    error->one(FLERR, "fix {}: {} atoms at the predictor, {} at the corrector", style, stage_atoms,
-               nlocal);
+    sphsolid_one(lmp, FLERR, "fix {}: {} atoms at the predictor, {} at the corrector", style,
+                 stage_atoms, nlocal);
   }
 
   // the corrector, then the library's watchdog on the integrated atoms
@@ -166,14 +168,14 @@ void FixSPHSolidImprovedEuler::final_integrate()
   pair->add_seconds(PairSPHSolid::PART_STAGES, PairSPHSolid::cpu_seconds() - start);
   if (status == SPH_ERR_NONFINITE) check_finite();    // names the atom by its ID
   if (status == SPH_ERR_UNSTABLE)
-    error->one(FLERR,
-               "fix {}: atom {} at step {}: {} (libsphsolid watchdog: speed above c_p "
-               "or density outside [0.5, 2] rho0; {})",
-               style, atom->tag[bad], update->ntimestep, sph_errmsg(pair->handle()),
-               pair->step_advice(integrator));
+    sphsolid_one(lmp, FLERR,
+                 "fix {}: atom {} at step {}: {} (libsphsolid watchdog: speed above c_p "
+                 "or density outside [0.5, 2] rho0; {})",
+                 style, atom->tag[bad], update->ntimestep, sph_errmsg(pair->handle()),
+                 pair->step_advice(integrator));
   if (status != SPH_OK)
-    error->one(FLERR, "fix {}: corrector at step {}: {} ({})", style, update->ntimestep,
-               sph_errmsg(pair->handle()), sph_status_name(status));
+    sphsolid_one(lmp, FLERR, "fix {}: corrector at step {}: {} ({})", style, update->ntimestep,
+                 sph_errmsg(pair->handle()), sph_status_name(status));
   stage_atoms = -1;
 
   // effect damage: flaws activate and D grows on the step's end state,

@@ -15,6 +15,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "sphsolid_error.h"
 #include "force.h"
 #include "group.h"
 #include "modify.h"
@@ -165,8 +166,8 @@ void FixSPHSolidIntegrate::apply_rigid_bodies()
     MPI_Allreduce(mine, sums, dim + 1, MPI_DOUBLE, MPI_SUM, world);
     if (sph_rigid_force_apply(pair->handle(), nlocal, body->applied(), sums, member.data(),
                               dvbuf.data()) != SPH_OK)
-      error->all(FLERR, "fix {} (sphsolid/force) at step {}: {}", body->id, update->ntimestep,
-                 sph_errmsg(pair->handle()));
+      sphsolid_one(lmp, FLERR, "fix {} (sphsolid/force) at step {}: {}", body->id,
+                   update->ntimestep, sph_errmsg(pair->handle()));
   }
 }
 
@@ -307,7 +308,7 @@ int FixSPHSolidIntegrate::saved_doubles_per_atom() const
 {
   sph_integrator_info info;
   if (sph_integrator_info_get(pair->handle(), integrator, &info) != SPH_OK)
-    error->one(FLERR, "fix {}: {}", style, sph_errmsg(pair->handle()));
+    sphsolid_one(lmp, FLERR, "fix {}: {}", style, sph_errmsg(pair->handle()));
   return (int) info.saved_values;
 }
 
@@ -343,8 +344,8 @@ void FixSPHSolidIntegrate::check_finite()
     for (int k = 0; k < ncomp; k++)
       if (!std::isfinite(state->S[i][k])) quantity = "non-finite deviatoric stress";
     if (quantity)
-      error->one(FLERR, "fix {}: {} of atom {} at step {} ({})", style, quantity, atom->tag[i],
-                 update->ntimestep, pair->step_advice(integrator));
+      sphsolid_one(lmp, FLERR, "fix {}: {} of atom {} at step {} ({})", style, quantity,
+                   atom->tag[i], update->ntimestep, pair->step_advice(integrator));
   }
 }
 

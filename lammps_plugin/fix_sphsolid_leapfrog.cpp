@@ -14,6 +14,7 @@
 
 #include "atom.h"
 #include "error.h"
+#include "sphsolid_error.h"
 #include "neighbor.h"
 #include "update.h"
 
@@ -44,18 +45,18 @@ void FixSPHSolidLeapfrog::fail(sph_status status, long atom_index, const char *s
 {
   if (status == SPH_ERR_NONFINITE) check_finite();    // names the atom by its ID
   if (status == SPH_ERR_UNSTABLE && atom_index >= 0)
-    error->one(FLERR, "fix {}: atom {} at step {}: {} (libsphsolid watchdog)", style,
-               atom->tag[atom_index], update->ntimestep, sph_errmsg(pair->handle()));
-  error->one(FLERR, "fix {}: {} at step {}: {} ({})", style, stage_name, update->ntimestep,
-             sph_errmsg(pair->handle()), sph_status_name(status));
+    sphsolid_one(lmp, FLERR, "fix {}: atom {} at step {}: {} (libsphsolid watchdog)", style,
+                 atom->tag[atom_index], update->ntimestep, sph_errmsg(pair->handle()));
+  sphsolid_one(lmp, FLERR, "fix {}: {} at step {}: {} ({})", style, stage_name, update->ntimestep,
+               sph_errmsg(pair->handle()), sph_status_name(status));
 }
 
 void FixSPHSolidLeapfrog::initial_integrate(int /*vflag*/)
 {
   const int nlocal = atom->nlocal;
   if (pair->rates_count() != nlocal)
-    error->one(FLERR, "fix {}: the stored rates are for {} atoms, this rank owns {}", style,
-               pair->rates_count(), nlocal);
+    sphsolid_one(lmp, FLERR, "fix {}: the stored rates are for {} atoms, this rank owns {}", style,
+                 pair->rates_count(), nlocal);
   pack();    // dv/dt = f/m of every force, rigid bodies applied; which atoms integrate
   // energy account: the step's trapezoid opens with the powers of the
   // rates it starts from, those the last step ended with (or evaluated

@@ -9,6 +9,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "sphsolid_error.h"
 #include "memory.h"
 
 #include <algorithm>
@@ -308,10 +309,10 @@ void FixSPHSolidState::unpack_restart(int nlocal, int nth)
   const int count = static_cast<int>(extra[nlocal][m]);
   const int plain = 2 + ncomp, with_rates = 3 + 2 * ncomp, with_damage = with_rates + 3;
   if (count != plain && count != with_rates && count != with_damage)
-    error->one(FLERR,
-               "SPH state in the restart file has {} values per atom, a {}D run needs {} (or {} "
-               "with the leapfrog's rates, {} with the damage state)",
-               count - 1, dim, plain - 1, with_rates - 1, with_damage - 1);
+    sphsolid_one(lmp, FLERR,
+                 "SPH state in the restart file has {} values per atom, a {}D run needs {} (or {} "
+                 "with the leapfrog's rates, {} with the damage state)",
+                 count - 1, dim, plain - 1, with_rates - 1, with_damage - 1);
   m++;
   rho[nlocal] = extra[nlocal][m++];
   for (int k = 0; k < ncomp; k++) S[nlocal][k] = extra[nlocal][m++];

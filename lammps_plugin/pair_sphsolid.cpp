@@ -26,6 +26,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "sphsolid_error.h"
 #include "fix.h"
 #include "group.h"
 #include "force.h"
@@ -331,11 +332,16 @@ sph_sim *PairSPHSolid::build_handle(bool with_effects)
 
 /* ---------------------------------------------------------------------- */
 
+/* The library judges values this rank holds, and a value may differ
+ * between ranks (a variable of the rank): error->one prints the message
+ * from the rank that refused it before the job stops.  error->all on one
+ * rank alone would print nothing (only rank 0 prints) and leave the other
+ * ranks in a collective until mpirun kills the job. */
 void PairSPHSolid::fail(sph_sim *s, sph_status status, const std::string &what, bool destroy)
 {
   const std::string message = fmt::format("{} ({})", sph_errmsg(s), sph_status_name(status));
   if (destroy) sph_destroy(s);
-  error->all(FLERR, "pair sphsolid: {}: {}", what, message);
+  sphsolid_one(lmp, FLERR, "pair sphsolid: {}: {}", what, message);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -417,8 +423,9 @@ void PairSPHSolid::init_style()
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++)
     if (!(mass_of(i) > 0.0))
-      error->one(FLERR, "pair sphsolid: atom {} has mass {}; SPH particles need a positive mass",
-                 atom->tag[i], mass_of(i));
+      sphsolid_one(lmp, FLERR,
+                   "pair sphsolid: atom {} has mass {}; SPH particles need a positive mass",
+                   atom->tag[i], mass_of(i));
 
   initialise_state();
 }
@@ -824,12 +831,13 @@ void PairSPHSolid::evaluate_rates(bool with_motion, int pass, double *drho_into,
     const double *rho = particles.rho;
     for (int i = 0; i < (int) particles.n_total; i++)
       if (!(rho[i] > 0.0) || !std::isfinite(rho[i]))
-        error->one(FLERR,
-                   "pair sphsolid at step {}: atom {} has density {:.6g} kg/m^3 (must be > 0): the "
-                   "run went unstable ({})",
-                   update->ntimestep, atom->tag[i], rho[i], step_advice());
-    error->one(FLERR, "pair sphsolid: rate evaluation at step {}: {} ({}; {})", update->ntimestep,
-               sph_errmsg(sim), sph_status_name(status), step_advice());
+        sphsolid_one(
+            lmp, FLERR,
+            "pair sphsolid at step {}: atom {} has density {:.6g} kg/m^3 (must be > 0): the "
+            "run went unstable ({})",
+            update->ntimestep, atom->tag[i], rho[i], step_advice());
+    sphsolid_one(lmp, FLERR, "pair sphsolid: rate evaluation at step {}: {} ({}; {})",
+                 update->ntimestep, sph_errmsg(sim), sph_status_name(status), step_advice());
   }
 }
 
@@ -882,8 +890,8 @@ void PairSPHSolid::draw_flaws(const unsigned char *flawed)
       sph_damage_flaws(sim, atom->nlocal, idbuf.data(), localmass.data(), localmaterial.data(),
                        flawed, st->flaw_count, st->flaw_strain);
   if (status != SPH_OK)
-    error->one(FLERR, "pair sphsolid: drawing the flaws of the damage effect: {} ({})",
-               sph_errmsg(sim), sph_status_name(status));
+    sphsolid_one(lmp, FLERR, "pair sphsolid: drawing the flaws of the damage effect: {} ({})",
+                 sph_errmsg(sim), sph_status_name(status));
   // the library refuses a run without any atom that can be damaged
   int mine = 0, any = 0;
   for (int i = 0; i < atom->nlocal && !mine; i++) mine = st->flaw_count[i] > 0;
@@ -908,8 +916,8 @@ bool PairSPHSolid::grow_damage(double dt, bool any_rank, const unsigned char *fr
         sim, nlocal, localmass.data(), localmaterial.data(), st->rho, S_before, D_before,
         st->S_data(), damage ? st->damage : nullptr, &st->account[slot]);
     if (status != SPH_OK)
-      error->one(FLERR, "pair sphsolid: energy account of the {} at step {}: {} ({})", stage,
-                 update->ntimestep, sph_errmsg(sim), sph_status_name(status));
+      sphsolid_one(lmp, FLERR, "pair sphsolid: energy account of the {} at step {}: {} ({})", stage,
+                   update->ntimestep, sph_errmsg(sim), sph_status_name(status));
   };
   if (damage) {
     damage_inputs();
@@ -918,8 +926,8 @@ bool PairSPHSolid::grow_damage(double dt, bool any_rank, const unsigned char *fr
         sim, nlocal, dt, idbuf.data(), localmass.data(), localmaterial.data(), st->rho,
         st->S_data(), st->flaw_count, st->flaw_strain, st->damage, &changed);
     if (status != SPH_OK)
-      error->one(FLERR, "pair sphsolid: damage stage at step {}: {} ({})", update->ntimestep,
-                 sph_errmsg(sim), sph_status_name(status));
+      sphsolid_one(lmp, FLERR, "pair sphsolid: damage stage at step {}: {} ({})", update->ntimestep,
+                   sph_errmsg(sim), sph_status_name(status));
     if (account && changed)
       account_released(st->S_data(), damage_before.data(), FixSPHSolidState::DISSIPATED_DAMAGE,
                        "damage stage");
@@ -938,8 +946,8 @@ bool PairSPHSolid::grow_damage(double dt, bool any_rank, const unsigned char *fr
                                                         damage ? st->damage : nullptr, free_atoms,
                                                         st->S_data(), &returned);
     if (status != SPH_OK)
-      error->one(FLERR, "pair sphsolid: drucker_prager return at step {}: {} ({})",
-                 update->ntimestep, sph_errmsg(sim), sph_status_name(status));
+      sphsolid_one(lmp, FLERR, "pair sphsolid: drucker_prager return at step {}: {} ({})",
+                   update->ntimestep, sph_errmsg(sim), sph_status_name(status));
     if (account && returned)
       account_released(stress_before.data(), damage ? st->damage : nullptr,
                        FixSPHSolidState::DISSIPATED_PLASTIC, "drucker_prager return");
@@ -959,8 +967,8 @@ void PairSPHSolid::active_flaws(double *out)
       sph_damage_active(sim, atom->nlocal, idbuf.data(), localmass.data(), localmaterial.data(),
                         st->rho, st->S_data(), st->flaw_count, st->flaw_strain, out);
   if (status != SPH_OK)
-    error->one(FLERR, "pair sphsolid: active flaws: {} ({})", sph_errmsg(sim),
-               sph_status_name(status));
+    sphsolid_one(lmp, FLERR, "pair sphsolid: active flaws: {} ({})", sph_errmsg(sim),
+                 sph_status_name(status));
 }
 
 /* ----------------------------------------------------------------------
@@ -976,8 +984,8 @@ void PairSPHSolid::energy_sums(double out[2])
                       state_fix->rho, state_fix->S_data(), damage ? state_fix->damage : nullptr,
                       localmaterial.data(), nullptr, out);
   if (status != SPH_OK)
-    error->one(FLERR, "pair sphsolid: energy of the atoms at step {}: {} ({})", update->ntimestep,
-               sph_errmsg(sim), sph_status_name(status));
+    sphsolid_one(lmp, FLERR, "pair sphsolid: energy of the atoms at step {}: {} ({})",
+                 update->ntimestep, sph_errmsg(sim), sph_status_name(status));
 }
 
 void PairSPHSolid::account_start()
@@ -998,10 +1006,10 @@ void PairSPHSolid::account_evaluation(const double *dv_dt, const unsigned char *
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   if (nrates != nlocal || cached_nall != nall || neighbor->ncalls != cached_build)
-    error->one(FLERR,
-               "pair sphsolid: energy account at step {}: the last rate evaluation is not of "
-               "the current atoms",
-               update->ntimestep);
+    sphsolid_one(lmp, FLERR,
+                 "pair sphsolid: energy account at step {}: the last rate evaluation is not of "
+                 "the current atoms",
+                 update->ntimestep);
   sph_particles particles{};
   particles.n_local = nlocal;
   particles.n_total = nall;
@@ -1022,8 +1030,8 @@ void PairSPHSolid::account_evaluation(const double *dv_dt, const unsigned char *
                                              rate_dv.data(), dv_dt, integrate_motion, power);
   part_seconds[PART_RATES] += cpu_seconds() - start;
   if (status != SPH_OK)
-    error->one(FLERR, "pair sphsolid: energy account at step {}: {} ({})", update->ntimestep,
-               sph_errmsg(sim), sph_status_name(status));
+    sphsolid_one(lmp, FLERR, "pair sphsolid: energy account at step {}: {} ({})", update->ntimestep,
+                 sph_errmsg(sim), sph_status_name(status));
   power_sum[0] += power[0];
   power_sum[1] += power[1];
   power_evaluations++;

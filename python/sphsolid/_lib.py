@@ -138,6 +138,12 @@ class EffectParameter(Structure):
                 ("min_inclusive", c_int), ("max_inclusive", c_int)]
 
 
+class MaterialKeyInfo(Structure):
+    _fields_ = [("key", c_char_p), ("unit", c_char_p),
+                ("description", c_char_p), ("default_value", c_double),
+                ("min", c_double), ("max", c_double)]
+
+
 class PaperScene(Structure):
     _fields_ = [("specimen", c_int), ("piston", c_int), ("plate", c_int),
                 ("material", c_int), ("probe_A", c_int), ("probe_B", c_int),
@@ -165,6 +171,8 @@ _PROTOTYPES = {
                                       POINTER(c_int)]),
     "sph_material_info_get": (c_int, [_sim, c_int, POINTER(MaterialInfo)]),
     "sph_material_set": (c_int, [_sim, c_int, c_char_p, c_double]),
+    "sph_material_key_count": (c_int, []),
+    "sph_material_key_get": (c_int, [c_int, POINTER(MaterialKeyInfo)]),
     "sph_flaws_active_at": (c_int, [_sim, c_double, _dp]),
     "sph_body_reaction": (c_int, [_sim, c_int, _dp]),
     "sph_add_block": (c_int, [_sim, c_char_p, c_int, _dp, _dp, c_double,
@@ -496,6 +504,23 @@ def effect_registry() -> dict:
     return out
 
 
+def material_keys() -> dict:
+    """The library's registry of material keys (those ``sph_material_set``
+    takes, beyond the elastic constants): for each key its ``unit`` (SI,
+    "" for a pure number), ``description``, ``default`` and the closed
+    range ``min`` .. ``max`` (inf: unbounded)."""
+    out = {}
+    for k in range(lib.sph_material_key_count()):
+        info = MaterialKeyInfo()
+        check(lib.sph_material_key_get(k, ctypes.byref(info)), None,
+              "sph_material_key_get")
+        out[info.key.decode()] = {"unit": info.unit.decode(),
+                                  "description": info.description.decode(),
+                                  "default": info.default_value,
+                                  "min": info.min, "max": info.max}
+    return out
+
+
 def new_handle(dimension: int):
     """Create an ``sph_sim`` handle; raise ValueError on a bad dimension or
     a bad ``SPHSOLID_RATE_PATH`` in the environment (the library's message
@@ -511,6 +536,23 @@ def new_handle(dimension: int):
     if not handle:
         raise MemoryError("sph_create: out of memory")
     return handle
+
+
+def flag(value, name: str) -> bool:
+    """A yes/no argument: True or False (numpy's bools, and the integers 0
+    and 1, too); anything else is a ValueError naming ``name``, never cast
+    (``bool("no")`` is True)."""
+    if isinstance(value, bool):
+        return value
+    try:
+        import numpy
+        if isinstance(value, numpy.bool_):
+            return bool(value)
+    except ImportError:                      # pragma: no cover
+        pass
+    if isinstance(value, int) and value in (0, 1):
+        return bool(value)
+    raise ValueError(f"{name} must be True or False, got {value!r}")
 
 
 def number(value, name: str) -> float:

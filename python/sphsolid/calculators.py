@@ -198,6 +198,7 @@ class CLibrary(Calculator):
 
     def set_dt(self, dt: float, allow_unstable: bool = False) -> None:
         value = _time(dt, "dt")          # 1e-7 or "0.1us"; the library judges
+        allow_unstable = _lib.flag(allow_unstable, "allow_unstable")
         self._check(lib.sph_set_dt(self._handle, value, int(allow_unstable)),
                     "dt")
 

@@ -7,6 +7,7 @@ import signal
 import threading
 from typing import Callable
 
+from . import _lib
 from ._lib import StoppedError, SimulationError
 from .units import time as _time
 
@@ -76,7 +77,8 @@ class Dynamics:
             dt = _time(dt, "dt")                # 1e-7 or "0.1us"
         self.calc.set_dt(dt, allow_unstable)
         self.observers: list[_Observer] = []
-        self.progress = progress
+        self.progress = (None if progress is None
+                         else _lib.flag(progress, "progress"))
         self.progress_threshold = progress_threshold
         self._interrupted = False
 

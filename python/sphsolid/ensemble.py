@@ -16,9 +16,14 @@ Layout of the output directory::
                                   ci95_high, values (per member), ...
     DIR/histogram.png             the quantity's histogram
 
-A member whose ``summary.json`` exists is finished: a rerun into the same
-directory keeps it and runs the others (a killed ensemble continues where
-it stopped).  Each member runs on one thread, so it is bitwise the same
+A member whose ``summary.json`` exists and proves itself whole is
+finished: a rerun into the same directory keeps it and runs the others (a
+killed ensemble continues where it stopped).  Each member's summary
+carries its own ``checksum`` (SHA-256 of the rest of the summary, which
+holds the SHA-256 of its load.csv, ``load_csv_sha256``): a summary that is
+not a JSON object, is truncated, was edited by hand, belongs to another
+member or ensemble, or whose load.csv changed is run again, the file and
+the reason named (:func:`check_member`).  Each member runs on one thread, so it is bitwise the same
 run whether it ran alone, in the pool or after a resume.
 """
 from __future__ import annotations
@@ -28,15 +33,17 @@ import math
 import os
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from . import _lib
 from .fracture import TESTS, test_scene
 
 __all__ = ["ensemble", "run_member", "bootstrap_mean_interval", "summarise",
-           "histogram", "QUANTITIES", "Ensemble"]
+           "histogram", "QUANTITIES", "Ensemble", "check_member",
+           "member_checksum", "cost"]
 #: Quantities of a member's summary an ensemble summarises, and their unit.
 #: strength_Pa is the UCS, the Brazilian disc's 2P/(pi D t) or the tensile
 #: bar's strength, by test.
@@ -55,6 +62,58 @@ def _member_dir(out: Path, member: int) -> Path:
     return out / f"member_{member:04d}"
 
 
+def _sha256(data: bytes) -> str:
+    import hashlib
+    return hashlib.sha256(data).hexdigest()
+
+
+def member_checksum(summary: dict) -> str:
+    """SHA-256 of a member's summary without its ``checksum`` key, over
+    its JSON with sorted keys (what :func:`run_member` stores)."""
+    rest = {k: v for k, v in summary.items() if k != "checksum"}
+    return _sha256(json.dumps(rest, sort_keys=True,
+                              separators=(",", ":")).encode())
+
+
+def check_member(path, config: dict, member: int) -> tuple[dict | None, str]:
+    """A member's summary.json read back and proved whole: (summary, "")
+    when it is a JSON object whose checksum holds, of this member of this
+    ensemble, with its load.csv as it was written; else (None, the
+    reason), naming the file."""
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except OSError as error:
+        return None, f"{path}: cannot be read ({error.strerror or error})"
+    try:
+        summary = json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError) as error:
+        return None, (f"{path}: not a complete JSON file ({error}; "
+                      "truncated?)")
+    if not isinstance(summary, dict):
+        return None, (f"{path}: holds a JSON {type(summary).__name__}, not "
+                      "a member's summary (an object)")
+    if "checksum" not in summary:
+        return None, f"{path}: has no checksum (an earlier version's?)"
+    if summary["checksum"] != member_checksum(summary):
+        return None, (f"{path}: fails its checksum (edited after it was "
+                      "written?)")
+    expected = {"test": config["test"], "dx_m": config["dx_m"],
+                "seed": config["seed"], "member": member}
+    for key, value in expected.items():
+        if summary.get(key) != value:
+            return None, (f"{path}: is of {key}={summary.get(key)!r}, this "
+                          f"ensemble's member has {key}={value!r}")
+    load = path.with_name("load.csv")
+    try:
+        digest = _sha256(load.read_bytes())
+    except OSError:
+        return None, f"{path}: its {load.name} is missing"
+    if summary.get("load_csv_sha256") != digest:
+        return None, f"{path}: its {load.name} fails the summary's checksum"
+    return summary, ""
+
+
 def _write_atomic(path: Path, text: str) -> None:
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text(text)
@@ -65,7 +124,8 @@ def run_member(config: dict, member: int, out: Path | None = None) -> dict:
     """Runs member ``member`` of the ensemble ``config`` (the contents of
     ensemble.json) on one thread; with ``out``, writes its load history
     and, last and atomically, its summary.json into out/member_XXXX.
-    Returns the member's summary."""
+    Returns the member's summary (with the SHA-256 of its load.csv and its
+    own ``checksum``, :func:`member_checksum`)."""
     from . import fracture
     from .calculators import CLibrary
     scene = test_scene(config["test"], config["dx_m"], config["seed"],
@@ -83,13 +143,16 @@ def run_member(config: dict, member: int, out: Path | None = None) -> dict:
                    steps=int(scene.step), wall_s=wall, cpu_s=cpu,
                    particles=int(sum(scene.body_counts().values())),
                    effects=scene.effects)
+    lines = ["time_s,strain,load_N_per_m"]
+    lines += [f"{float(t)!r},{float(e)!r},{float(f)!r}"
+              for t, e, f in zip(run.time, run.strain, run.load)]
+    text = "\n".join(lines) + "\n"
+    summary["load_csv_sha256"] = _sha256(text.encode())
+    summary["checksum"] = member_checksum(summary)
     if out is not None:
         where = _member_dir(Path(out), member)
         where.mkdir(parents=True, exist_ok=True)
-        lines = ["time_s,strain,load_N_per_m"]
-        lines += [f"{float(t)!r},{float(e)!r},{float(f)!r}"
-                  for t, e, f in zip(run.time, run.strain, run.load)]
-        _write_atomic(where / "load.csv", "\n".join(lines) + "\n")
+        _write_atomic(where / "load.csv", text)
         _write_atomic(where / "summary.json", json.dumps(summary, indent=2))
     return summary
 
@@ -168,6 +231,9 @@ class Ensemble:
     summary: dict
     members: list
     ran: list
+    #: members whose summary.json was found but failed
+    #: :func:`check_member` and were run again: member -> the reason
+    rejected: dict = field(default_factory=dict)
 
     @property
     def mean(self) -> float:
@@ -205,6 +271,60 @@ def _check(test, members, jobs, seed, dx, quantity):
         raise ValueError(f"dx={dx!r} must be finite and > 0")
 
 
+#: Bytes of one row of a member's load.csv (three reprs of doubles), and
+#: of its summary.json and a file's least allocation.
+_ROW_BYTES = 70
+_FILE_BYTES = 4096
+
+
+def cost(test: str, members: int, out=None, dx: float | None = None,
+         jobs: int = 1, seed: int = 1, max_strain: float | None = None,
+         drop: float = 0.5, scene_options: dict | None = None) -> dict:
+    """What an ensemble would cost before it starts: member 0's scene is
+    built and timed over a few steps on one thread, so the estimate is of
+    this machine.  Returns ``particles``, ``steps`` (per member, at most:
+    to max_strain; a member stops earlier at the load drop),
+    ``step_s``, ``member_s`` (at most), ``to_run`` (the members out holds
+    no summary of), ``seconds`` (wall time at most, on ``jobs``
+    processes), ``bytes`` (disk of the members to run) and ``free_bytes``
+    (free on out's file system)."""
+    import shutil
+    _check(test, members, jobs, seed, dx, "strength")
+    config = _config(test, dx, seed, max_strain, drop, scene_options)
+    from .calculators import CLibrary
+    from .dynamics import ImprovedEuler
+    scene = test_scene(config["test"], config["dx_m"], config["seed"], 0,
+                       **config["scene_options"])
+    scene.calc = CLibrary(threads=1)
+    dyn = ImprovedEuler(scene, progress=False)
+    dyn.run(steps=1)                       # the first neighbour build
+    start = time.perf_counter()
+    dyn.run(steps=3)
+    step_s = (time.perf_counter() - start) / 3
+    info = scene.failure
+    steps = math.ceil(config["max_strain"] * info["length"] / info["speed"]
+                      / dyn.dt)
+    rows = math.ceil(config["max_strain"] * config["samples_per_strain"]) + 1
+    to_run = members
+    where = None
+    if out is not None:
+        out = Path(out)
+        to_run = sum(1 for i in range(min(members, 100000))
+                     if not (_member_dir(out, i) / "summary.json").exists())
+        to_run += max(0, members - 100000)
+        where = out
+        while not where.exists() and where != where.parent:
+            where = where.parent
+    member_s = steps * step_s
+    return {"particles": int(sum(scene.body_counts().values())),
+            "steps": steps, "step_s": step_s, "member_s": member_s,
+            "to_run": to_run,
+            "seconds": math.ceil(to_run / jobs) * member_s,
+            "bytes": to_run * (rows * _ROW_BYTES + 3 * _FILE_BYTES),
+            "free_bytes": (shutil.disk_usage(where).free if where is not None
+                           else None)}
+
+
 def _progress(total: int, done: int, show: bool):
     if not show:
         return None
@@ -216,7 +336,7 @@ def ensemble(test: str, members: int, out, dx: float | None = None,
              jobs: int = 1, seed: int = 1, quantity: str = "strength",
              max_strain: float | None = None, drop: float = 0.5,
              progress: bool = False, figure: bool = True,
-             scene_options: dict | None = None) -> Ensemble:
+             scene_options: dict | None = None, log=None) -> Ensemble:
     """Runs members 0 .. members-1 of fracture test ``test`` (ucs,
     brazilian, tensile) with flaws drawn from hash(``seed``, member), in
     ``jobs`` processes, into directory ``out``; keeps the members an
@@ -226,9 +346,14 @@ def ensemble(test: str, members: int, out, dx: float | None = None,
 
     ``dx``, ``max_strain``: default that of ``sphsolid <test>``;
     ``scene_options``: keyword arguments of the scene's builder
-    (e.g. ``strain_rate``, ``width``, ``length``).
+    (e.g. ``strain_rate``, ``width``, ``length``).  A member whose
+    summary.json fails :func:`check_member` is run again, the reason (the
+    file named) passed to ``log`` (default: a warning) and kept in the
+    result's ``rejected``.
     """
     _check(test, members, jobs, seed, dx, quantity)
+    progress = _lib.flag(progress, "progress")
+    figure = _lib.flag(figure, "figure")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     config = _config(test, dx, seed, max_strain, drop, scene_options)
@@ -244,10 +369,22 @@ def ensemble(test: str, members: int, out, dx: float | None = None,
     else:
         _write_atomic(record, json.dumps(config, indent=2))
     results: dict[int, dict] = {}
+    rejected: dict[int, str] = {}
     for i in range(members):
         path = _member_dir(out, i) / "summary.json"
-        if path.exists():
-            results[i] = json.loads(path.read_text())
+        if not path.exists():
+            continue
+        summary, reason = check_member(path, config, i)
+        if summary is not None:
+            results[i] = summary
+            continue
+        rejected[i] = reason
+        message = f"{reason}; member {i} runs again"
+        if log is None:
+            import warnings
+            warnings.warn(message, stacklevel=2)
+        else:
+            log(message)
     todo = [i for i in range(members) if i not in results]
     bar = _progress(members, members - len(todo), progress)
     try:
@@ -291,7 +428,8 @@ def ensemble(test: str, members: int, out, dx: float | None = None,
     _write_atomic(out / "summary.json", json.dumps(summary, indent=2))
     if figure:
         histogram(out / "histogram.png", summary)
-    return Ensemble(summary=summary, members=ordered, ran=todo)
+    return Ensemble(summary=summary, members=ordered, ran=todo,
+                    rejected=rejected)
 
 
 def histogram(path, summary: dict) -> None:

@@ -532,7 +532,7 @@ class Lammps(Calculator):
         value = _time(dt, "dt")          # 1e-7 or "0.1us"
         # the library judges the step (> 0, within the stability limit of
         # the synced state) and keeps it: checkpoints record it
-        if not allow_unstable:
+        if not _lib.flag(allow_unstable, "allow_unstable"):
             self.sync()
         _check(lib.sph_set_dt(self.scene.handle, value, int(allow_unstable)),
                self.scene.handle, "dt")

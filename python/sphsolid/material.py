@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import ctypes
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 from . import _lib
 from ._lib import lib
@@ -49,6 +49,10 @@ class Material:
         Flaws of the Weibull law n(eps) = k V eps^m for the effect
         ``damage``: k [m^-3] (per metre of depth in 2D: V = area x 1 m)
         and the exponent m [-]; 0 (default): no flaws (docs/fracture.md).
+    keys : dict, optional
+        Any other key of the library's material registry
+        (:func:`sphsolid._lib.material_keys`, set with ``sph_material_set``)
+        by name, in SI units; the library judges names and values.
 
     Attributes
     ----------
@@ -68,6 +72,7 @@ class Material:
     name: str = ""
     weibull_k: float = 0.0
     weibull_m: float = 0.0
+    keys: dict = field(default_factory=dict, hash=False)
     c0: float = field(init=False, default=0.0)
     c_p: float = field(init=False, default=0.0)
     pair: str = field(init=False, default="")
@@ -87,8 +92,9 @@ class Material:
         # the library checks the ranges and names the value
         for key in ("weibull_k", "weibull_m"):
             object.__setattr__(self, key, _number(key, getattr(self, key)))
+        object.__setattr__(self, "keys", _keys(self))
         info = _library_info(pair, values, rho0, self.weibull_k,
-                             self.weibull_m)
+                             self.weibull_m, self.keys)
         set_ = object.__setattr__
         set_(self, "pair", pair)
         set_(self, "rho0", rho0)
@@ -124,6 +130,10 @@ class Material:
                 _lib.check(lib.sph_material_set(handle, index.value,
                                                 key.encode(), value),
                            handle, "Material")
+        for key, value in getattr(self, "keys", {}).items():
+            _lib.check(lib.sph_material_set(handle, index.value,
+                                            key.encode(), value),
+                       handle, "Material")
         return index.value
 
     def __repr__(self):
@@ -133,8 +143,27 @@ class Material:
                 f"kg/m^3)")
 
 
+def _keys(material) -> dict:
+    """Material.keys checked: a mapping of names (not the dataclass's own
+    fields) to numbers."""
+    keys = material.keys
+    if not isinstance(keys, dict):
+        raise ValueError(f"Material: keys must be a dict of material keys, "
+                         f"got {keys!r}")
+    own = {f.name for f in fields(Material)}
+    out = {}
+    for key, value in keys.items():
+        if not isinstance(key, str):
+            raise ValueError(f"Material: a key must be a name, got {key!r}")
+        if key in own:
+            raise ValueError(f"Material: give {key} as Material({key}=...),"
+                             " not in keys")
+        out[key] = _number(key, value)
+    return out
+
+
 def _library_info(pair, values, rho0, weibull_k=0.0,
-                  weibull_m=0.0) -> _lib.MaterialInfo:
+                  weibull_m=0.0, keys=None) -> _lib.MaterialInfo:
     """Let libsphsolid validate and convert the constants."""
     handle = _lib.new_handle(2)
     try:
@@ -144,6 +173,7 @@ def _library_info(pair, values, rho0, weibull_k=0.0,
         object.__setattr__(material, "_given", values)
         object.__setattr__(material, "weibull_k", weibull_k)
         object.__setattr__(material, "weibull_m", weibull_m)
+        object.__setattr__(material, "keys", dict(keys or {}))
         index = Material.add_to(material, handle)
         info = _lib.MaterialInfo()
         _lib.check(lib.sph_material_info_get(handle, index,

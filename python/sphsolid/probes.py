@@ -149,6 +149,7 @@ class Probes:
         if list(series.columns) != self.values:
             raise ValueError(f"the file's probe columns {list(series.columns)}"
                              f" are not {self.values}")
+        final = _lib.flag(final, "final")
         last = len(series.steps) - 1
         keep = [k for k, step in enumerate(series.steps)
                 if interval is None or int(step) % interval == 0

@@ -39,7 +39,7 @@ def allowing_large(allow: bool = True):
         with sphsolid.allowing_large():
             scene = sphsolid.scenes.uniaxial_cylinder("0.5mm")
     """
-    token = _ALLOW_LARGE.set(bool(allow))
+    token = _ALLOW_LARGE.set(_lib.flag(allow, "allowing_large: allow"))
     try:
         yield
     finally:
@@ -107,7 +107,8 @@ class Scene:
         self._handle = _lib.new_handle(dimension)
         if allow_large is None:
             allow_large = _ALLOW_LARGE.get()
-        self._check(lib.sph_set_allow_large(self._handle, bool(allow_large)),
+        allow_large = _lib.flag(allow_large, "allow_large")
+        self._check(lib.sph_set_allow_large(self._handle, allow_large),
                     "allow_large")
         self.dimension = dimension
         self.ncomp = _lib.stress_components(dimension)
@@ -192,7 +193,9 @@ class Scene:
         if len(periodic) != dim:
             raise ValueError(f"periodic must have {dim} entries, got "
                              f"{periodic!r}")
-        flags = (ctypes.c_int * 3)(*([int(bool(p)) for p in periodic]
+        periodic = [_lib.flag(p, f"periodic[{i}]")
+                    for i, p in enumerate(periodic)]
+        flags = (ctypes.c_int * 3)(*([int(p) for p in periodic]
                                     + [0] * (3 - dim)))
         self._check(lib.sph_set_domain(self._handle, lo3, hi3, flags),
                     "domain")
@@ -562,25 +565,32 @@ class Scene:
         (:meth:`energy_account`): ``work`` done by prescribed motions and
         applied forces, energy ``dissipated_damage``,
         ``dissipated_plastic`` (drucker_prager) and
-        ``dissipated_viscosity`` since the account was switched on (0 while
-        it is off)."""
+        ``dissipated_viscosity`` since the account was switched on; while
+        it is off nothing is kept and these four are None (not 0: a piston
+        may have done work)."""
+        all_bodies = _lib.flag(all_bodies, "all_bodies")
         self.calc.sync()
         info = _lib.EnergyInfo()
-        self._check(lib.sph_energy(self._handle, int(bool(all_bodies)),
+        self._check(lib.sph_energy(self._handle, int(all_bodies),
                                    ctypes.byref(info)), "energy")
+        kept = bool(lib.sph_energy_account(self._handle))
         return {"kinetic": info.kinetic, "elastic": info.elastic,
                 "momentum": np.array(info.momentum[:self.dimension]),
-                "work": info.work,
-                "dissipated_damage": info.dissipated_damage,
-                "dissipated_plastic": info.dissipated_plastic,
-                "dissipated_viscosity": info.dissipated_viscosity}
+                "work": info.work if kept else None,
+                "dissipated_damage": info.dissipated_damage if kept else None,
+                "dissipated_plastic": info.dissipated_plastic if kept
+                else None,
+                "dissipated_viscosity": info.dissipated_viscosity if kept
+                else None}
 
     def energy_account(self, on: bool = True) -> None:
         """Switch the library's energy account on (its totals restart from
         0) or off (``sph_set_energy_account``): with it, kinetic + elastic
         + dissipated - work of all bodies stays constant in a run without
-        gravity or damping (docs/fracture.md)."""
-        self._check(lib.sph_set_energy_account(self._handle, int(bool(on))),
+        gravity or damping (docs/fracture.md).  ``on`` is True or False
+        (``"no"`` is refused, not taken as true)."""
+        on = _lib.flag(on, "energy_account: on")
+        self._check(lib.sph_set_energy_account(self._handle, int(on)),
                     "energy account")
 
     # -------------------------------------------------------- checkpoints

@@ -71,21 +71,41 @@ free bodies) and ``motion``: ``"free"``, ``"fixed"``, ``{velocity = [..]}``,
 ``{force = [..]}``, ``{pressure = "1MPa", direction = [0, -1]}`` or
 ``{omega = .., centre = [..]}`` (rotation).
 
+Materials: ``rho0`` and K/mu, E/nu or K/nu, and every key of the library's
+material registry in its unit (read at run time, :func:`material_key_units`:
+``weibull_k`` [m^-3] and ``weibull_m`` of the ``damage`` effect, ...).
+``[effects]``: ``NAME = { parameter = value, ... }`` for every effect of the
+library, each value in its parameter's unit (:func:`effect_parameter_units`;
+e.g. ``drucker_prager = { cohesion = "5MPa" }``,
+``damage = { seed = 1 }``)::
+
+    [materials.rock]
+    K = "12.2GPa"
+    mu = "2.67GPa"
+    rho0 = 2300
+    weibull_k = 1e28             # flaws per m^3 (2D: per metre of depth)
+    weibull_m = 9
+
+    [effects]
+    damage = { seed = 1, flaws = 10 }
+
 Everything else is checked: an unknown key or shape is an error naming it.
 """
 from __future__ import annotations
 
 import math
 import sys
+from dataclasses import fields
 import time as wallclock
 from pathlib import Path
 
 from . import build
 from .material import Material
 from .metrics import probe_interval_for
-from .units import length, lengths, quantity, time, to_si
+from .units import in_unit, length, lengths, quantity, time, to_si
 
-__all__ = ["load", "SceneFile", "run_file"]
+__all__ = ["load", "SceneFile", "run_file", "material_key_units",
+           "effect_parameter_units"]
 
 _TOP = {"dimension", "until", "dt", "integrator", "preset", "threads",
         "smoothing_ratio", "kernel", "domain", "materials", "bodies",
@@ -107,6 +127,32 @@ _SHAPES = {
 _OPTIONAL = {"cylinder": {"base"}, "prism": {"base"},
              "plate": {"layers", "inset"}, "piston": {"layers", "inset"}}
 _COMMON = {"name", "shape", "material", "motion", "velocity"}
+
+
+#: The elastic constants of a material table and their SI units; the
+#: other keys are the library's registry of material keys
+#: (material_key_units).
+_ELASTIC = {"rho0": "kg/m^3", "K": "Pa", "mu": "Pa", "E": "Pa", "nu": ""}
+
+
+def material_key_units() -> dict:
+    """Every key a ``[materials.NAME]`` table takes and its SI unit: the
+    elastic constants and, read from the library at run time, every key
+    of its material registry (``sph_material_key_get``: weibull_k [m^-3],
+    weibull_m, ...), so a key the library learns is a scene file's key
+    too."""
+    from ._lib import material_keys
+    units = dict(_ELASTIC)
+    units.update({key: info["unit"] for key, info in material_keys().items()})
+    return units
+
+
+def effect_parameter_units() -> dict:
+    """{effect: {parameter: SI unit}} from the library's effect registry:
+    the keys and units of ``[effects] NAME = {...}``."""
+    from ._lib import effect_registry
+    return {name: {key: p["unit"] for key, p in info["parameters"].items()}
+            for name, info in effect_registry().items()}
 
 
 class SceneFileError(ValueError):
@@ -238,8 +284,13 @@ class SceneFile:
             if not isinstance(parameters, dict):
                 raise SceneFileError(f"{name}: [effects] {effect} must be a "
                                      f"table of parameters, got {parameters!r}")
+            # each value in its parameter's unit (the library's registry);
+            # an unknown effect or key is the library's to name
+            known = effect_parameter_units().get(effect, {})
             self.effects[effect] = {
-                key: quantity(value, None, f"effects.{effect}.{key}")
+                key: (in_unit(value, known[key], f"effects.{effect}.{key}")
+                      if key in known
+                      else quantity(value, None, f"effects.{effect}.{key}"))
                 for key, value in parameters.items()}
         if (self.preset is not None and self.preset.viscosity is not None
                 and "artificial_viscosity" not in self.effects):
@@ -270,6 +321,16 @@ class SceneFile:
         if self.preset is not None:
             ratio = self.preset.smoothing_ratio if ratio is None else ratio
             kernel = self.preset.kernel if kernel is None else kernel
+        if "damage" in self.effects and not any(
+                isinstance(b.motion, build.Free)
+                and b.material.weibull_k > 0 and b.material.weibull_m > 0
+                for b in self.bodies):
+            # the library's rule, said in the file's words (it names
+            # sph_material_set, the C call)
+            raise SceneFileError(
+                f"{name}: [effects] damage needs flaws: give weibull_k "
+                "[m^-3] and weibull_m > 0 in the [materials.NAME] table of a "
+                "free body's material")
         from .scene import Scene
         try:
             self.scene = Scene(self.dimension, self.bodies,
@@ -313,13 +374,20 @@ class SceneFile:
         if not isinstance(spec, dict):
             raise SceneFileError(f"{where}: a material is a table of rho0 and "
                                  f"K/mu, E/nu or K/nu, got {spec!r}")
-        _unknown(where, spec, {"rho0", "K", "mu", "E", "nu", "name"})
-        kinds = {"rho0": "density", "K": "pressure", "mu": "pressure",
-                 "E": "pressure", "nu": None}
-        values = {key: quantity(value, kinds[key], f"{where} {key}")
-                  for key, value in spec.items() if key != "name"}
+        units = material_key_units()
+        _unknown(where, spec, set(units) | {"name"})
+        own = {f.name for f in fields(Material) if f.init}
+        values, keys = {}, {}
+        for key, value in spec.items():
+            if key == "name":
+                continue
+            converted = in_unit(value, units[key], f"{where} {key}")
+            if key in _ELASTIC or key in own:
+                values[key] = converted
+            else:
+                keys[key] = converted
         try:
-            return Material(name=spec.get("name", ""), **values)
+            return Material(name=spec.get("name", ""), keys=keys, **values)
         except (TypeError, ValueError) as error:
             raise SceneFileError(f"{where}: {error}") from None
 

@@ -17,11 +17,13 @@ import re
 import warnings
 
 __all__ = ["quantity", "quantities", "length", "lengths", "time",
-           "velocity", "to_si", "UNITS", "ScaleWarning", "check_scale"]
+           "velocity", "to_si", "in_unit", "UNITS", "ScaleWarning",
+           "check_scale"]
 
 _LENGTH = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6,
            "nm": 1e-9, "km": 1e3}
-_TIME = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "ns": 1e-9}
+_TIME = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "ns": 1e-9,
+         "min": 60.0, "h": 3600.0}
 
 #: unit -> (kind, factor to SI)
 UNITS: dict[str, tuple[str, float]] = {}
@@ -37,6 +39,9 @@ UNITS.update({u: ("density", f) for u, f in
               {"kg/m3": 1.0, "kg/m^3": 1.0, "g/cm3": 1e3,
                "g/cm^3": 1e3}.items()})
 UNITS.update({u: ("acceleration", 1.0) for u in ("m/s2", "m/s^2")})
+UNITS.update({u: ("energy per area", f) for u, f in
+              {"J/m^2": 1.0, "J/m2": 1.0, "kJ/m^2": 1e3,
+               "kJ/m2": 1e3}.items()})
 UNITS.update({u: ("rate", 1.0) for u in ("1/s", "Hz")})
 UNITS.update({u: ("angular velocity", 1.0) for u in ("rad/s",)})
 
@@ -85,6 +90,23 @@ def quantity(value, kind: str | None = None, name: str = "value") -> float:
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a number or a quantity such as "
                          f"'1mm', got {value!r}") from None
+
+
+def in_unit(value, unit: str, name: str = "value") -> float:
+    """A number in the SI unit ``unit`` of a registry (the library's
+    effect parameters and material keys: "Pa", "m^-3", "deg", "" for a
+    pure number): a unit of the table above converts within its kind
+    (``"12MPa"`` for "Pa"); any other takes a plain number or one followed
+    by exactly that unit (``"1e28 m^-3"``, ``"30deg"``)."""
+    if unit in UNITS:
+        return quantity(value, UNITS[unit][0], name)
+    if isinstance(value, str):
+        match = _PATTERN.fullmatch(value)
+        if match and match.group(2) in ("", unit):
+            return float(match.group(1))
+        raise ValueError(f"{name}: {value!r} is not a number"
+                         + (f" in {unit}" if unit else " (it has no unit)"))
+    return quantity(value, None, name)
 
 
 def quantities(values, kind: str | None = None, name: str = "value",

@@ -4,9 +4,14 @@
  * goes on without undefined behaviour; the suite also runs under ASan and
  * UBSan).
  */
+#define _POSIX_C_SOURCE 200112L /* setenv */
 #include "helpers.h"
 
 #include "core/sim.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 /* status and message of a call that must be refused */
 #define refused(sim, call, status, text)                                                        \
@@ -29,7 +34,92 @@ static sph_sim *block(void) { return free_block_2d(12, 12, 1e-3); }
             skip();                         \
     } while (0)
 
+/* ------------------------------------------------------------- handle */
+
+/* More threads than SPH_THREADS_PER_CORE per core are refused, naming the
+ * cores (100000 crashed the OpenMP runtime in the neighbour build); the
+ * bound itself is taken and runs. */
+static void threads_beyond_the_cores(void **state)
+{
+    (void)state;
+    sph_sim *sim = block();
+#ifdef _OPENMP
+    const int most = SPH_THREADS_PER_CORE * omp_get_num_procs();
+    refused(sim, sph_set_threads(sim, most + 1), SPH_ERR_ARGUMENT, "per core of the");
+    refused(sim, sph_set_threads(sim, 100000), SPH_ERR_ARGUMENT, "threads=100000");
+    check(sim, sph_set_threads(sim, most));
+    check(sim, sph_run(sim, 1));
+#endif
+    check(sim, sph_set_threads(sim, 1));
+    sph_destroy(sim);
+}
+
+/* A caller's text quoted in a message is cut at SPH_CLIP characters with
+ * its length said: a 5000-character SPHSOLID_RATE_PATH is not echoed. */
+static void long_rate_path_is_clipped(void **state)
+{
+    (void)state;
+    char value[5001];
+    memset(value, 'x', 5000);
+    value[5000] = '\0';
+    assert_int_equal(setenv("SPHSOLID_RATE_PATH", value, 1), 0);
+    sph_sim *sim = NULL;
+    assert_int_equal(sph_create(2, &sim), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "... (5000 characters)"));
+    assert_true(strlen(sph_errmsg(sim)) < 200);
+    sph_destroy(sim);
+    assert_int_equal(setenv("SPHSOLID_RATE_PATH", "avx2 ", 1), 0);
+    assert_int_equal(sph_create(2, &sim), SPH_ERR_ARGUMENT);
+    assert_non_null(strstr(sph_errmsg(sim), "SPHSOLID_RATE_PATH='avx2 '"));
+    sph_destroy(sim);
+    assert_int_equal(unsetenv("SPHSOLID_RATE_PATH"), 0);
+}
+
 /* ------------------------------------------------------------ materials */
+
+/* The registry of material keys is the setter's list: each key is taken
+ * at its default and at its bounds, refused beyond them and when not
+ * finite, and an unknown key's message lists exactly the registry's keys
+ * (a key sph_material_set learns must be added to material_keys.c). */
+static void material_key_registry_is_the_setters(void **state)
+{
+    (void)state;
+    sph_sim *sim = new_sim(2);
+    int id = -1;
+    check(sim, sph_add_material_K_mu(sim, 12.2e9, 2.67e9, 2300, &id));
+    const int count = sph_material_key_count();
+    assert_true(count >= 2);
+    char known[512] = "(known: ";
+    for (int k = 0; k < count; ++k) {
+        sph_material_key_info info;
+        assert_int_equal(sph_material_key_get(k, &info), SPH_OK);
+        assert_non_null(info.key);
+        assert_non_null(info.unit);
+        assert_true(info.description && *info.description);
+        assert_true(info.min <= info.default_value && info.default_value <= info.max);
+        check(sim, sph_material_set(sim, id, info.key, info.default_value));
+        check(sim, sph_material_set(sim, id, info.key, info.min));
+        if (isfinite(info.max))
+            check(sim, sph_material_set(sim, id, info.key, info.max));
+        const double below = info.min - fmax(1.0, fabs(info.min));
+        refused(sim, sph_material_set(sim, id, info.key, below), SPH_ERR_ARGUMENT, info.key);
+        if (isfinite(info.max)) {
+            const double above = info.max + fmax(1.0, fabs(info.max));
+            refused(sim, sph_material_set(sim, id, info.key, above), SPH_ERR_ARGUMENT, info.key);
+        }
+        refused(sim, sph_material_set(sim, id, info.key, NAN), SPH_ERR_ARGUMENT, info.key);
+        if (k)
+            strcat(known, ", ");
+        strcat(known, info.key);
+    }
+    strcat(known, ")");
+    refused(sim, sph_material_set(sim, id, "no_such_key", 1.0), SPH_ERR_ARGUMENT, known);
+    sph_material_key_info info;
+    assert_int_equal(sph_material_key_get(count, &info), SPH_ERR_ARGUMENT);
+    assert_int_equal(sph_material_key_get(-1, &info), SPH_ERR_ARGUMENT);
+    assert_int_equal(sph_material_key_get(0, NULL), SPH_ERR_ARGUMENT);
+    sph_destroy(sim);
+}
 
 static void material_overflowing_constants(void **state)
 {
@@ -595,6 +685,9 @@ static void frame_of_missing_file(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(threads_beyond_the_cores),
+        cmocka_unit_test(long_rate_path_is_clipped),
+        cmocka_unit_test(material_key_registry_is_the_setters),
         cmocka_unit_test(material_overflowing_constants),
         cmocka_unit_test(material_nan_bulk_modulus),
         cmocka_unit_test(material_poisson_one_half),

@@ -72,3 +72,51 @@ def test_a_setting_that_differs_between_ranks_is_named(tmp_path, plugin, setting
     assert f"pair sphsolid: {keyword} differs between MPI ranks" in text, text
     # one message: the error is raised on all ranks together, printed once
     assert text.count("differs between MPI ranks") <= 2, text  # screen and log
+
+
+# ----------------------------------------- a bad value on one rank alone
+#: K negative on rank 1 only: the library refuses it in pair_coeff there.
+BAD_ON_RANK_1 = {"pair_coeff": "* * K $(12.2e9*(1-2*v_rank)) mu 2.67e9 rho0 2300.0"}
+LIBRARY_MESSAGE = ("ERROR on proc 1: pair sphsolid: pair_coeff * *: bulk modulus "
+                   "K=-1.22e+10: must be finite and > 0")
+
+
+@pytest.mark.parametrize("screen", [[], ["-screen", "none"]], ids=["screen", "no screen"])
+def test_a_bad_value_on_one_rank_prints_the_librarys_message(tmp_path, plugin, screen):
+    """The rank that refuses a value prints the library's message before the
+    job stops (error->one; error->all on that rank alone printed nothing and
+    the job died in a barrier abort, status 15), with or without a screen."""
+    values = dict(pair_style=PAIR_STYLE, fix="improved_euler", timestep="1e-7")
+    values.update(BAD_ON_RANK_1)
+    deck = tmp_path / "in.deck"
+    deck.write_text(DECK.format(**values))
+    cmd = lmp_command(2) + ["-in", str(deck), "-log", "log.lammps", "-nocite",
+                            "-var", "plugin", str(plugin)] + screen
+    done = subprocess.run(cmd, cwd=tmp_path, capture_output=True, text=True, timeout=120,
+                          env=dict(os.environ, OMP_NUM_THREADS="1"))
+    assert done.returncode != 0
+    assert LIBRARY_MESSAGE in done.stdout + done.stderr, done.stdout + done.stderr
+
+
+def test_a_bad_value_on_one_rank_reaches_the_user_through_open_lammps(tmp_path, plugin):
+    """The same deck fed by Python on two ranks through open_lammps (no screen,
+    no log): rank 1 prints the library's message and the job stops."""
+    import sys
+    values = dict(pair_style=PAIR_STYLE, fix="improved_euler", timestep="1e-7")
+    values.update(BAD_ON_RANK_1)
+    text = DECK.format(**values).replace("plugin load ${plugin}\n", "")
+    (tmp_path / "in.deck").write_text(text)
+    script = tmp_path / "feed.py"
+    script.write_text(textwrap.dedent(f"""\
+        from pathlib import Path
+        from sphsolid.lammps import open_lammps, preload_mpi
+        preload_mpi()
+        lmp = open_lammps(plugin={str(plugin)!r})
+        lmp.commands_string(Path("in.deck").read_text())
+        """))
+    mpirun = lmp_command(2)[:-1]
+    done = subprocess.run(mpirun + [sys.executable, str(script)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=120,
+                          env=dict(os.environ, OMP_NUM_THREADS="1"))
+    assert done.returncode != 0
+    assert LIBRARY_MESSAGE in done.stderr, done.stdout + done.stderr

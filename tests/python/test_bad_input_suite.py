@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 import subprocess
+import sys
 from pathlib import Path
 
 import h5py
@@ -33,6 +34,33 @@ def small_scene(**kwargs):
 
 
 # --------------------------------------------------------------- Python API
+def _energy_account_no():
+    small_scene().energy_account("no")
+
+
+def _energy_all_bodies_string():
+    small_scene().energy(all_bodies="yes")
+
+
+def _periodic_strings():
+    sphsolid.Scene(2, [small()], domain=((-1, -1), (1, 1)),
+                   periodic=("no", "no"))
+
+
+def _allow_large_string():
+    small_scene(allow_large="false")
+
+
+def _allowing_large_none():
+    with sphsolid.allowing_large(None):
+        pass
+
+
+def _set_dt_allow_unstable_string():
+    scene = small_scene()
+    sphsolid.ImprovedEuler(scene, allow_unstable="no")
+
+
 def _material_bool():
     sphsolid.Material(K=True, mu=1e9, rho0=1000)
 
@@ -287,6 +315,12 @@ PYTHON_CASES = [
     (_far_apart_3d, ValueError, r"body 'b': particle 0 at x=1.1e\+07 m lies 1.1e\+10 spacings"),
     (_trajectory_of_old_format, OSError,
      r"old.h5' is a libsphsolid output of file format 1 without /parameters"),
+    (_energy_account_no, ValueError, r"energy_account: on must be True or False, got 'no'"),
+    (_energy_all_bodies_string, ValueError, r"all_bodies must be True or False, got 'yes'"),
+    (_periodic_strings, ValueError, r"periodic\[0\] must be True or False, got 'no'"),
+    (_allow_large_string, ValueError, r"allow_large must be True or False, got 'false'"),
+    (_allowing_large_none, ValueError, r"allow must be True or False, got None"),
+    (_set_dt_allow_unstable_string, ValueError, r"allow_unstable must be True or False, got 'no'"),
     (_trajectory_probes_without_probes, ValueError,
      r"probe interval 5, but there are no probes to sample"),
     (_trajectory_of_old_checkpoint, OSError,
@@ -335,6 +369,13 @@ CLI_CASES = [
     (["piston", "--times", "1ms", "--until", "0.3ms"], "--times 1ms beyond --until 0.3ms"),
     (["piston", "--times", "-1ms"], "--times: '-1ms': must be finite and > 0"),
     (["piston", "--threads", "-1"], "--threads: '-1': must be >= 1"),
+    (["piston", "--threads", "100000"], "--threads: '100000': must be <= "),
+    (["ucs", "--threads", "100000"], "core"),
+    (["ucs", "--seed", "-1"], "--seed: '-1': must be >= 0"),
+    (["ucs", "--seed", str(2**53)], "seeds are below 2^53"),
+    (["ucs", "--seed", "1e3"], "--seed: '1e3': not a whole number"),
+    (["ucs", "--dx", "x" * 5000], "xxx...(5002 characters) is not a number"),
+    (["ensemble", "ucs", "--seeds", "3", "--jobs", "100000"], "--jobs: '100000': must be <= "),
     (["piston", "--probe-interval", "0"], "--probe-interval: '0': must be >= 1"),
     (["piston", "--dt", "-1us"], "--dt: '-1us': must be finite and > 0"),
     (["gravity", "--damping", "-5"], "--damping: '-5': must be finite and >= 0"),
@@ -343,7 +384,7 @@ CLI_CASES = [
 
 
 @pytest.mark.parametrize("argv, message", CLI_CASES,
-                         ids=[" ".join(c[0]) for c in CLI_CASES])
+                         ids=[" ".join(c[0])[:60] for c in CLI_CASES])
 def test_cli_bad_input_exits_naming_the_value(argv, message, tmp_path,
                                               capsys):
     from sphsolid.cli import main
@@ -357,6 +398,71 @@ def test_cli_bad_input_exits_naming_the_value(argv, message, tmp_path,
     assert message in err, err
     assert "Traceback" not in err
     assert not list(tmp_path.glob("*.h5"))      # nothing half written
+
+
+# ------------- errors while the parser, a scene or a handle is built
+#: SPHSOLID_RATE_PATH values sph_create refuses: each reaches the user as
+#: one line through the command's handler (it was a traceback: the
+#: parser's help asks the library's registries for a handle).
+RATE_PATHS = ["sse9", "avx2 ", "x" * 5000, "avx512\nbaseline"]
+
+
+@pytest.mark.parametrize("value", RATE_PATHS,
+                         ids=["sse9", "trailing space", "5000 characters",
+                              "line break"])
+def test_bad_rate_path_is_one_line_through_the_handler(value, tmp_path,
+                                                       capsys, monkeypatch):
+    from sphsolid.cli import main
+    monkeypatch.setenv("SPHSOLID_RATE_PATH", value)
+    code = main(["ucs", "--dx", "4mm", "--max-strain", "0.1%",
+                 "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.startswith("sphsolid: error: SPHSOLID_RATE_PATH=") and \
+        err.count("\n") == 1, err
+    assert len(err) < 300, err          # not echoed in full
+    assert not list(tmp_path.glob("*.h5"))
+
+
+def test_errors_of_the_library_while_running_are_one_line(capsys):
+    """Any error of the library (its status as an exception) and an
+    unexpected one leave the command as one line with status 2, never a
+    traceback."""
+    from sphsolid import _lib
+    from sphsolid.cli import main, one_line
+
+    def state_error(args):
+        _lib.check(_lib.SPH_ERR_STATE, None, "sph_run")
+
+    def bug(args):
+        raise TypeError("unsupported operand")
+
+    for run, text in ((state_error, "sphsolid: error: sph_run: "
+                       "SPH_ERR_STATE"),
+                      (bug, "sphsolid: error: TypeError: unsupported "
+                       "operand (an internal "
+                       "error; SPHSOLID_TRACEBACK=1 shows where)")):
+        import sphsolid.cli.info as info
+        original = info.run
+        info.run = run
+        try:
+            assert main(["info", "x.h5"]) == 2
+        finally:
+            info.run = original
+        err = capsys.readouterr().err
+        assert err.startswith(text) and err.count("\n") == 1, err
+    assert one_line("a\n  b\n" + "y" * 500) == \
+        "a b " + "y" * 120 + "...(500 characters)"
+
+
+def test_bad_rate_path_from_the_shell_has_no_traceback(tmp_path):
+    env = dict(os.environ, SPHSOLID_RATE_PATH="sse9")
+    run = subprocess.run([sys.executable, "-m", "sphsolid", "ucs", "--dx",
+                          "4mm", "--out", str(tmp_path)], env=env,
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 2, run
+    assert run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
+    assert "SPHSOLID_RATE_PATH='sse9'" in run.stderr
 
 
 # --------------------------- the sphsolid command on files and large scenes

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -30,6 +31,7 @@ def _member_files(out, member):
     summary = json.loads((where / "summary.json").read_text())
     summary.pop("wall_s")
     summary.pop("cpu_s")
+    summary.pop("checksum")       # over the wall and CPU seconds
     return (where / "load.csv").read_bytes(), summary
 
 
@@ -112,6 +114,71 @@ def test_resume_keeps_finished_members_and_reruns_the_rest(fresh, tmp_path):
     again = _ensemble(partial)
     assert again.ran == []
     assert again.summary["values"] == resumed.summary["values"]
+
+
+def test_resume_reruns_a_member_whose_record_fails_its_checksum(fresh,
+                                                                tmp_path):
+    """A member summary that holds a JSON list, is truncated, had a value
+    edited by hand, is another member's, or whose load.csv was edited is
+    not taken: the resume names the file and the reason and runs the
+    member again, bitwise as a fresh run; the others are kept."""
+    out, _ = fresh
+    tampered = tmp_path / "tampered"
+    shutil.copytree(out, tampered)
+    member = tampered / "member_000{}" / "summary.json"
+    original = json.loads(Path(str(member).format(2)).read_text())
+    edited = dict(original, strength_Pa=original["strength_Pa"] * 1.1)
+    cases = {
+        0: ("[1, 2]", "holds a JSON list, not a member's summary"),
+        1: ('{"peak_load_N": 3', "not a complete JSON file"),
+        2: (json.dumps(edited, indent=2), "fails its checksum"),
+    }
+    for i, (text, _) in cases.items():
+        Path(str(member).format(i)).write_text(text)
+    messages = []
+    resumed = _ensemble(tampered, log=messages.append)
+    assert resumed.ran == [0, 1, 2]
+    for i, (_, reason) in cases.items():
+        path = str(member).format(i)
+        assert any(m.startswith(f"{path}: {reason}") and
+                   m.endswith(f"member {i} runs again")
+                   for m in messages), (i, messages)
+        assert _member_files(tampered, i) == _member_files(out, i), i
+    assert resumed.summary["values"] == json.loads(
+        (out / "summary.json").read_text())["values"]
+    # another member's record, a changed load.csv, no checksum at all
+    shutil.copy(Path(str(member).format(0)), Path(str(member).format(1)))
+    with open(tampered / "member_0002" / "load.csv", "a") as f:
+        f.write("1,2,3\n")
+    messages.clear()
+    again = _ensemble(tampered, log=messages.append)
+    assert sorted(again.rejected) == [1, 2], messages
+    assert "is of member=0, this ensemble's member has member=1" in \
+        again.rejected[1]
+    assert "its load.csv fails the summary's checksum" in again.rejected[2]
+    record = json.loads(Path(str(member).format(0)).read_text())
+    record.pop("checksum")
+    Path(str(member).format(0)).write_text(json.dumps(record))
+    with pytest.warns(UserWarning, match="member_0000/summary.json: has no "
+                      "checksum"):
+        assert _ensemble(tampered).ran == [0]
+
+
+def test_cli_ensemble_estimates_its_cost_and_refuses_what_cannot_be(
+        tmp_path, capsys):
+    """Before a member starts, the cost: particles, steps, time and disk;
+    an ensemble beyond --max-time or the free disk is refused with the
+    figures, nothing written."""
+    out = tmp_path / "big"
+    assert cli_main(["ensemble", "tensile", "--dx", "5mm", "--seeds",
+                     "1000000", "--max-time", "1h", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "estimate: 1000000 member(s) to run of 88 particles" in err
+    assert "longer than --max-time 1 h" in err
+    assert not list(out.glob("member_*"))
+    assert cli_main(["ensemble", "tensile", "--dx", "5mm", "--seeds",
+                     str(10**12), "--out", str(out)]) == 2
+    assert "MB free; use fewer --seeds" in capsys.readouterr().err
 
 
 def test_a_member_in_the_pool_is_bitwise_the_member_alone(fresh, tmp_path):
@@ -225,7 +292,7 @@ def test_ensemble_effects_survive_a_resume_and_a_reread(tmp_path, capsys):
     # a member rerun from ensemble.json is bitwise the one in the ensemble
     _, again = _member_files(out, 1)
     rerun = run_member(config, 1)
-    for key in ("wall_s", "cpu_s"):
+    for key in ("wall_s", "cpu_s", "checksum"):
         rerun.pop(key)
     assert rerun == again
     # the same options resume it; others are another ensemble

@@ -215,11 +215,19 @@ def test_energy_balances_within_1_percent_past_failure():
     assert e["elastic"] < 0.05 * e["work"]
 
 
-def test_energy_account_is_zero_while_off():
+def test_energy_account_is_absent_while_off():
+    """Never switched on, the account kept nothing: its terms are None,
+    not the 0.0 the library's zeroed totals would say while the pistons
+    did work; "no" is refused, not taken as true."""
     scene, _ = _broken_bar(20, energy_account=False)
     e = scene.energy(all_bodies=True)
     assert (e["work"], e["dissipated_damage"], e["dissipated_viscosity"],
-            e["dissipated_plastic"]) == (0.0, 0.0, 0.0, 0.0)
+            e["dissipated_plastic"]) == (None, None, None, None)
+    assert e["kinetic"] > 0.0
+    with pytest.raises(ValueError, match="on must be True or False, got "
+                       "'no'"):
+        scene.energy_account("no")
+    assert scene.energy()["work"] is None
 
 
 def test_watchdog_lets_fragments_fly_and_stops_a_blow_up():

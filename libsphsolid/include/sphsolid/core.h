@@ -66,7 +66,9 @@ SPH_API const char *sph_version(void);
 SPH_API int sph_dimension(const sph_sim *sim);
 
 /* Number of OpenMP threads used by this handle (0 = OpenMP default).
- * Results do not depend on it. */
+ * Results do not depend on it.  More than SPH_THREADS_PER_CORE per core
+ * the process may use (omp_get_num_procs) are refused. */
+#define SPH_THREADS_PER_CORE 8
 SPH_API sph_status sph_set_threads(sph_sim *sim, int threads);
 
 #ifdef __cplusplus

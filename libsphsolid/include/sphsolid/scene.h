@@ -43,6 +43,24 @@ SPH_API sph_status sph_material_info_get(sph_sim *sim, int material, sph_materia
  * flaws, the material is not damaged).  Values finite and >= 0. */
 SPH_API sph_status sph_material_set(sph_sim *sim, int material, const char *key, double value);
 
+/* The registry of the keys sph_material_set takes, for front ends that
+ * read material keys from their users (scene files): key k in
+ * [0, sph_material_key_count()) has a name, its SI unit ("" when it is a
+ * pure number), a description, the value a material has until it is set,
+ * and the closed range [min, max] it must lie in (HUGE_VAL: unbounded).
+ * sph_material_key_get returns SPH_ERR_ARGUMENT for a k out of range or a
+ * NULL info. */
+typedef struct sph_material_key_info {
+    const char *key;
+    const char *unit;
+    const char *description;
+    double default_value;
+    double min, max;
+} sph_material_key_info;
+
+SPH_API int sph_material_key_count(void);
+SPH_API sph_status sph_material_key_get(int key, sph_material_key_info *info);
+
 /* Effect damage: the number of flaws of all particles that a uniform
  * largest principal strain `strain` would activate (a check of the draw,
  * whose expectation is sum_a k V_a strain^m below the per-particle cut). */

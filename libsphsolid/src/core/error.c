@@ -1,6 +1,7 @@
 /* Error reporting: every failing call leaves a message on its handle. */
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "core/sim.h"
 
@@ -13,6 +14,17 @@ sph_status sph_fail(sph_sim *sim, sph_status status, const char *fmt, ...)
         va_end(ap);
     }
     return status;
+}
+
+const char *sph_clip(char *out, const char *text)
+{
+    size_t k = 0;
+    for (; text[k] && k < SPH_CLIP; ++k)
+        out[k] = (unsigned char)text[k] < 32 || text[k] == 127 ? '?' : text[k];
+    out[k] = '\0';
+    if (text[k])
+        snprintf(out + k, 40, "... (%zu characters)", k + strlen(text + k));
+    return out;
 }
 
 sph_status sph_need(sph_sim *sim, const void *p, const char *fn, const char *name)

@@ -3,6 +3,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "physics/kernel.h"
 #include "core/sim.h"
 
@@ -79,6 +83,17 @@ sph_status sph_set_threads(sph_sim *sim, int threads)
     if (threads < 0)
         return sph_fail(sim, SPH_ERR_ARGUMENT, "threads=%d: must be >= 0 (0 = OpenMP default)",
                         threads);
+#ifdef _OPENMP
+    /* more threads than cores only slow a run down; far more exhaust the
+     * OpenMP runtime (100000 threads crash it inside the neighbour build) */
+    const int cores = omp_get_num_procs();
+    if (threads > SPH_THREADS_PER_CORE * cores)
+        return sph_fail(sim, SPH_ERR_ARGUMENT,
+                        "threads=%d: more than %d per core of the %d core%s this process may use "
+                        "(at most %d; the fastest is usually one per core)",
+                        threads, SPH_THREADS_PER_CORE, cores, cores == 1 ? "" : "s",
+                        SPH_THREADS_PER_CORE * cores);
+#endif
     sim->threads = threads;
     return sph_ok(sim);
 }

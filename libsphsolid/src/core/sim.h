@@ -181,6 +181,13 @@ sph_status sph_fail(sph_sim *sim, sph_status status, const char *fmt, ...)
 #endif
     ;
 sph_status sph_ok(sph_sim *sim);
+/* Characters of a caller's text that a message quotes (sph_clip). */
+#define SPH_CLIP      40
+#define SPH_CLIP_SIZE (SPH_CLIP + 40)
+/* `text` for a message, in out[SPH_CLIP_SIZE]: as it is when it has at
+ * most SPH_CLIP characters, else its first SPH_CLIP and "... (N
+ * characters)"; control characters shown as '?'.  Returns out. */
+const char *sph_clip(char *out, const char *text);
 /* A public call's handle and one pointer it needs: SPH_ERR_ARGUMENT without
  * a handle, "fn: name is NULL" without the pointer, else SPH_OK. */
 sph_status sph_need(sph_sim *sim, const void *p, const char *fn, const char *name);

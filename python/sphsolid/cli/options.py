@@ -12,7 +12,30 @@ from pathlib import Path
 
 __all__ = ["quantity", "positive", "positive_length", "positive_time",
            "finite", "whole", "fraction", "length_list", "time_list",
+           "threads", "jobs", "seed", "usable_cores", "clip",
            "add_scene_options", "add_plan_options"]
+
+#: Characters of a refused value echoed in a message (the rest elided).
+CLIP = 60
+
+
+def clip(text: str, keep: int = CLIP) -> str:
+    """``text`` as repr() shows it, cut to ``keep`` characters with the
+    length said (a 5000-character value is not echoed in full)."""
+    shown = repr(text)
+    if len(text) <= keep:
+        return shown
+    return f"{text[:keep]!r}... ({len(text)} characters)"
+
+
+def usable_cores() -> int:
+    """The cores this process may run on (its CPU affinity, else
+    os.cpu_count())."""
+    import os
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
 
 
 def quantity(text: str, kind: str | None = None) -> float:
@@ -54,25 +77,50 @@ def finite(low: float, what: str, kind: str | None = None):
                 value = float(text)
             except ValueError:
                 raise argparse.ArgumentTypeError(
-                    f"{text!r}: not a number") from None
+                    f"{clip(text)}: not a number") from None
         if not (math.isfinite(value) and value >= low):
             raise argparse.ArgumentTypeError(f"{text!r}: {what}")
         return value
     return parse
 
 
-def whole(low: int):
-    """A whole number >= low."""
+def whole(low: int, high: int | None = None, why: str = ""):
+    """A whole number >= low (and <= high, refused with ``why``)."""
     def parse(text: str) -> int:
         try:
             value = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(
-                f"{text!r}: not a whole number") from None
+                f"{clip(text)}: not a whole number") from None
         if value < low:
             raise argparse.ArgumentTypeError(f"{text!r}: must be >= {low}")
+        if high is not None and value > high:
+            raise argparse.ArgumentTypeError(
+                f"{text!r}: must be <= {high}{why}")
         return value
     return parse
+
+
+def _per_core(what: str):
+    """A whole number in [1, the usable cores]: more threads or processes
+    than cores only slow a run down (and 100000 threads exhaust the
+    OpenMP runtime), so more is refused, naming the cores."""
+    def parse(text: str) -> int:
+        cores = usable_cores()
+        return whole(1, cores, f" ({what}: this process may use {cores} "
+                     f"core{'s' if cores != 1 else ''}; more only slows the "
+                     "run down)")(text)
+    parse.__name__ = what
+    return parse
+
+
+#: --threads: OpenMP threads, 1 .. the usable cores.
+threads = _per_core("threads")
+#: --jobs: processes at once, 1 .. the usable cores.
+jobs = _per_core("jobs")
+#: --seed: a seed of a flaw draw, a whole number in [0, 2^53) (the
+#: library holds it in a double).
+seed = whole(0, 2**53 - 1, " (seeds are below 2^53)")
 
 
 def fraction(text: str) -> float:
@@ -197,8 +245,9 @@ def add_scene_options(parser, dx: float | None, until: float,
                         help="output directory (default: current)")
     parser.add_argument("--backend", choices=("c", "lammps"), default="c",
                         help="c: libsphsolid (default); lammps: the plugin")
-    parser.add_argument("--threads", type=whole(1), default=None,
-                        help="OpenMP threads (default: OpenMP's)")
+    parser.add_argument("--threads", type=threads, default=None,
+                        help="OpenMP threads, at most the cores (default: "
+                        "OpenMP's)")
     from .._lib import kernel_names
     add_integrator_options(parser)
     add_checkpoint_options(parser)

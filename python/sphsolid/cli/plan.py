@@ -15,7 +15,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from .fracture import add_effect_arguments, scene_options
-from .options import finite, fraction, length_list, positive_time, whole
+from .options import (finite, fraction, jobs, length_list, positive_time,
+                      threads, whole)
 
 help = ("cheapest settings for a requested error (calibration runs, error "
         "and cost models); writes plan.json")
@@ -35,7 +36,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--norm", choices=("max", "rms"), default="max",
                         help="max: largest deviation over the reference's "
                         "peak; rms: RMS deviation over its RMS (default max)")
-    parser.add_argument("--threads", type=whole(1), default=None,
+    parser.add_argument("--threads", type=threads, default=None,
                         help="threads of the planned run (and the "
                         "calibration)")
     parser.add_argument("--max-seconds", type=finite(0.0, "must be finite "
@@ -55,7 +56,7 @@ def add_arguments(parser) -> None:
     strength.add_argument("--pilot", type=whole(3), default=10,
                           help="members of each ladder level's pilot "
                           "ensemble (default 10)")
-    strength.add_argument("--jobs", type=whole(1), default=1,
+    strength.add_argument("--jobs", type=jobs, default=1,
                           help="processes running the pilot members "
                           "(default 1)")
     add_effect_arguments(strength)

@@ -6,7 +6,8 @@ import argparse
 from pathlib import Path
 
 from .options import (add_allow_large_option, add_checkpoint_options,
-                      add_integrator_options, positive_time, whole)
+                      add_integrator_options, positive_time, threads,
+                      whole)
 
 help = "build and run a scene file (TOML)"
 description = ("Build and run the scene a TOML file describes "
@@ -19,7 +20,7 @@ def add_arguments(parser) -> None:
                         help="output folder (default: the scene file's)")
     parser.add_argument("--until", type=positive_time, default=None,
                         help="end time, overriding the file's")
-    parser.add_argument("--threads", type=whole(1), default=None,
+    parser.add_argument("--threads", type=threads, default=None,
                         help="OpenMP threads (default: the file's threads, "
                         "else OpenMP's)")
     add_integrator_options(parser, preset_default=(

@@ -405,6 +405,10 @@ class ErrorEstimate:
                                            else self.calibrated)
             g.attrs["smoothing_s"] = metrics.SMOOTHING
             g.attrs["shadow_seconds"] = self.shadow_seconds
-            g.create_dataset("step", data=p.steps.astype(np.int64))
-            g.create_dataset("time", data=p.times)
-            g.create_dataset("value", data=value)
+            # checksummed as the library's datasets (sphsolid info
+            # --verify reads them back)
+            for name, data in (("step", p.steps.astype(np.int64)),
+                               ("time", np.asarray(p.times)),
+                               ("value", value)):
+                g.create_dataset(name, data=data,
+                                 fletcher32=bool(np.size(data)))
