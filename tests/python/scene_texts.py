@@ -2,17 +2,23 @@
 command line: a square block of the paper's rock, optionally on a plate
 under a piston, with one probe at its centre."""
 
-PLATENS = """
+def platens_toml(top: str = "top", velocity: str = "-1m/s") -> str:
+    """A fixed plate under the block and a piston ``top`` over it moving
+    at ``velocity`` along y (negative: squeezing)."""
+    return f"""
 [[bodies]]
 name = "base"
 shape = "plate"
 under = "block"
 [[bodies]]
-name = "top"
+name = "{top}"
 shape = "piston"
 over = "block"
-motion = { velocity = [0, "-1m/s"] }
+motion = {{ velocity = [0, "{velocity}"] }}
 """
+
+
+PLATENS = platens_toml()
 
 
 def block_toml(half_mm: float, dx: str, until: str = "2us", platens=False,

@@ -17,19 +17,9 @@ import pytest
 from sphsolid.cli import main
 from sphsolid.trajectory import verify
 
-from scene_texts import block_toml
+from scene_texts import block_toml, platens_toml
 
-PULLED = """
-[[bodies]]
-name = "base"
-shape = "plate"
-under = "block"
-[[bodies]]
-name = "puller"
-shape = "piston"
-over = "block"
-motion = { velocity = [0, "20m/s"] }
-"""
+PULLED = platens_toml("puller", "20m/s")
 
 
 @pytest.fixture(scope="module")

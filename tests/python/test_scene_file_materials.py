@@ -20,7 +20,7 @@ from sphsolid.cli import main
 from sphsolid.scenefile import (SceneFileError, effect_parameter_units, load,
                                 material_key_units)
 
-from scene_texts import block_toml
+from scene_texts import block_toml, platens_toml
 
 ELASTIC = {"rho0", "K", "mu", "E", "nu"}
 
@@ -119,17 +119,7 @@ def test_an_effect_parameter_in_the_wrong_unit_is_named(tmp_path):
         load(_material_file(tmp_path, "", tail))
 
 
-PULLED = """
-[[bodies]]
-name = "base"
-shape = "plate"
-under = "block"
-[[bodies]]
-name = "puller"
-shape = "piston"
-over = "block"
-motion = { velocity = [0, "20m/s"] }
-"""
+PULLED = platens_toml("puller", "20m/s")
 
 
 def test_a_scene_file_with_weibull_flaws_and_damage_runs_and_breaks(
