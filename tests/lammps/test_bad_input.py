@@ -175,7 +175,7 @@ def test_integrator_on_an_empty_group_beside_prescribed_motion_runs(lmp_factory)
 
 
 def test_deprecated_heun_fix_warns_and_integrates_as_improved_euler(plugin, tmp_path):
-    # fix sphsolid/heun, the name before 0.3, runs fix sphsolid/improved_euler
+    # fix sphsolid/heun, the 0.2 name removed in 0.3.0, runs fix sphsolid/improved_euler
     import sphsolid_lammps
     final, start = {}, {}
     for style in ("heun", "improved_euler"):

@@ -182,7 +182,7 @@ SPH_API sph_status sph_improved_euler_correct_strided(sph_sim *sim, size_t n, do
                                                       const int *material, const double *saved,
                                                       long *particle);
 
-/* Deprecated aliases, kept for one release (0.3.x) and removed after it:
+/* Deprecated aliases of the 0.2 series, removed in release 0.3.0:
  * the Improved Euler stages were named after Heun's method before the
  * registry's name "improved_euler" was used throughout.  Each calls the
  * function named in its warning with the same arguments. */

@@ -249,12 +249,12 @@ sph_status sph_heun_correct_strided(sph_sim *sim, size_t n, double dt, double *x
 
 /* ------------------------------------------------ the step of a handle */
 
-static size_t heun_saved_values(int dim, int ncomp, int xsph)
+static size_t improved_euler_saved_values(int dim, int ncomp, int xsph)
 {
     return (size_t)dim + 1 + (size_t)ncomp + (xsph ? (size_t)dim : 0);
 }
 
-static void heun_undo(sph_sim *sim)
+static void improved_euler_undo(sph_sim *sim)
 {
     const int dim = sim->dim, nc = sim->ncomp;
     const saved_state s = saved_layout(sim->saved, sim->n, dim, nc, sim->fx.xsph);
@@ -264,7 +264,7 @@ static void heun_undo(sph_sim *sim)
     memcpy(sim->S, s.S, sim->n * nc * sizeof(double));
 }
 
-static sph_status heun_stage(sph_sim *sim, double dt, int corrector, double *moved)
+static sph_status improved_euler_stage(sph_sim *sim, double dt, int corrector, double *moved)
 {
     const int dim = sim->dim, nc = sim->ncomp;
     const sph_rates r = {.dv_dt = sim->dv_dt,
@@ -328,19 +328,19 @@ static sph_status heun_stage(sph_sim *sim, double dt, int corrector, double *mov
     return SPH_OK;
 }
 
-static sph_status heun_step(sph_sim *sim, double dt, double *moved)
+static sph_status improved_euler_step(sph_sim *sim, double dt, double *moved)
 {
     sph_status st;
     if ((st = sim_evaluate(sim)))
         return st;
-    if ((st = heun_stage(sim, dt, 0, moved)))
+    if ((st = improved_euler_stage(sim, dt, 0, moved)))
         return st;
     if ((st = sim_evaluate(sim))) {
-        heun_undo(sim);
+        improved_euler_undo(sim);
         return st;
     }
-    if ((st = heun_stage(sim, dt, 1, moved))) {
-        heun_undo(sim);
+    if ((st = improved_euler_stage(sim, dt, 1, moved))) {
+        improved_euler_undo(sim);
         return st;
     }
     return SPH_OK;
@@ -351,4 +351,4 @@ const integrator integrator_improved_euler = INTEGRATOR_RECORD(
     "Improved Euler (Heun): two rate evaluations per step, second order; needs artificial "
     "viscosity for wave problems (the paper's scheme)",
     /* evaluations */ 2, /* stable */ 1.0, /* default */ 0.5, /* viscosity shortens step */ 0,
-    heun_saved_values, heun_step, /* carries rates */ 0);
+    improved_euler_saved_values, improved_euler_step, /* carries rates */ 0);
