@@ -13,13 +13,18 @@ calls for, advance it with :class:`ImprovedEuler`, watch it with
     dyn.attach(probes, interval=10)
     dyn.run(until=0.3e-3)
 """
+import sys as _sys
+
+from . import _moved
+_moved.install()  # sphsolid.build, sphsolid.trajectory, ... still import
+
 from ._lib import (SimulationError, StoppedError, UnsupportedError,
                    effect_names, effect_registry, kernel_names,
                    kernel_negative_from, kernel_values, library_path,
                    version)
-from .build import (Body, Fixed, Force, Free, Pressure, Rotation, Velocity,
-                    block, box, cylinder, disc, particles, piston, plate,
-                    prism, rectangle, ring)
+from .builders import (Body, Fixed, Force, Free, Pressure, Rotation,
+                       Velocity, block, box, cylinder, disc, particles,
+                       piston, plate, prism, rectangle, ring)
 from .calculators import Calculator, CLibrary
 from .dynamics import Dynamics, ImprovedEuler, Leapfrog
 from .material import Material
@@ -76,9 +81,11 @@ class _EnsembleEntry:
         return "<sphsolid.ensemble: flaw ensembles (sphsolid.ensemble.ensemble)>"
 
 
-from . import ensemble as _ensemble_module  # noqa: E402
+from .fracture import ensemble as _ensemble_module  # noqa: E402
 
 ensemble = _EnsembleEntry(_ensemble_module)
+# the old module path, registered now so that importing it keeps the entry
+_sys.modules.setdefault("sphsolid.ensemble", _ensemble_module)
 
 
 def _package_version() -> str:
@@ -106,6 +113,9 @@ __all__ = ["Material", "Scene", "allowing_large", "Body", "Free", "Fixed", "Velo
 
 def __getattr__(name):
     if name == "Trajectory":  # h5py is imported only when needed
-        from .trajectory import Trajectory
+        from .io.trajectory import Trajectory
         return Trajectory
+    if f"{__name__}.{name}" in _moved.MOVED:  # sphsolid.trajectory.Frame
+        import importlib
+        return importlib.import_module(f"{__name__}.{name}")
     raise AttributeError(f"module 'sphsolid' has no attribute {name!r}")

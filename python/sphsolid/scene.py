@@ -16,7 +16,7 @@ import numpy as np
 
 from . import _lib
 from ._lib import lib
-from .build import Body, Free
+from .builders import Body, Free
 from .units import check_scale, length as _length, lengths as _lengths
 from .units import quantity as _quantity
 

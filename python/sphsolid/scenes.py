@@ -8,7 +8,7 @@ with damping so the static, height-graded stress is reached fast.
 from __future__ import annotations
 
 from . import presets as _presets
-from .build import cylinder, layer_spacing, piston, plate, rectangle
+from .builders import cylinder, layer_spacing, piston, plate, rectangle
 from .material import Material
 from .probes import PAPER_PROBES
 from .scene import Scene

@@ -17,13 +17,13 @@ LENGTHS = {"dx", "lo", "hi", "x", "y", "z", "width", "depth", "height",
            "radius", "length", "diameter", "base", "center", "centre",
            "r_inner", "r_outer", "point", "points", "spacing", "domain"}
 TIMES = {"dt", "until", "time", "t"}
-MODULES = ["sphsolid.build", "sphsolid.scenes", "sphsolid.scene",
-           "sphsolid.probes", "sphsolid.dynamics", "sphsolid.trajectory",
-           "sphsolid.calculators", "sphsolid.lammps", "sphsolid.scenefile",
+MODULES = ["sphsolid.builders", "sphsolid.scenes", "sphsolid.scene",
+           "sphsolid.probes", "sphsolid.dynamics", "sphsolid.io.trajectory",
+           "sphsolid.calculators", "sphsolid.lammps", "sphsolid.io.scenefile",
            "sphsolid.presets"]
 #: records filled by the readers, not entry points
-NOT_ENTRY_POINTS = {"sphsolid.trajectory.Frame",
-                    "sphsolid.trajectory.ProbeSeries"}
+NOT_ENTRY_POINTS = {"sphsolid.io.trajectory.Frame",
+                    "sphsolid.io.trajectory.ProbeSeries"}
 
 
 def _entry_points() -> dict:
@@ -85,34 +85,34 @@ def _rotation(tmp_path):
 
 
 RECIPES = {
-    "sphsolid.build.Body": _body,
-    "sphsolid.build.Rotation": _rotation,
-    "sphsolid.build.block": lambda tmp_path: same_body(
+    "sphsolid.builders.Body": _body,
+    "sphsolid.builders.Rotation": _rotation,
+    "sphsolid.builders.block": lambda tmp_path: same_body(
         build.block(("0mm", "0mm"), ("10mm", "2cm"), "1mm", rock()),
         build.block((0, 0), (0.01, 0.02), 1e-3, rock())),
-    "sphsolid.build.rectangle": lambda tmp_path: same_body(
+    "sphsolid.builders.rectangle": lambda tmp_path: same_body(
         build.rectangle(x=("-25mm", "25mm"), y=(0, "50mm"), dx="5mm",
                         material=rock()),
         build.rectangle((-0.025, 0.025), (0, 0.05), 5e-3, rock())),
-    "sphsolid.build.box": lambda tmp_path: same_body(
+    "sphsolid.builders.box": lambda tmp_path: same_body(
         build.box(("0mm", "6mm"), ("0mm", "4mm"), ("0mm", "2mm"), "2mm",
                   rock()),
         build.box((0, 0.006), (0, 0.004), (0, 0.002), 2e-3, rock())),
-    "sphsolid.build.prism": lambda tmp_path: same_body(
+    "sphsolid.builders.prism": lambda tmp_path: same_body(
         build.prism("8mm", "4mm", "6mm", "2mm", rock(),
                     base=("0mm", "1mm", "0mm")),
         build.prism(0.008, 0.004, 0.006, 2e-3, rock(), base=(0, 1e-3, 0))),
-    "sphsolid.build.cylinder": lambda tmp_path: same_body(
+    "sphsolid.builders.cylinder": lambda tmp_path: same_body(
         build.cylinder("5mm", "1cm", "2mm", rock(), base=("1mm", 0, 0)),
         build.cylinder(0.005, 0.01, 2e-3, rock(), base=(1e-3, 0, 0))),
-    "sphsolid.build.particles": lambda tmp_path: same_body(
+    "sphsolid.builders.particles": lambda tmp_path: same_body(
         build.particles([("0.5mm", "0.5mm"), ("1.5mm", 5e-4)], "1mm",
                         rock()),
         build.particles([(5e-4, 5e-4), (1.5e-3, 5e-4)], 1e-3, rock())),
-    "sphsolid.build.disc": lambda tmp_path: same_body(
+    "sphsolid.builders.disc": lambda tmp_path: same_body(
         build.disc(("0mm", "1cm"), "5mm", "1mm", rock()),
         build.disc((0, 0.01), 0.005, 1e-3, rock())),
-    "sphsolid.build.ring": lambda tmp_path: same_body(
+    "sphsolid.builders.ring": lambda tmp_path: same_body(
         build.ring(("0mm", "0mm"), "2mm", "5mm", "1mm", rock()),
         build.ring((0, 0), 0.002, 0.005, 1e-3, rock())),
 }
@@ -233,7 +233,7 @@ RECIPES.update({
     "sphsolid.dynamics.ImprovedEuler": _dynamics(sphsolid.ImprovedEuler),
     "sphsolid.dynamics.Leapfrog": _dynamics(sphsolid.Leapfrog),
     "sphsolid.dynamics.Dynamics.run": _run_until,
-    "sphsolid.trajectory.Trajectory.nearest": _nearest,
+    "sphsolid.io.trajectory.Trajectory.nearest": _nearest,
     "sphsolid.calculators.Calculator.steps_until": lambda tmp_path: (
         small_scene().calc.steps_until("1.05us")
         == small_scene().calc.steps_until(1.05e-6)) or pytest.fail(),
@@ -241,7 +241,7 @@ RECIPES.update({
     "sphsolid.calculators.CLibrary.advance_until": _c_advance_until,
     "sphsolid.lammps.Lammps.set_dt": _lammps("set_dt"),
     "sphsolid.lammps.Lammps.advance_until": _lammps("advance_until"),
-    "sphsolid.scenefile.run_file": _run_file,
+    "sphsolid.io.scenefile.run_file": _run_file,
 })
 
 

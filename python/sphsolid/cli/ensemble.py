@@ -30,7 +30,7 @@ help = "an ensemble of flaw draws of a fracture test: mean and 95% interval"
 
 
 def add_arguments(parser) -> None:
-    from ..ensemble import QUANTITIES
+    from ..fracture.ensemble import QUANTITIES
     from ..fracture import TESTS
     parser.add_argument("test", choices=sorted(TESTS),
                         help="the fracture test (as sphsolid ucs, brazilian, "
@@ -109,7 +109,7 @@ def _check_cost(args, options) -> None:
     """Print the estimate of :func:`sphsolid.ensemble.cost` before the
     members start (stderr); refuse an ensemble the disk cannot hold or
     that would take longer than --max-time, with the figures."""
-    from ..ensemble import cost
+    from ..fracture.ensemble import cost
     c = cost(args.test, args.seeds, args.out, dx=args.dx, jobs=args.jobs,
              seed=args.seed, max_strain=args.max_strain,
              scene_options=options)

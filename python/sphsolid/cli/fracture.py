@@ -172,7 +172,7 @@ def add_arguments(parser, name: str) -> None:
 def run(args, name: str) -> int:
     from .. import fracture
     from ..calculators import CLibrary
-    from ..trajectory import Trajectory
+    from ..io.trajectory import Trajectory
 
     options = scene_options(args)
     output_folder(args.out)

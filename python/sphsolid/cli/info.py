@@ -19,7 +19,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from ..trajectory import Trajectory, verify
+    from ..io.trajectory import Trajectory, verify
     from .xdmf import _is_hdf5
     checked = None
     if args.verify and args.file.is_file() and _is_hdf5(args.file):

@@ -218,7 +218,7 @@ def add_checkpoint_options(parser) -> None:
 def output_folder(path: Path, option: str = "--out") -> Path:
     """Make the output folder (and its parents), or refuse naming the
     option: a file in its place, a folder that cannot be made."""
-    from ..scenefile import make_folder
+    from ..io.scenefile import make_folder
     return make_folder(path, f"{option} {path}")
 
 

@@ -174,7 +174,7 @@ def run(args) -> int:
 def _plan_strength(args, log) -> int:
     import tempfile
 
-    from ..planner.strength import LADDERS, plan_strength
+    from ..fracture.strength import LADDERS, plan_strength
     options = scene_options(args)
     if args.scene not in LADDERS or args.quantity != "strength":
         raise ValueError(f"sphsolid plan {args.scene}: the strength is "

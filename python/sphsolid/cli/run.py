@@ -42,7 +42,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from ..scenefile import run_file
+    from ..io.scenefile import run_file
     run_file(args.scene, out=args.out, until=args.until,
              progress=args.progress, log=lambda m: print(m, flush=True),
              threads=args.threads, integrator=args.integrator,

@@ -122,10 +122,10 @@ def run_scene(args, scene, run: Resolved) -> int:
     """Run the scene to ``run.until``, write its HDF5 file (C backend),
     probe CSV and figures into ``--out``; 130 when interrupted."""
     from .. import Probes, scenes
-    from ..checkpoint import marks, resume
-    from ..figures import probe_curves, von_mises_map
+    from ..io.checkpoint import marks, resume
+    from ..io.figures import probe_curves, von_mises_map
     from ..metrics import probe_interval_for
-    from ..trajectory import Frame, Trajectory
+    from ..io.trajectory import Frame, Trajectory
 
     name, dx, until = run.name, run.dx, run.until
     output_folder(args.out)

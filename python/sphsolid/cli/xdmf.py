@@ -20,7 +20,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from ..trajectory import verify, write_xdmf
+    from ..io.trajectory import verify, write_xdmf
     if args.verify and args.file.is_file() and _is_hdf5(args.file):
         verify(args.file)
     print(f"wrote {write_xdmf(args.file)}")

@@ -17,7 +17,7 @@ def _platens(scene, body, speed: float | None, inset):
     over it (default the paper's), in ``scene``, each as many rows thick
     as the library asks for one kernel support on the body's lattice
     rows (``Scene.support_layers``)."""
-    from .. import build, scenes
+    from .. import builders as build, scenes
     layers = scene.support_layers(build.layer_spacing(body))
     v = scenes.PISTON_SPEED if speed is None else speed
     scene.add(build.plate(under=body, layers=layers, inset=inset))
@@ -46,7 +46,7 @@ def piston_factory(dx: float, smoothing_ratio: float = 1.2,
     piston one kernel support thick (the library's rows). ``material``
     replaces the paper's rock, ``extent`` ((x0, x1), (y0, y1)) [m] its
     specimen."""
-    from .. import build, scenes
+    from .. import builders as build, scenes
     rock = scenes.paper_material() if material is None else material
     xs, ys = ((scenes.SPECIMEN_X, scenes.SPECIMEN_Y) if extent is None
               else extent)
@@ -138,7 +138,7 @@ def gravity_factory(dx: float, smoothing_ratio: float = 1.2,
                     inset: float | str = 0.0):
     """The paper's gravity scene: the specimen on the fixed plate under
     gravity, with no optional effect (the planner finds what it needs)."""
-    from .. import build, scenes
+    from .. import builders as build, scenes
     from ..scene import Scene
     rock = scenes.paper_material()
     specimen = build.rectangle(scenes.SPECIMEN_X, scenes.SPECIMEN_Y, dx, rock,
@@ -211,7 +211,7 @@ def strip_factory(dx: float, smoothing_ratio: float = 1.2,
     """A laterally periodic strip (the paper's material, 100 mm high, 8 dx
     wide) on a fixed plate, hit by the piston at t = 0: a plane P-wave with
     the exact stress jump -rho0 c_p v behind a front at y = H - c_p t."""
-    from .. import build, scenes
+    from .. import builders as build, scenes
     rock = scenes.paper_material()
     width = STRIP_WIDTH_DX * dx
     strip = build.rectangle((-width / 2, width / 2), (0.0, STRIP_HEIGHT), dx,
@@ -362,7 +362,7 @@ def scene_file(path, probes=None, quantity: str = "von_mises") -> PlanScene:
     finest ``dx``; the end time is the file's ``until``."""
     import copy
 
-    from .. import scenefile
+    from ..io import scenefile
     from ..units import length
     path = Path(path)
     if not path.is_file():

@@ -38,8 +38,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _lib
-from .fracture import TESTS, test_scene
+from .. import _lib
+from .specimens import TESTS, test_scene
 
 __all__ = ["ensemble", "run_member", "bootstrap_mean_interval", "summarise",
            "histogram", "QUANTITIES", "Ensemble", "check_member",
@@ -126,8 +126,8 @@ def run_member(config: dict, member: int, out: Path | None = None) -> dict:
     and, last and atomically, its summary.json into out/member_XXXX.
     Returns the member's summary (with the SHA-256 of its load.csv and its
     own ``checksum``, :func:`member_checksum`)."""
-    from . import fracture
-    from .calculators import CLibrary
+    from . import specimens as fracture
+    from ..calculators import CLibrary
     scene = test_scene(config["test"], config["dx_m"], config["seed"],
                        member, **config.get("scene_options", {}))
     scene.calc = CLibrary(threads=1)
@@ -291,8 +291,8 @@ def cost(test: str, members: int, out=None, dx: float | None = None,
     import shutil
     _check(test, members, jobs, seed, dx, "strength")
     config = _config(test, dx, seed, max_strain, drop, scene_options)
-    from .calculators import CLibrary
-    from .dynamics import ImprovedEuler
+    from ..calculators import CLibrary
+    from ..dynamics import ImprovedEuler
     scene = test_scene(config["test"], config["dx_m"], config["seed"], 0,
                        **config["scene_options"])
     scene.calc = CLibrary(threads=1)

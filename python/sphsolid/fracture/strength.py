@@ -45,7 +45,7 @@ from statistics import NormalDist
 
 import numpy as np
 
-from .error_model import FORMAL_ORDER, fit_error_model
+from ..planner.error_model import FORMAL_ORDER, fit_error_model
 
 __all__ = ["plan_strength", "StrengthPlan", "student_quantile", "LADDERS"]
 
@@ -169,7 +169,7 @@ def _options_text(options: dict) -> str:
 
 
 def _work_dir(scene: str, root, scene_options: dict | None = None) -> Path:
-    from .cache import _digest, _library_digest, cache_root
+    from ..planner.cache import _digest, _library_digest, cache_root
     from .._lib import version
     base = Path(root) if root is not None else cache_root()
     scope = f"strength|{scene}|{version()}|{_library_digest()}"
@@ -193,7 +193,7 @@ def plan_strength(scene: str, error: float, confidence: float = 0.95,
     ``scene_options``: the pilot members' scene options (as
     sphsolid.ensemble's, e.g. ``plasticity``), which the plan and its
     command carry."""
-    from ..ensemble import ensemble
+    from .ensemble import ensemble
     if scene not in LADDERS:
         raise ValueError(f"scene {scene!r}: the strength is planned for "
                          f"{', '.join(LADDERS)}")

@@ -99,10 +99,10 @@ from dataclasses import fields
 import time as wallclock
 from pathlib import Path
 
-from . import build
-from .material import Material
-from .metrics import probe_interval_for
-from .units import in_unit, length, lengths, quantity, time, to_si
+from .. import builders as build
+from ..material import Material
+from ..metrics import probe_interval_for
+from ..units import in_unit, length, lengths, quantity, time, to_si
 
 __all__ = ["load", "SceneFile", "run_file", "material_key_units",
            "effect_parameter_units"]
@@ -141,7 +141,7 @@ def material_key_units() -> dict:
     of its material registry (``sph_material_key_get``: weibull_k [m^-3],
     weibull_m, ...), so a key the library learns is a scene file's key
     too."""
-    from ._lib import material_keys
+    from .._lib import material_keys
     units = dict(_ELASTIC)
     units.update({key: info["unit"] for key, info in material_keys().items()})
     return units
@@ -150,7 +150,7 @@ def material_key_units() -> dict:
 def effect_parameter_units() -> dict:
     """{effect: {parameter: SI unit}} from the library's effect registry:
     the keys and units of ``[effects] NAME = {...}``."""
-    from ._lib import effect_registry
+    from .._lib import effect_registry
     return {name: {key: p["unit"] for key, p in info["parameters"].items()}
             for name, info in effect_registry().items()}
 
@@ -243,8 +243,8 @@ class SceneFile:
 
     def _build(self, data: dict, name: str, preset=None,
                integrator=None) -> None:
-        from ._lib import integrator_names
-        from .presets import preset as named_preset
+        from .._lib import integrator_names
+        from ..presets import preset as named_preset
         _unknown(name, data, _TOP)
         self.title = _name(data.get("title", self.path.stem), "title")
         self.dimension = data.get("dimension", 2)
@@ -331,7 +331,7 @@ class SceneFile:
                 f"{name}: [effects] damage needs flaws: give weibull_k "
                 "[m^-3] and weibull_m > 0 in the [materials.NAME] table of a "
                 "free body's material")
-        from .scene import Scene
+        from ..scene import Scene
         try:
             self.scene = Scene(self.dimension, self.bodies,
                                effects=self.effects, smoothing_ratio=ratio,
@@ -543,10 +543,10 @@ def run_file(path, out=None, until=None, progress=None, log=print,
     multiple of it; ``resume`` continues from such a checkpoint (written by
     the same scene and integrator), its files holding the run from there.
     """
-    from . import Probes
-    from .calculators import CLibrary
+    from .. import Probes
+    from ..calculators import CLibrary
     from .checkpoint import marks, resume as read_checkpoint
-    from .dynamics import dynamics_for
+    from ..dynamics import dynamics_for
     from .trajectory import Trajectory
 
     spec = load(path, preset=preset, integrator=integrator)
@@ -554,8 +554,8 @@ def run_file(path, out=None, until=None, progress=None, log=print,
     given_dt = None if dt is None else time(dt, "dt")
     dt = spec.dt if given_dt is None else given_dt
     if plan is not None:
-        from .planner import Plan
-        from .planner.scenes import scene_file
+        from ..planner import Plan
+        from ..planner.scenes import scene_file
         loaded = plan if isinstance(plan, Plan) else Plan.load(plan)
         if not loaded.feasible:
             raise ValueError(f"{plan}: the plan was refused: "

@@ -21,9 +21,9 @@ from typing import Iterator
 
 import numpy as np
 
-from . import _lib
-from ._lib import lib
-from .units import time as _time
+from .. import _lib
+from .._lib import lib
+from ..units import time as _time
 
 __all__ = ["Trajectory", "Frame", "ProbeSeries", "write_xdmf", "verify"]
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from .units import time as _time
+from ..units import time as _time
 
 __all__ = ["marks", "resume"]
 

@@ -21,11 +21,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from . import _lib
-from .build import Velocity, disc, piston, plate, rectangle
-from .dynamics import ImprovedEuler
-from .material import Material
-from .scene import Scene
+from .. import _lib
+from ..builders import Velocity, disc, piston, plate, rectangle
+from ..dynamics import ImprovedEuler
+from ..material import Material
+from ..scene import Scene
 
 __all__ = ["ucs", "brazilian_disc", "tensile_bar", "load_to_failure",
            "FailureRun", "fracture_material", "UCS_STRAIN_RATE", "DISC_SPEED",
