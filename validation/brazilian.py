@@ -242,15 +242,15 @@ def strengths(dx: float, seeds, rate: float,
                 first["y_over_R"] = float(np.abs(p[:, 1]).max()
                                           / (DIAMETER / 2))
                 first["count"] = int((d > 0).sum())
-        run = fracture.load_to_failure(scene, max_strain=0.02,
-                                       samples_per_strain=1e4,
-                                       on_sample=look)
+        run = fracture.load_to_break(scene, max_strain=0.02,
+                                     samples_per_strain=1e4,
+                                     on_sample=look)
         out["disc"].append(run.strength_Pa)
         out["disc_onset"].append(first)
         bar = fracture.tensile_bar(dx, strain_rate=rate, seed=seed)
         if artificial_stress:
             bar.effect("artificial_stress")
-        out["bar"].append(fracture.load_to_failure(
+        out["bar"].append(fracture.load_to_break(
             bar, max_strain=0.01).strength_Pa)
     return out
 

@@ -479,8 +479,8 @@ def anatomy_study(args) -> dict:
             if load >= peak:
                 seen["peak"] = (int((damage > 0).sum()),
                                 int((damage >= 1.0).sum()))
-        run = fracture.load_to_failure(scene, max_strain=0.01,
-                                       on_sample=on_sample)
+        run = fracture.load_to_break(scene, max_strain=0.01,
+                                     on_sample=on_sample)
         load, x, y = seen["onset"]
         rows.append({"bar": name, "particles": int(bar.stop - bar.start),
                      "onset_share_of_peak": load / run.peak_load_N,

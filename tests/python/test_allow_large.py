@@ -55,7 +55,7 @@ def test_allow_large_on_the_command_line(words, built_scenes, monkeypatch, tmp_p
         raise _Built()
 
     monkeypatch.setattr(scene_run, "run_scene", stop)
-    monkeypatch.setattr(fracture, "load_to_failure", stop)
+    monkeypatch.setattr(fracture, "load_to_break", stop)
     monkeypatch.setattr("sphsolid.calculators.CLibrary.__init__", stop)
     scene = tmp_path / "block.toml"
     scene.write_text(block_toml(3, "1mm"))

@@ -91,7 +91,7 @@ def test_member_i_is_the_run_of_the_damage_member_i(fresh):
     for member, options in ((0, {}), (2, {"member": 2})):
         scene = fracture.tensile_bar(DX, seed=4, **options)
         scene.calc = sphsolid.CLibrary(threads=1)
-        run = fracture.load_to_failure(scene, max_strain=0.01)
+        run = fracture.load_to_break(scene, max_strain=0.01)
         _, summary = _member_files(out, member)
         assert run.strength_Pa == summary["strength_Pa"], member
 

@@ -88,7 +88,7 @@ def test_the_scenes_are_in_the_scenes_module():
 def test_ucs_runs_past_its_peak_and_reports_the_strength():
     from sphsolid import fracture
     scene = fracture.ucs(4e-3)
-    run = fracture.load_to_failure(scene, max_strain=0.008, drop=0.5)
+    run = fracture.load_to_break(scene, max_strain=0.008, drop=0.5)
     # the strength is the peak load over the loaded width (1 m deep)
     assert run.strength_Pa == pytest.approx(run.peak_load_N / 0.086)
     assert run.peak_load_N == pytest.approx(run.load.max())
@@ -114,7 +114,7 @@ def test_a_load_lost_before_any_damage_is_not_taken_for_fracture(
     from sphsolid import fracture
     flawless = Material(**ROCK, weibull_k=1.0, weibull_m=9.0)
     scene = fracture.tensile_bar(5e-3, material=flawless)
-    real = fracture.load_to_failure(scene, max_strain=2e-5, drop=0.5)
+    real = fracture.load_to_break(scene, max_strain=2e-5, drop=0.5)
     assert float(scene.damage.max()) == 0.0
     assert not real.load_lost_before_damage
     assert real.summary()["load_lost_before_damage"] is False
@@ -122,10 +122,26 @@ def test_a_load_lost_before_any_damage_is_not_taken_for_fracture(
     scene = fracture.tensile_bar(5e-3, material=flawless)
     monkeypatch.setattr(scene, "reaction",
                         lambda body: (0.0, -next(loads)))
-    lost = fracture.load_to_failure(scene, max_strain=2e-4, drop=0.5)
+    lost = fracture.load_to_break(scene, max_strain=2e-4, drop=0.5)
     assert lost.load_lost_before_damage and lost.damage_onset_s is None
     assert lost.peak_load_N == pytest.approx(3e5)
 
+
+
+def test_the_old_names_of_a_break_warn_and_give_the_same_run():
+    # load_to_failure and FailureRun (0.2) name a broken specimen as the
+    # library names its numerical stop (sph_failure): they stay until
+    # 0.3.0, load_to_failure with a DeprecationWarning, and the run is
+    # load_to_break's to the bit
+    from sphsolid import fracture
+    new = fracture.load_to_break(fracture.tensile_bar(5e-3), max_strain=5e-5)
+    with pytest.warns(DeprecationWarning, match="load_to_break"):
+        old = fracture.load_to_failure(fracture.tensile_bar(5e-3),
+                                       max_strain=5e-5)
+    assert fracture.FailureRun is fracture.BreakRun
+    assert isinstance(old, fracture.BreakRun)
+    assert np.array_equal(old.load, new.load) and len(new.load) > 1
+    assert old.summary() == new.summary()
 
 def test_sphsolid_ucs_writes_summary_and_files(tmp_path):
     from sphsolid.cli import main
@@ -169,7 +185,7 @@ def test_bad_fracture_arguments_are_named(tmp_path):
     from sphsolid.cli import main
     scene = fracture.ucs(4e-3)
     with pytest.raises(ValueError, match="drop"):
-        fracture.load_to_failure(scene, drop=1.5)
+        fracture.load_to_break(scene, drop=1.5)
     with pytest.raises(ValueError, match="strain_rate=-1"):
         fracture.tensile_bar(5e-3, strain_rate=-1.0)
     with pytest.raises(ValueError, match="member=2.5"):
@@ -251,7 +267,7 @@ def test_watchdog_lets_fragments_fly_and_stops_a_blow_up():
 def _leapfrog_ucs_account(on_sample_every=None):
     """sphsolid.fracture.ucs(0.006) (damage on, artificial viscosity alpha
     1, no damping) with the energy account and the leapfrog, loaded to the
-    stop as load_to_failure samples it (every 5e-5 s: 16 steps); per
+    stop as load_to_break samples it (every 5e-5 s: 16 steps); per
     sample: step, imbalance and the energy scale."""
     from sphsolid import Leapfrog, fracture
     scene = fracture.ucs(0.006)
@@ -270,7 +286,7 @@ def _leapfrog_ucs_account(on_sample_every=None):
                      max(e["work"], held + dissipated), e["work"],
                      e["dissipated_damage"]))
 
-    fracture.load_to_failure(scene, dynamics=dyn, on_sample=on_sample)
+    fracture.load_to_break(scene, dynamics=dyn, on_sample=on_sample)
     return scene, np.array(rows)
 
 

@@ -57,12 +57,12 @@ def test_drucker_prager_caps_the_ucs_at_its_plane_strain_cone():
     cone = cone_strength(2e6, 30, nu)
     assert cone == pytest.approx(13.3e6, rel=0.01)
 
-    brittle = fracture.load_to_failure(fracture.ucs(4e-3), max_strain=0.008)
+    brittle = fracture.load_to_break(fracture.ucs(4e-3), max_strain=0.008)
     scene = fracture.ucs(4e-3, plasticity={"cohesion": 2e6,
                                            "friction_angle": 30})
     assert scene.effects["drucker_prager"] == {"cohesion": 2e6,
                                                "friction_angle": 30.0}
-    plastic = fracture.load_to_failure(scene, max_strain=0.008)
+    plastic = fracture.load_to_break(scene, max_strain=0.008)
 
     # the elastic-damage specimen cracks at about twice the cone
     assert brittle.post_peak_ratio < 0.5

@@ -200,7 +200,7 @@ def run(args, name: str) -> int:
             if state["samples"] % every == 0:
                 traj.write()
         start = wallclock.perf_counter()
-        run = fracture.load_to_failure(
+        run = fracture.load_to_break(
             scene, max_strain=args.max_strain, drop=args.drop,
             samples_per_strain=samples,
             on_sample=on_sample)

@@ -2,8 +2,8 @@
 
 - :mod:`.specimens`: the compression test, the Brazilian disc and the
   tensile bar with the library's ``damage`` effect, the rock with Weibull
-  flaws (:func:`fracture_material`) and :func:`load_to_failure`, which runs
-  one of them to its peak load (docs/fracture.md);
+  flaws (:func:`fracture_material`) and :func:`load_to_break`, which loads
+  one of them until it breaks (docs/fracture.md);
 - :mod:`.ensemble`: many flaw draws of one test, a strength with error bars
   (``sphsolid.ensemble``, docs/ensembles.md);
 - :mod:`.strength`: dx and the number of draws chosen together for a

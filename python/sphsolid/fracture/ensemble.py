@@ -132,7 +132,7 @@ def run_member(config: dict, member: int, out: Path | None = None) -> dict:
                        member, **config.get("scene_options", {}))
     scene.calc = CLibrary(threads=1)
     start, cpu = time.perf_counter(), time.process_time()
-    run = fracture.load_to_failure(
+    run = fracture.load_to_break(
         scene, max_strain=config["max_strain"], drop=config["drop"],
         samples_per_strain=config["samples_per_strain"])
     wall = time.perf_counter() - start

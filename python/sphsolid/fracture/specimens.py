@@ -6,8 +6,10 @@ the tensile bar to failure, with the library's ``damage`` effect
 :func:`ucs` is the paper's specimen (86 mm x 140 mm, plane strain) between a
 fixed plate and a piston, loaded past its peak; :func:`brazilian_disc` a
 disc between flat platens, loaded until it splits; :func:`tensile_bar` a
-bar pulled apart by its bonded end platens. :func:`load_to_failure` runs
-any of them and returns the load history and the strength.
+bar pulled apart by its bonded end platens. :func:`load_to_break` runs
+any of them until the specimen breaks and returns the load history and
+the strength (a broken specimen is a *break*; a *failure* is the
+library's numerical stop, ``sph_failure``: docs/glossary.md).
 
 A strength is one sample of the flaw draw (the ``seed`` and the ensemble
 ``member``): compare ensembles over members (sphsolid.ensemble), not single
@@ -27,8 +29,8 @@ from ..dynamics import ImprovedEuler
 from ..material import Material
 from ..scene import Scene
 
-__all__ = ["ucs", "brazilian_disc", "tensile_bar", "load_to_failure",
-           "FailureRun", "fracture_material", "UCS_STRAIN_RATE", "DISC_SPEED",
+__all__ = ["ucs", "brazilian_disc", "tensile_bar", "load_to_break",
+           "BreakRun", "load_to_failure", "FailureRun", "fracture_material", "UCS_STRAIN_RATE", "DISC_SPEED",
            "TENSILE_STRAIN_RATE", "TESTS", "test_scene"]
 
 #: Axial strain rate of the compression test [1/s]: the load rises over
@@ -128,7 +130,7 @@ def ucs(dx: float = 2e-3, material: Material | None = None,
         0.3}`` ({} takes the library's defaults, epsilon 0.3, n 4): the
         cure of SPH's tensile instability. None (default): off.
 
-    The scene's ``failure`` attribute records what :func:`load_to_failure`
+    The scene's ``failure`` attribute records what :func:`load_to_break`
     needs: the loaded body, the gauge length and the loaded area.
     """
     material = material or fracture_material()
@@ -280,8 +282,8 @@ def test_scene(test: str, dx: float, seed: int = 1, member: int = 0,
 
 
 @dataclass
-class FailureRun:
-    """The load history of a test to failure.
+class BreakRun:
+    """The load history of a test loaded until the specimen breaks.
 
     Attributes
     ----------
@@ -338,9 +340,9 @@ class FailureRun:
                 "load_lost_before_damage": self.load_lost_before_damage}
 
 
-def load_to_failure(scene: Scene, max_strain: float = 0.02,
-                    drop: float = 0.5, samples_per_strain: float = 2e4,
-                    dynamics=None, on_sample=None) -> FailureRun:
+def load_to_break(scene: Scene, max_strain: float = 0.02,
+                  drop: float = 0.5, samples_per_strain: float = 2e4,
+                  dynamics=None, on_sample=None) -> BreakRun:
     """Load a scene of :func:`ucs`, :func:`brazilian_disc` or
     :func:`tensile_bar` until the load
     falls below ``drop`` times its peak (or the strain reaches
@@ -352,7 +354,7 @@ def load_to_failure(scene: Scene, max_strain: float = 0.02,
     """
     info = getattr(scene, "failure", None)
     if info is None:
-        raise ValueError("load_to_failure: the scene was not built by "
+        raise ValueError("load_to_break: the scene was not built by "
                          "sphsolid.scenes.ucs, brazilian_disc or "
                          "tensile_bar")
     if not 0.0 < drop < 1.0:
@@ -399,14 +401,27 @@ def load_to_failure(scene: Scene, max_strain: float = 0.02,
         return 2.0 * load / (math.pi * info["diameter"] * 1.0)
     strength = stress(peak)
     fragments = scene.fragments
-    return FailureRun(time=time, load=load, strain=strain,
-                      peak_load_N=peak, strength_Pa=strength,
-                      strain_at_peak=float(strain[k]),
-                      damage_onset_s=onset,
-                      fragments=int(fragments.max() + 1)
-                      if fragments.size else 0,
-                      post_peak_ratio=float(load[-1] / peak) if peak else 0.0,
-                      peak_time=float(time[k]),
-                      damage_onset_stress_Pa=(None if onset_load is None
-                                              else stress(onset_load)),
-                      load_lost_before_damage=lost)
+    return BreakRun(time=time, load=load, strain=strain,
+                    peak_load_N=peak, strength_Pa=strength,
+                    strain_at_peak=float(strain[k]),
+                    damage_onset_s=onset,
+                    fragments=int(fragments.max() + 1)
+                    if fragments.size else 0,
+                    post_peak_ratio=float(load[-1] / peak) if peak else 0.0,
+                    peak_time=float(time[k]),
+                    damage_onset_stress_Pa=(None if onset_load is None
+                                            else stress(onset_load)),
+                    load_lost_before_damage=lost)
+
+
+#: Deprecated name of :class:`BreakRun` (0.2 series), removed in 0.3.0.
+FailureRun = BreakRun
+
+
+def load_to_failure(*args, **kwargs) -> BreakRun:
+    """Deprecated name of :func:`load_to_break` (0.2 series), removed in
+    0.3.0: "failure" names the library's numerical stop."""
+    import warnings
+    warnings.warn("sphsolid.fracture.load_to_failure is load_to_break "
+                  "(removed in 0.3.0)", DeprecationWarning, stacklevel=2)
+    return load_to_break(*args, **kwargs)
