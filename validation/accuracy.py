@@ -1,3 +1,4 @@
+# Over 600 lines: the honesty checks' scenes, runs and report share one record format.
 """Honesty checks of the planner and of the per-run error estimate
 (docs/accuracy.md).
 

@@ -1,3 +1,4 @@
+# Over 600 lines: the studies of docs/ensembles.md, one function per study and its table.
 """The ensembles' studies (docs/ensembles.md): the size effect, the rate
 effect, and a confident strength planned and achieved.
 

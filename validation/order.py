@@ -1,3 +1,4 @@
+# Over 600 lines: the order study: one function per candidate cause over shared runs.
 """What limits the observed order of the piston test's error
 (docs/validation.md, section "What limits the observed order").
 

@@ -1,3 +1,4 @@
+# Over 600 lines: the paper study's steps (references, runs, tables, figures) share records.
 """Validation study: the paper reproduced, convergence, accuracy versus cost.
 
 ``sphsolid study paper --out docs/validation/ [--quick]`` runs everything

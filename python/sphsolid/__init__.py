@@ -15,9 +15,7 @@ calls for, advance it with :class:`ImprovedEuler`, watch it with
 """
 import sys as _sys
 
-from . import _moved
-_moved.install()  # sphsolid.build, sphsolid.trajectory, ... still import
-
+from . import _moved  # first: sphsolid.build, sphsolid.trajectory, ... import
 from ._lib import (SimulationError, StoppedError, UnsupportedError,
                    effect_names, effect_registry, kernel_names,
                    kernel_negative_from, kernel_values, library_path,

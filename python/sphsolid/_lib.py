@@ -1,3 +1,4 @@
+# Over 600 lines: the ctypes prototypes of all of sphsolid.h and the status mapping.
 """ctypes binding to libsphsolid, the C library that holds all the physics.
 
 Nothing in this module computes anything physical: it finds the shared

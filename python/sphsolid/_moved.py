@@ -47,3 +47,6 @@ def install() -> None:
     """Let the old paths import (once per process)."""
     if not any(isinstance(finder, _OldPaths) for finder in sys.meta_path):
         sys.meta_path.append(_OldPaths())
+
+
+install()  # on importing sphsolid, which imports this module first

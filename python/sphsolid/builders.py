@@ -1,3 +1,4 @@
+# Over 600 lines: every body builder with its documented options; each calls an sph_add_*.
 """Builders of bodies: blocks, prisms, cylinders, point sets, plates,
 pistons, discs, rings.
 

@@ -1,3 +1,4 @@
+# Over 600 lines: one backend class: a scene into a LAMMPS instance and the arrays back.
 """The LAMMPS backend: the same scene advanced by LAMMPS and the plugin.
 
 :class:`Lammps` is a calculator (see :mod:`sphsolid.calculators`). It

@@ -1,3 +1,4 @@
+# Over 600 lines: the Scene class, one wrapper of the library handle: many thin methods.
 """The Scene: bodies of particles, the effects they call for, and the arrays.
 
 A :class:`Scene` owns one libsphsolid simulation handle. Bodies are added to

@@ -1,3 +1,4 @@
+# Over 600 lines: the planner's tests share fake ladders and scene fixtures.
 """The planner and the per-run error estimate (sphsolid.planner, sphsolid.planner.estimate).
 
 The physics checks use the laterally periodic strip hit by the piston,

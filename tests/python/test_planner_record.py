@@ -1,3 +1,4 @@
+# Over 600 lines: the verification record's tests share its fake ladders and fixtures.
 """The planner's verification record (sphsolid.planner.record), its use in
 the search, the on-disk run cache, the progress bar and plan files as
 input."""

@@ -1,3 +1,4 @@
+# Over 600 lines: the table of hard cases: one builder and criterion per case.
 """Hard scenes with pass criteria derived from physics.
 
 Each case builds a scene with the ``sphsolid`` front end, runs it with the C

@@ -34,7 +34,11 @@ Lengths and times take an optional unit: ``--dx 2mm``, ``--until 0.3ms``
 
 Each command is a module of this package with a ``help`` line,
 ``add_arguments(parser)`` and ``run(args)`` (its exit status); ``COMMANDS``
-lists them in the order of ``sphsolid --help``.
+lists them in the order of ``sphsolid --help``.  What commands share:
+``options.py`` (argument types and option groups), ``scene_run.py``
+(running a project scene: ``piston``, ``gravity``) and ``fracture.py``
+(the fracture tests ``ucs``, ``brazilian``, ``tensile``; their options
+for ``ensemble`` and ``plan``).
 """
 from __future__ import annotations
 

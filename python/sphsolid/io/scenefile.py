@@ -1,3 +1,4 @@
+# Over 600 lines: one TOML schema: its reader, key checks and runner share the key tables.
 """Scenes from a file: ``sphsolid run scene.toml``.
 
 A TOML file describes bodies (made by the builders of :mod:`sphsolid.build`

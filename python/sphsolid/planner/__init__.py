@@ -63,7 +63,8 @@ the setting), :mod:`.calibration` (building and running a setting's
 scene), :mod:`.error_model`, :mod:`.cost_model`, :mod:`.detection`
 (effects the scene calls for), :mod:`.search` (:func:`plan` itself),
 :mod:`.record` (the verification record of every setting on the reference
-scenes), :mod:`.scenes` (the project's reference scenes),
+scenes), :mod:`.cache` (calibration runs kept on disk between plans),
+:mod:`.scenes` (the project's reference scenes),
 :mod:`.deck` (LAMMPS decks) and :mod:`.estimate` (the per-run error
 estimate). ``sphsolid.plan(...)`` calls :func:`plan`; ``sphsolid.plan.X``
 reaches the names below.

@@ -1,3 +1,4 @@
+# Over 600 lines: the error model and the fits it is made by, read together.
 """The error model of a setting: observed order, safety factor, the part
 of the error that repeats from level to level, consistency floors."""
 from __future__ import annotations

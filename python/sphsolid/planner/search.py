@@ -1,3 +1,4 @@
+# Over 600 lines: plan() and its named steps, the Plan record and the plan-file checks.
 """The search: candidates, their calibration ladders, refinement and the
 cheapest setting predicted to meet the request."""
 from __future__ import annotations
