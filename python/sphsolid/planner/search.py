@@ -677,133 +677,221 @@ def plan(scene_factory: Callable, error: float = 0.03,
     -------
     Plan
     """
-    say = log or (lambda message: None)
-    _check_request(error, until, norm, max_seconds, ladder)
-    if probes is None:
-        raise ValueError("probes must name where the error is measured "
-                         "(mapping name -> point, or callable(scene))")
-    ladder = sorted((float(d) for d in ladder), reverse=True)
-    t0, t1 = window if window is not None else (0.0, float(until))
-    probe_names = (list(probes) if isinstance(probes, Mapping) else [])
-    request = {"error": float(error), "until": float(until), "norm": norm,
-               "quantity": quantity, "probes": probe_names,
-               "threads": threads, "max_seconds": max_seconds,
-               "window": [t0, t1], "ladder": ladder,
-               "smoothing_s": metrics.SMOOTHING}
-    clock = wallclock.perf_counter()
+    request = PlanRequest(
+        scene_factory, error, until, probes, quantity, norm, threads,
+        max_seconds, ladder, window, candidates, detect, max_refinement,
+        max_order, timing_checks, refinements, refine_best,
+        calibration_seconds, cache, options, scene, log, record)
+    search = _Search(request.checked())
+    search.choose_candidates()
+    search.calibrate_ladders()
+    search.refine()
+    return search.conclude(search.time_cheapest())
 
-    # 1. effects the scene calls for, per integrator -----------------
-    if candidates is None:
-        settings, findings = candidate_settings(
-            scene_factory, until, probes, quantity, threads, ladder,
-            options=options, detect=detect, max_refinement=max_refinement,
-            cache=cache, log=say)
-    else:
-        settings = [c if isinstance(c, Setting) else Setting.from_dict(c)
-                    for c in candidates]
-        findings = []
 
-    # the verification record: what each setting's prediction is worth
-    if record is True:
-        record = shipped_record()
-    verdicts = {}
-    cands, skipped = [], []
-    for setting in settings:
-        verdict = record.verdict(setting, norm) if record else None
-        verdicts[setting] = verdict
-        # a setting the user named is ruled out by its bias alone, which
-        # no margin covers
-        why = (refusal(verdict, error, check_ratio=candidates is None)
-               if verdict is not None else None)
-        if record and verdict is None and candidates is None:
-            skipped.append(Candidate(setting, [], note=(
-                f"not verified in the {norm} norm by the verification "
-                "record: not planned")))
-        elif why is not None:
-            skipped.append(Candidate(setting, [], note=why))
+@dataclass
+class PlanRequest:
+    """What :func:`plan` was asked (its parameters, in its order)."""
+
+    scene_factory: Callable
+    error: float
+    until: float | None
+    probes: object
+    quantity: str
+    norm: str
+    threads: int | None
+    max_seconds: float | None
+    ladder: Sequence[float] | None
+    window: tuple | None
+    candidates: Sequence | None
+    detect: bool
+    max_refinement: float
+    max_order: float | None
+    timing_checks: int
+    refinements: int
+    refine_best: int
+    calibration_seconds: float | None
+    cache: dict | None
+    options: dict | None
+    scene: str
+    log: Callable[[str], None] | None
+    record: Record | bool | None
+
+    def checked(self) -> "PlanRequest":
+        """The request with its values checked, the ladder sorted coarse
+        to fine and the shipped record taken for ``record=True``."""
+        _check_request(self.error, self.until, self.norm, self.max_seconds,
+                       self.ladder)
+        if self.probes is None:
+            raise ValueError("probes must name where the error is measured "
+                             "(mapping name -> point, or callable(scene))")
+        ladder = sorted((float(d) for d in self.ladder), reverse=True)
+        window = (self.window if self.window is not None
+                  else (0.0, float(self.until)))
+        return replace(self, ladder=ladder, window=window)
+
+    def to_dict(self) -> dict:
+        """The request as a plan file records it."""
+        t0, t1 = self.window
+        probe_names = (list(self.probes) if isinstance(self.probes, Mapping)
+                       else [])
+        return {"error": float(self.error), "until": float(self.until),
+                "norm": self.norm, "quantity": self.quantity,
+                "probes": probe_names, "threads": self.threads,
+                "max_seconds": self.max_seconds, "window": [t0, t1],
+                "ladder": self.ladder, "smoothing_s": metrics.SMOOTHING}
+
+
+class _Search:
+    """One plan's search, step by step: the candidates and the record's
+    verdicts on them (:meth:`choose_candidates`), their calibration
+    ladders (:meth:`calibrate_ladders`), rounds of finer levels for the
+    most promising (:meth:`refine`), a timing of the cheapest at their
+    planned spacing (:meth:`time_cheapest`) and the plan or the refusal
+    (:meth:`conclude`)."""
+
+    def __init__(self, request: PlanRequest):
+        self.request = request
+        self.say = request.log or (lambda message: None)
+        self.clock = wallclock.perf_counter()
+        self.record = (shipped_record() if request.record is True
+                       else request.record)
+        self.findings = []
+        self.verdicts = {}
+        self.cands, self.skipped, self.usable = [], [], []
+        self.counter = 0
+        self.progress = Progress(request.ladder[0])
+        self.grid = None
+        self.needs = {}
+        # settings whose need recedes as fast as their levels approach
+        # it, settings beyond reach whose levels stalled, settings at the
+        # depth limit, and settings the record's prior leaves out (refine)
+        self.receding, self.stalled, self.deepest = set(), set(), set()
+        self.pruned = set()
+        # the last step of each setting's need: (need, finest level)
+        # before and after its finest level
+        self.steps_of = {}
+        # calibration seconds spent and allowed (refine)
+        self.spent, self.budget = 0.0, math.inf
+
+    # 1. effects the scene calls for, per integrator; the record's
+    # verdicts --------------------------------------------------------
+    def choose_candidates(self) -> None:
+        q, say, record = self.request, self.say, self.record
+        if q.candidates is None:
+            settings, self.findings = candidate_settings(
+                q.scene_factory, q.until, q.probes, q.quantity, q.threads,
+                q.ladder, options=q.options, detect=q.detect,
+                max_refinement=q.max_refinement, cache=q.cache, log=say)
         else:
-            cands.append(Candidate(setting, []))
-    if record and candidates is None:
-        # a setting another candidate dominated on every fitted scene
-        kept = [c.setting for c in cands]
-        for cand in list(cands):
-            better = record.dominated(cand.setting, kept)
-            if better is not None:
-                cands.remove(cand)
-                kept.remove(cand.setting)
-                skipped.append(Candidate(cand.setting, [], note=(
-                    f"dominated by {better} on every fitted scene of the "
-                    "verification record: not planned")))
-    if skipped:
-        say(f"verification record: {len(cands)} of {len(settings)} "
-            f"settings calibrated ({len(skipped)} unverified, under-"
-            "predicted, biased above the request or dominated)")
+            settings = [c if isinstance(c, Setting) else Setting.from_dict(c)
+                        for c in q.candidates]
+        # the verification record: what each setting's prediction is worth
+        cands, skipped = self.cands, self.skipped
+        for setting in settings:
+            verdict = record.verdict(setting, q.norm) if record else None
+            self.verdicts[setting] = verdict
+            # a setting the user named is ruled out by its bias alone,
+            # which no margin covers
+            why = (refusal(verdict, q.error, check_ratio=q.candidates is None)
+                   if verdict is not None else None)
+            if record and verdict is None and q.candidates is None:
+                skipped.append(Candidate(setting, [], note=(
+                    f"not verified in the {q.norm} norm by the verification "
+                    "record: not planned")))
+            elif why is not None:
+                skipped.append(Candidate(setting, [], note=why))
+            else:
+                cands.append(Candidate(setting, []))
+        if record and q.candidates is None:
+            # a setting another candidate dominated on every fitted scene
+            kept = [c.setting for c in cands]
+            for cand in list(cands):
+                better = record.dominated(cand.setting, kept)
+                if better is not None:
+                    cands.remove(cand)
+                    kept.remove(cand.setting)
+                    skipped.append(Candidate(cand.setting, [], note=(
+                        f"dominated by {better} on every fitted scene of the "
+                        "verification record: not planned")))
+        if skipped:
+            say(f"verification record: {len(cands)} of {len(settings)} "
+                f"settings calibrated ({len(skipped)} unverified, under-"
+                "predicted, biased above the request or dominated)")
 
-    # 2. calibration ladder -----------------------------------------
-    total = len(cands) * len(ladder)
-    counter = [0]
-    progress = Progress(ladder[0])
-
-    def calibrate(cand, dx, total):
-        counter[0] += 1
-        key = (float(f"{dx:.6g}"), cand.setting, float(until), quantity,
-               threads)
+    # 2. calibration ladder -------------------------------------------
+    def calibrate(self, cand, dx, total) -> bool:
+        """One level of ``cand`` at ``dx`` (from the cache if an earlier
+        plan ran it); False if it is unsupported or failed."""
+        q, say, cache = self.request, self.say, self.request.cache
+        self.counter += 1
+        key = (float(f"{dx:.6g}"), cand.setting, float(q.until), q.quantity,
+               q.threads)
         cached = cache is not None and key in cache
-        say(f"{progress.bar(counter[0], total)} {cand.setting.label()}, "
+        say(f"{self.progress.bar(self.counter, total)} "
+            f"{cand.setting.label()}, "
             f"dx = {dx * 1e3:.3g} mm" + (" (kept from an earlier plan)"
                                           if cached else " ..."))
         try:
             if cached:
                 run = cache[key]
             else:
-                run = ladder_run(scene_factory, dx, cand.setting, until,
-                                 probes, quantity, threads)
+                run = ladder_run(q.scene_factory, dx, cand.setting, q.until,
+                                 q.probes, q.quantity, q.threads)
                 if cache is not None:
                     cache[key] = run
         except UnsupportedError as unsupported:
             cand.note = f"left out: {unsupported}"
             say(f"  {cand.note}")
             return False
-        progress.done(run, cached)
+        self.progress.done(run, cached)
         cand.runs.append(run)
         if run.failed:
             say(f"  failed: {run.failed}")
-            progress.skip(len(ladder) - len(cand.runs))
+            self.progress.skip(len(q.ladder) - len(cand.runs))
             return False
         say(f"  {run.particles} particles, {run.steps} steps, "
             f"{run.wall:.2f} s")
         return True
 
-    progress.plan([dx for _ in cands for dx in ladder])
-    for cand in cands:
-        for dx in ladder:
-            if not calibrate(cand, dx, total):
-                break
-    grid = metrics.time_grid(t0, t1)
-    usable = []
-    for cand in cands:
-        if (len(cand.runs) < len(ladder)
-                or any(r.failed for r in cand.runs)):
-            cand.note = cand.note or ("failed: " + next(
-                (r.failed for r in cand.runs if r.failed), ""))[:80]
-            continue
-        # every finer level of this setting that an earlier plan of the
-        # scene calibrated enters its fit: one verdict per setting, not
-        # one per request
-        finer = [r for r in cached_levels(cache, cand.setting, until,
-                                          quantity, threads)
-                 if r.dx < ladder[-1] * (1 - 1e-6)]
-        if finer:
-            say(f"{cand.setting.label()}: {len(finer)} finer level(s) from "
-                "earlier plans (" + ", ".join(f"{r.dx * 1e3:.3g}"
-                                              for r in finer) + " mm)")
-        cand.runs.extend(finer)
-        cand.smoothed = [_smoothed(r, grid) for r in cand.runs]
-        usable.append(cand)
+    def calibrate_ladders(self) -> None:
+        """Every candidate's ladder; the usable ones (whole ladders) take
+        the finer levels earlier plans calibrated."""
+        q, say, ladder = self.request, self.say, self.request.ladder
+        total = len(self.cands) * len(ladder)
+        self.progress.plan([dx for _ in self.cands for dx in ladder])
+        for cand in self.cands:
+            for dx in ladder:
+                if not self.calibrate(cand, dx, total):
+                    break
+        t0, t1 = q.window
+        self.grid = metrics.time_grid(t0, t1)
+        for cand in self.cands:
+            if (len(cand.runs) < len(ladder)
+                    or any(r.failed for r in cand.runs)):
+                cand.note = cand.note or ("failed: " + next(
+                    (r.failed for r in cand.runs if r.failed), ""))[:80]
+                continue
+            # every finer level of this setting that an earlier plan of
+            # the scene calibrated enters its fit: one verdict per
+            # setting, not one per request
+            finer = [r for r in cached_levels(q.cache, cand.setting, q.until,
+                                              q.quantity, q.threads)
+                     if r.dx < ladder[-1] * (1 - 1e-6)]
+            if finer:
+                say(f"{cand.setting.label()}: {len(finer)} finer level(s) "
+                    "from earlier plans (" + ", ".join(
+                        f"{r.dx * 1e3:.3g}" for r in finer) + " mm)")
+            cand.runs.extend(finer)
+            cand.smoothed = [_smoothed(r, self.grid) for r in cand.runs]
+            self.usable.append(cand)
 
     # 3. error models, floors, spacings and costs; refine the ladder of
-    # the most promising settings while they need far extrapolation --
-    def price(cand):
+    # the most promising settings while they need far extrapolation ----
+    def price(self, cand):
+        """(dx, CPU seconds) the setting needs for the request, or None;
+        sets the candidate's spacing, size and predicted times."""
+        q, error, ladder = self.request, self.request.error, self.request.ladder
         cand.dx = cand.particles = cand.steps = cand.seconds = None
         cand.cpu_seconds = None
         cand.note = ""
@@ -821,99 +909,115 @@ def plan(scene_factory: Callable, error: float = 0.03,
             # never build a scene this fine: scale from the ladder
             n, steps = _size_at(cand.runs, dx)
             cand.note = (f"needs dx {dx * 1e3:.3g} mm, below the finest "
-                         f"calibrated spacing / {max_refinement:g}")
+                         f"calibrated spacing / {q.max_refinement:g}")
             return dx, cand.cost.predict_cpu(n, steps)
-        n, steps = _steps_to(scene_factory, dx, cand.setting, until)
+        n, steps = _steps_to(q.scene_factory, dx, cand.setting, q.until)
         cand.dx, cand.particles, cand.steps = dx, n, steps
         cand.seconds = cand.cost.predict(n, steps)
         cand.cpu_seconds = cand.cost.predict_cpu(n, steps)
         return dx, cand.cpu_seconds
 
-    def fit_verified(cand):
+    def fit_verified(self, cand) -> None:
         """The setting's error model on its levels, with the record's
         factor and bias (its floor is the caller's)."""
-        _fit_candidate(cand, norm, max_refinement, threads, max_order,
-                       record.orders(cand.setting, norm) if record
+        q, record = self.request, self.record
+        _fit_candidate(cand, q.norm, q.max_refinement, q.threads, q.max_order,
+                       record.orders(cand.setting, q.norm) if record
                        else None)
-        verdict = verdicts.get(cand.setting)
+        verdict = self.verdicts.get(cand.setting)
         if verdict is not None:
             cand.model.verified = verdict["factor"]
             cand.model.bias = verdict["bias"]
 
-    def fit_all():
+    def fit_all(self) -> dict:
+        """Every usable setting fitted, floored and priced: {id: price}."""
+        q, record, usable = self.request, self.record, self.usable
         for cand in usable:
-            fit_verified(cand)
+            self.fit_verified(cand)
         floors = consistency_floors(
             [c.model for c in usable],
-            [c.smoothed[:len(ladder)] for c in usable], norm, ladder,
-            trust=([record.promise(c.setting, norm) for c in usable]
+            [c.smoothed[:len(q.ladder)] for c in usable], q.norm, q.ladder,
+            trust=([record.promise(c.setting, q.norm) for c in usable]
                    if record else None))
         for cand, floor in zip(usable, floors):
             cand.model.floor = floor
-        return {id(c): price(c) for c in usable}
+        return {id(c): self.price(c) for c in usable}
 
-    def power_need(model):
-        """The spacing the power law of ``model`` alone gives ``error``
-        (no floor: the needs of one setting before and after a level
-        compare on the same terms), and its finest level."""
+    def power_need(self, model):
+        """The spacing the power law of ``model`` alone gives the
+        requested error (no floor: the needs of one setting before and
+        after a level compare on the same terms), and its finest level."""
         if model.anomalous:
             return None, model.finest
-        return replace(model, floor=0.0).spacing_for(error), model.finest
+        return (replace(model, floor=0.0).spacing_for(self.request.error),
+                model.finest)
 
-    def last_step(cand):
+    def last_step(self, cand):
         """(need, finest level) without the setting's finest level and
         with it (its current model, which fit_all has just made)."""
         kept = cand.runs, cand.smoothed, cand.model, cand.cost
         cand.runs, cand.smoothed = cand.runs[:-1], cand.smoothed[:-1]
         try:
-            fit_verified(cand)
-            before = power_need(cand.model)
+            self.fit_verified(cand)
+            before = self.power_need(cand.model)
         finally:
             cand.runs, cand.smoothed, cand.model, cand.cost = kept
-        return before, power_need(cand.model)
+        return before, self.power_need(cand.model)
 
-    # settings whose need recedes as fast as their levels approach it: the
-    # error does not follow the power law there, and a finer level costs
-    # 3.4x the last without bringing a plan closer (cubic_o4 on the
-    # piston with nu = 0.45, max 2.5 %: needs of 0.232 and then 0.132 mm
-    # at levels of 0.445 and 0.297 mm; its 0.198 mm level took 800 s of
-    # CPU and the request was refused after 929 s); and settings beyond
-    # reach whose levels stalled (below)
-    receding, stalled = set(), set()
-    # settings at the depth limit, and each setting's levels below the
-    # ladder (an earlier plan's included)
-    deepest = set()
-
-    def depth(cand):
+    def depth(self, cand) -> int:
+        """The setting's levels below the ladder (earlier plans' too)."""
         return sum(1 for r in cand.runs
-                   if not r.failed and r.dx < ladder[-1] * (1 - 1e-6))
-    needs = fit_all()
-    # the last step of each setting's need: (need, finest level) before
-    # and after its finest level, from the levels of earlier plans too
-    steps_of = {}
-    for cand in usable:
-        if len(cand.runs) > len(ladder):
-            steps_of[id(cand)] = last_step(cand)
-            (old_need, old_finest), (new_need, new_finest) = steps_of[id(cand)]
-            # a need that receded as fast as an earlier plan's level
-            # approached it: no further level in this plan either
-            if (old_need is not None and new_need is not None
-                    and old_need / new_need >= old_finest / new_finest):
-                receding.add(id(cand))
-                say(f"not refining {cand.setting.label()} further: its need "
-                    f"went from {old_need * 1e3:.3g} to {new_need * 1e3:.3g}"
-                    f" mm as its finest level went from "
-                    f"{old_finest * 1e3:.3g} to {new_finest * 1e3:.3g} mm "
-                    "in an earlier plan (its error does not follow the "
-                    "power law there)")
-    spent = sum(r.wall for c in cands for r in c.runs if not r.failed)
-    budget = (calibration_seconds if calibration_seconds is not None
-              else math.inf)
-    pruned = set()
+                   if not r.failed and r.dx < self.request.ladder[-1] * (1 - 1e-6))
 
-    def determined(c):
-        return needs[id(c)] is not None and not c.model.anomalous
-    for round_ in range(refinements):
+    def determined(self, c) -> bool:
+        return self.needs[id(c)] is not None and not c.model.anomalous
+
+    def refine(self) -> None:
+        """Fit every usable setting, then up to ``refinements`` rounds of
+        a finer level for the most promising ones."""
+        q, say = self.request, self.say
+        # settings whose need recedes as fast as their levels approach
+        # it: the error does not follow the power law there, and a finer
+        # level costs 3.4x the last without bringing a plan closer
+        # (cubic_o4 on the piston with nu = 0.45, max 2.5 %: needs of
+        # 0.232 and then 0.132 mm at levels of 0.445 and 0.297 mm; its
+        # 0.198 mm level took 800 s of CPU and the request was refused
+        # after 929 s); and settings beyond reach whose levels stalled
+        # (below)
+        self.needs = self.fit_all()
+        # the last step of each setting's need: (need, finest level)
+        # before and after its finest level, from the levels of earlier
+        # plans too
+        for cand in self.usable:
+            if len(cand.runs) > len(q.ladder):
+                self.steps_of[id(cand)] = self.last_step(cand)
+                (old_need, old_finest), (new_need, new_finest) = \
+                    self.steps_of[id(cand)]
+                # a need that receded as fast as an earlier plan's level
+                # approached it: no further level in this plan either
+                if (old_need is not None and new_need is not None
+                        and old_need / new_need >= old_finest / new_finest):
+                    self.receding.add(id(cand))
+                    say(f"not refining {cand.setting.label()} further: its "
+                        f"need went from {old_need * 1e3:.3g} to "
+                        f"{new_need * 1e3:.3g} mm as its finest level went "
+                        f"from {old_finest * 1e3:.3g} to "
+                        f"{new_finest * 1e3:.3g} mm in an earlier plan (its "
+                        "error does not follow the power law there)")
+        self.spent = sum(r.wall for c in self.cands for r in c.runs
+                         if not r.failed)
+        self.budget = (q.calibration_seconds
+                       if q.calibration_seconds is not None else math.inf)
+        for round_ in range(q.refinements):
+            wanted = self.refinement_targets(round_)
+            if not wanted:
+                break
+            self.refine_round(wanted)
+
+    def refinement_targets(self, round_: int) -> list:
+        """The settings that get a finer level in this round."""
+        q, say, record, needs = self.request, self.say, self.record, self.needs
+        usable, norm = self.usable, q.norm
         # a setting that needs a spacing far below its ladder, or below
         # it with the large safety factor (a fit outside the asymptotic
         # range: a finer level may bring the small one, which costs
@@ -921,14 +1025,14 @@ def plan(scene_factory: Callable, error: float = 0.03,
         # bring its need within the extrapolation limit (a setting that
         # needs 1e-5 mm at the order its ladder shows is not worth a
         # level: the piston's plans spent their rounds on such ones)
-        reach = 1.5 ** (refinements - round_) * max_refinement
+        reach = 1.5 ** (q.refinements - round_) * q.max_refinement
         wanted = sorted(
             (c for c in usable if needs[id(c)] is not None
              and needs[id(c)][0] >= c.model.finest / reach
              and (needs[id(c)][0] < c.model.finest / 2
                   or (c.model.safety > SAFETY_GOOD
                       and needs[id(c)][0] < c.model.finest))),
-            key=lambda c: needs[id(c)][1])[:refine_best]
+            key=lambda c: needs[id(c)][1])[:q.refine_best]
         # a setting whose ladder determines no order (no convergence
         # observed, or the large safety factor) has no trustworthy
         # prediction to rank it by: its levels may be outside the
@@ -969,8 +1073,8 @@ def plan(scene_factory: Callable, error: float = 0.03,
             return (math.inf if promise is None else promise,
                     next_cost[id(c)])
 
-        prior = _record_prior(usable, needs, record, norm, len(ladder),
-                              progress.exponent())
+        prior = _record_prior(usable, needs, record, norm, len(q.ladder),
+                              self.progress.exponent())
         # while no plan is in reach, a setting whose need lies beyond the
         # rounds left is taken the same way: its order may be that of
         # levels outside the asymptotic range (cubic_o4 on the piston
@@ -980,66 +1084,76 @@ def plan(scene_factory: Callable, error: float = 0.03,
         beyond = {id(c) for c in usable
                   if not math.isfinite(planned) and needs[id(c)] is not None
                   and needs[id(c)][0] < c.model.finest / reach}
-        # ... unless its last level shows it stalled there: the gap from
-        # its finest level to its need shrank by a factor g per level,
-        # and at that pace the rounds left do not bring it within the
-        # extrapolation limit (the cubic spline on the squat piston,
-        # max 2.5 %: needs of 0.76 um at levels of 0.67 and 0.44 mm,
-        # then a 0.088 mm level of 1.3 million particles, 2280 s, and
-        # the request still refused)
-        for c in usable:
-            if (id(c) not in beyond or id(c) not in steps_of
-                    or id(c) in receding):
-                continue
-            (old_need, old_finest), (new_need, new_finest) = steps_of[id(c)]
-            if old_need is None or new_need is None:
-                continue
-            gap = new_finest / new_need
-            pace = (old_finest / old_need) / gap
-            left = refinements - round_
-            if pace <= 1 or gap / pace ** left > max_refinement:
-                beyond.discard(id(c))
-                if id(c) not in stalled:
-                    stalled.add(id(c))
-                    say(f"not refining {c.setting.label()} further: it "
-                        f"needs dx {new_need * 1e3:.3g} mm, {gap:.3g}x "
-                        f"below its finest level, and its last level "
-                        f"(from {old_finest * 1e3:.3g} to "
-                        f"{new_finest * 1e3:.3g} mm) narrowed that gap by "
-                        f"{pace:.3g}x: {left} more level(s) at that pace "
-                        f"leave it beyond the extrapolation limit "
-                        f"({max_refinement:g}x)")
+        self.drop_stalled(beyond, round_)
         undetermined = sorted(
             (c for c in usable if c not in wanted
              and (c.model.anomalous or c.model.safety > SAFETY_GOOD
                   or id(c) in beyond)
              and next_cpu[id(c)] <= cheapest
              and prior.get(id(c), 1.0) <= RECORD_PRUNE),
-            key=order)[:refine_best if math.isfinite(planned) or record
+            key=order)[:q.refine_best if math.isfinite(planned) or record
                        else None]
         for c in usable:
             if (prior.get(id(c), 1.0) > RECORD_PRUNE
-                    and id(c) not in pruned):
-                pruned.add(id(c))
+                    and id(c) not in self.pruned):
+                self.pruned.add(id(c))
                 say(f"not refining {c.setting.label()}: the verification "
                     f"record prices its error at {prior[id(c)]:.0f}x the "
                     "cost of the most promising setting")
         for c in wanted + undetermined:
-            if depth(c) >= refinements and id(c) not in deepest:
-                deepest.add(id(c))
+            if self.depth(c) >= q.refinements and id(c) not in self.deepest:
+                self.deepest.add(id(c))
                 say(f"not refining {c.setting.label()} further: it has "
-                    f"{depth(c)} level(s) below its ladder (down to "
+                    f"{self.depth(c)} level(s) below its ladder (down to "
                     f"{c.model.finest * 1e3:.3g} mm, earlier plans' "
-                    f"included), the most a plan refines ({refinements})")
-        wanted = [c for c in wanted + undetermined
-                  if next_cost[id(c)] + spent <= budget
-                  and next_cpu[id(c)] <= planned
-                  and id(c) not in receding and id(c) not in stalled
-                  and depth(c) < refinements]
-        if not wanted:
-            break
+                    f"included), the most a plan refines ({q.refinements})")
+        return [c for c in wanted + undetermined
+                if next_cost[id(c)] + self.spent <= self.budget
+                and next_cpu[id(c)] <= planned
+                and id(c) not in self.receding and id(c) not in self.stalled
+                and self.depth(c) < q.refinements]
+
+    def drop_stalled(self, beyond: set, round_: int) -> None:
+        """Take out of ``beyond`` the settings whose last level shows
+        them stalled there: the gap from the finest level to the need
+        shrank by a factor g per level, and at that pace the rounds left
+        do not bring it within the extrapolation limit (the cubic spline
+        on the squat piston, max 2.5 %: needs of 0.76 um at levels of
+        0.67 and 0.44 mm, then a 0.088 mm level of 1.3 million
+        particles, 2280 s, and the request still refused)."""
+        q = self.request
+        for c in self.usable:
+            if (id(c) not in beyond or id(c) not in self.steps_of
+                    or id(c) in self.receding):
+                continue
+            (old_need, old_finest), (new_need, new_finest) = \
+                self.steps_of[id(c)]
+            if old_need is None or new_need is None:
+                continue
+            gap = new_finest / new_need
+            pace = (old_finest / old_need) / gap
+            left = q.refinements - round_
+            if pace <= 1 or gap / pace ** left > q.max_refinement:
+                beyond.discard(id(c))
+                if id(c) not in self.stalled:
+                    self.stalled.add(id(c))
+                    self.say(
+                        f"not refining {c.setting.label()} further: it "
+                        f"needs dx {new_need * 1e3:.3g} mm, {gap:.3g}x "
+                        f"below its finest level, and its last level "
+                        f"(from {old_finest * 1e3:.3g} to "
+                        f"{new_finest * 1e3:.3g} mm) narrowed that gap by "
+                        f"{pace:.3g}x: {left} more level(s) at that pace "
+                        f"leave it beyond the extrapolation limit "
+                        f"({q.max_refinement:g}x)")
+
+    def refine_round(self, wanted: list) -> None:
+        """A finer level (finest / 1.5) for each of ``wanted``, then every
+        setting fitted again; a need that receded as fast as its level
+        approached it stops that setting's refinement."""
+        say, needs = self.say, self.needs
         before = {id(c): (needs[id(c)][0], c.model.finest) for c in wanted
-                  if determined(c)}
+                  if self.determined(c)}
         refined = []
         for cand in wanted:
             dx = float(f"{cand.model.finest / 1.5:.3g}")
@@ -1047,22 +1161,22 @@ def plan(scene_factory: Callable, error: float = 0.03,
                 + (f"it needs dx {needs[id(cand)][0] * 1e3:.3g} mm"
                    if needs[id(cand)] is not None else
                    "its ladder determines no order"))
-            if calibrate(cand, dx, counter[0] + 1):
-                cand.smoothed.append(_smoothed(cand.runs[-1], grid))
-                spent += cand.runs[-1].wall
+            if self.calibrate(cand, dx, self.counter + 1):
+                cand.smoothed.append(_smoothed(cand.runs[-1], self.grid))
+                self.spent += cand.runs[-1].wall
                 refined.append(cand)
             else:
                 cand.runs.pop()
-        needs = fit_all()
+        self.needs = needs = self.fit_all()
         for cand in refined:
-            steps_of[id(cand)] = last_step(cand)
-            if id(cand) not in before or not determined(cand):
+            self.steps_of[id(cand)] = self.last_step(cand)
+            if id(cand) not in before or not self.determined(cand):
                 continue
             need, finest = before[id(cand)]
             if cand.model.finest >= finest:
                 continue                      # the level failed
             if need / needs[id(cand)][0] >= finest / cand.model.finest:
-                receding.add(id(cand))
+                self.receding.add(id(cand))
                 say(f"not refining {cand.setting.label()} further: its need "
                     f"went from {need * 1e3:.3g} to "
                     f"{needs[id(cand)][0] * 1e3:.3g} mm as its finest level "
@@ -1070,70 +1184,83 @@ def plan(scene_factory: Callable, error: float = 0.03,
                     f"{cand.model.finest * 1e3:.3g} mm (its error does not "
                     "follow the power law there)")
 
-    # 4. timing of a few steps at the planned spacing ----------------
-    # (the cheapest in CPU seconds: the measure that a loaded machine
-    # disturbs least)
-    priced = sorted((c for c in usable if c.cpu_seconds is not None),
-                    key=lambda c: c.cpu_seconds)
-    # within the calibrated sizes the calibration runs (whole runs, probe
-    # sampling included) measure the cost; a few steps timed there only
-    # add noise (on the gravity column at 8 mm, 0.1 s runs of 3200 steps,
-    # two plans of the same run predicted 0.148 and 0.111 CPU s after
-    # their five timed steps, the run took 0.096-0.101 s): the timing
-    # checks are for scenes larger than the largest calibration run
-    for cand in [c for c in priced if c.particles > max(
-            r.particles for r in c.runs if not r.failed)][
-            :max(0, timing_checks)]:
-        say(f"timing a few steps of {cand.setting.label()} at dx = "
-            f"{cand.dx * 1e3:.3g} mm ...")
-        n, _, per_step = time_steps(scene_factory, cand.dx, cand.setting,
-                                    threads, clock=cand.cost.clock,
-                                    min_seconds=TIMING_SECONDS)
-        finest = min(cand.runs, key=lambda r: r.dx)
-        n0, _, per_step0 = time_steps(scene_factory, finest.dx, cand.setting,
-                                      threads, clock=cand.cost.clock,
-                                      min_seconds=TIMING_SECONDS)
-        # anchored on the finest calibration run's own cost (the line
-        # through all runs misses single sizes by several per cent)
-        cand.cost.correct(n, per_step, n0, per_step0, reference_cost(
-            finest, cand.cost.clock,
-            lambda run=finest, setting=cand.setting: ladder_run(
-                scene_factory, run.dx, setting, until, probes, quantity,
-                threads)))
-        cand.seconds = cand.cost.predict(cand.particles, cand.steps)
-        cand.cpu_seconds = cand.cost.predict_cpu(cand.particles, cand.steps)
-    priced.sort(key=lambda c: c.cpu_seconds)
-    affordable = [c for c in priced
-                  if max_seconds is None or c.seconds <= max_seconds]
-    result = Plan(request=request, feasible=bool(affordable),
-                  threads=threads, findings=findings, candidates=cands + skipped,
-                  scene=scene)
-    if affordable:
-        result.adopt(affordable[0])
-    elif not cands and skipped:
-        # the record left every candidate out: say which effects made
-        # them unverified, and how to plan without the record
-        verified = ({name for key in record.families()
-                     for name in key.split(" + ")[1:]} if record else set())
-        effects = sorted({name for c in skipped for name, _ in c.setting.effects
-                          if name not in verified})
-        unverified = sum(c.note.startswith("not verified") for c in skipped)
-        result.best_reachable_error = None
-        result.reason = (
-            f"the verification record verifies none of the {len(skipped)} "
-            f"candidate settings in the {norm} norm ({unverified} not "
-            "verified" + (f"; the record has no setting with "
-                          f"{', '.join(effects)}, which this scene calls "
-                          "for" if effects else "")
-            + f"; {len(skipped) - unverified} biased at or above the "
-            "request or dominated); plan without the record (sphsolid "
-            "plan --no-record, planner.plan(..., record=None)) to choose "
-            "by self-convergence alone, without the record's margins")
-    else:
-        result.best_reachable_error, result.reason = _refusal(
-            usable, error, max_seconds, scene_factory, until)
-    result.calibration_seconds = wallclock.perf_counter() - clock
-    return result
+    # 4. timing of a few steps at the planned spacing ------------------
+    def time_cheapest(self) -> list:
+        """The priced settings, cheapest in CPU seconds first, after the
+        ``timing_checks`` cheapest planned beyond their largest
+        calibration run had a few steps timed there (the CPU seconds: the
+        measure that a loaded machine disturbs least)."""
+        q, say = self.request, self.say
+        priced = sorted((c for c in self.usable if c.cpu_seconds is not None),
+                        key=lambda c: c.cpu_seconds)
+        # within the calibrated sizes the calibration runs (whole runs,
+        # probe sampling included) measure the cost; a few steps timed
+        # there only add noise (on the gravity column at 8 mm, 0.1 s runs
+        # of 3200 steps, two plans of the same run predicted 0.148 and
+        # 0.111 CPU s after their five timed steps, the run took
+        # 0.096-0.101 s): the timing checks are for scenes larger than
+        # the largest calibration run
+        for cand in [c for c in priced if c.particles > max(
+                r.particles for r in c.runs if not r.failed)][
+                :max(0, q.timing_checks)]:
+            say(f"timing a few steps of {cand.setting.label()} at dx = "
+                f"{cand.dx * 1e3:.3g} mm ...")
+            n, _, per_step = time_steps(q.scene_factory, cand.dx, cand.setting,
+                                        q.threads, clock=cand.cost.clock,
+                                        min_seconds=TIMING_SECONDS)
+            finest = min(cand.runs, key=lambda r: r.dx)
+            n0, _, per_step0 = time_steps(q.scene_factory, finest.dx,
+                                          cand.setting, q.threads,
+                                          clock=cand.cost.clock,
+                                          min_seconds=TIMING_SECONDS)
+            # anchored on the finest calibration run's own cost (the line
+            # through all runs misses single sizes by several per cent)
+            cand.cost.correct(n, per_step, n0, per_step0, reference_cost(
+                finest, cand.cost.clock,
+                lambda run=finest, setting=cand.setting: ladder_run(
+                    q.scene_factory, run.dx, setting, q.until, q.probes,
+                    q.quantity, q.threads)))
+            cand.seconds = cand.cost.predict(cand.particles, cand.steps)
+            cand.cpu_seconds = cand.cost.predict_cpu(cand.particles,
+                                                     cand.steps)
+        priced.sort(key=lambda c: c.cpu_seconds)
+        return priced
+
+    def conclude(self, priced: list) -> Plan:
+        """The plan: the cheapest affordable setting, or the refusal."""
+        q, record, skipped = self.request, self.record, self.skipped
+        affordable = [c for c in priced
+                      if q.max_seconds is None or c.seconds <= q.max_seconds]
+        result = Plan(request=q.to_dict(), feasible=bool(affordable),
+                      threads=q.threads, findings=self.findings,
+                      candidates=self.cands + skipped, scene=q.scene)
+        if affordable:
+            result.adopt(affordable[0])
+        elif not self.cands and skipped:
+            # the record left every candidate out: say which effects made
+            # them unverified, and how to plan without the record
+            verified = ({name for key in record.families()
+                         for name in key.split(" + ")[1:]} if record else set())
+            effects = sorted({name for c in skipped
+                              for name, _ in c.setting.effects
+                              if name not in verified})
+            unverified = sum(c.note.startswith("not verified") for c in skipped)
+            result.best_reachable_error = None
+            result.reason = (
+                f"the verification record verifies none of the {len(skipped)} "
+                f"candidate settings in the {q.norm} norm ({unverified} not "
+                "verified" + (f"; the record has no setting with "
+                              f"{', '.join(effects)}, which this scene calls "
+                              "for" if effects else "")
+                + f"; {len(skipped) - unverified} biased at or above the "
+                "request or dominated); plan without the record (sphsolid "
+                "plan --no-record, planner.plan(..., record=None)) to choose "
+                "by self-convergence alone, without the record's margins")
+        else:
+            result.best_reachable_error, result.reason = _refusal(
+                self.usable, q.error, q.max_seconds, q.scene_factory, q.until)
+        result.calibration_seconds = wallclock.perf_counter() - self.clock
+        return result
 
 
 def _record_prior(usable, needs, record, norm: str, levels: int,
