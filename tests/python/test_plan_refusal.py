@@ -214,6 +214,8 @@ def test_below_a_ladder_at_its_edge_the_law_falls_at_the_records_slowest():
     # at and above the finest level the law is the fit's (order 1)
     assert model.power(h[1]) == pytest.approx(
         at_finest * (h[1] / finest) ** model.order)
+    # (at order 1 from the finest level the bound at half of it is 1.25x
+    # the central value, the error there 2^0.34 = 1.27x)
     below = (finest / 1.3, finest / 1.6, model.smallest_dx)
     assert all(model.upper(dx) >= truth(dx) for dx in below)
     for dx in below:
@@ -221,9 +223,7 @@ def test_below_a_ladder_at_its_edge_the_law_falls_at_the_records_slowest():
         # level, not the central prediction
         assert model.predict(dx) == pytest.approx(truth(dx))
         assert model.scatter(dx) > model.scatter(finest)
-    # a request planned there is met; at order 1 from the finest level
-    # the same request was planned at 0.5 of it, where the error is
-    # 1.27 x the central prediction, above the safety factor 1.25
+    # a request planned below the ladder is met
     for request in (0.8 * at_finest, 0.7 * at_finest):
         dx = model.spacing_for(request)
         assert dx is not None and model.upper(dx) <= request * (1 + 1e-9)
