@@ -109,11 +109,25 @@ class Scene:
         return metrics.worst_deviation(series, ref, grid, norm)
 
 
+#: Where the repository keeps the FE series (the held-out scenes' are
+#: read from there too, validation/record.py).
+KEPT_FE = Path(__file__).resolve().parent.parent / "docs" / "accuracy"
+
+
 def piston_scene(out, quick, log) -> Scene:
     until = 0.3e-3
     # the fine FE series take hours: the finest kept one is the reference
     # (0.5 mm, else 1 mm; quick mode without either: 2 mm), the next
-    # coarser one shows its convergence
+    # coarser one shows its convergence. An --out without them reads the
+    # repository's: the 2 mm mesh differs from the 0.5 mm one by 2.35 %
+    # (max), as much as a 2.5 % request, and measured against it the
+    # planner's 0.31 mm plan for max 2.5 % (1.98 % from the 0.5 mm mesh)
+    # erred 2.9 %
+    if (not (out / "fe_piston_0.5mm.npz").exists()
+            and (KEPT_FE / "fe_piston_0.5mm.npz").exists()):
+        log(f"FE reference: {out} has no fe_piston_0.5mm.npz; reading the "
+            f"kept series of {KEPT_FE}")
+        out = KEPT_FE
     if (out / "fe_piston_0.5mm.npz").exists():
         sizes = (1e-3, 0.5e-3)
     elif quick and not (out / "fe_piston_1mm.npz").exists():

@@ -192,3 +192,44 @@ def test_a_levels_bound_covers_the_difference_to_the_finer_level():
     assert not model.anomalous
     for (dx, _, bound), finer in zip(model.level_bounds()[:-1], diffs):
         assert bound >= finer / 2, dx
+
+
+def test_below_a_ladder_at_its_edge_the_law_falls_at_the_records_slowest():
+    # differences that fall at 1.7 (cubic_o4's on the piston: 1.69 from
+    # 1.5 to 0.445 mm) where the record saw the setting's true errors fall
+    # at 0.66-0.92: the part a finer level keeps is not in them. True
+    # errors equal to the law's central value at the finest level, then
+    # falling at the record's slowest order 0.66 (the piston's fell at
+    # 0.7, 0.4 from 0.667 to 0.31 mm).
+    h = np.array([1.5e-3, 1e-3, 0.667e-3, 0.445e-3])
+    diffs = 2.0 * (h[:-1] ** 1.7 - h[1:] ** 1.7)
+    model = planner.fit_error_model(h, diffs, max_order=1.0,
+                                    prior=(0.66, 0.92))
+    assert model.observed_order == pytest.approx(1.7, abs=0.01)
+    finest = h[-1]
+    at_finest = model.power(finest)
+
+    def truth(dx):
+        return at_finest * (dx / finest) ** 0.66
+    # at and above the finest level the law is the fit's (order 1)
+    assert model.power(h[1]) == pytest.approx(
+        at_finest * (h[1] / finest) ** model.order)
+    # (at order 1 from the finest level the bound at half of it is 1.25x
+    # the central value, the error there 2^0.34 = 1.27x)
+    below = (finest / 1.3, finest / 1.6, model.smallest_dx)
+    assert all(model.upper(dx) >= truth(dx) for dx in below)
+    for dx in below:
+        # the record's spread of orders widens the bound away from the
+        # level, not the central prediction
+        assert model.predict(dx) == pytest.approx(truth(dx))
+        assert model.scatter(dx) > model.scatter(finest)
+    # a request planned below the ladder is met
+    for request in (0.8 * at_finest, 0.7 * at_finest):
+        dx = model.spacing_for(request)
+        assert dx is not None and model.upper(dx) <= request * (1 + 1e-9)
+        if dx >= model.smallest_dx:
+            assert truth(dx) <= request
+    assert model.extrapolation_order == pytest.approx(0.66)
+    # without the record the fit's order is used below the ladder too
+    free = planner.fit_error_model(h, diffs, max_order=1.0)
+    assert free.extrapolation_order == free.order == 1.0
