@@ -180,8 +180,29 @@ void PairSPHSolid::settings(int narg, char **arg)
   sph_destroy(check);
 }
 
+/* The keys of the library's material registry (sph_material_key_get), in
+   its order: pair_coeff takes each by name, so a key the library learns
+   needs no edit here. */
+static std::vector<sph_material_key_info> material_keys()
+{
+  std::vector<sph_material_key_info> keys;
+  for (int k = 0; k < sph_material_key_count(); k++) {
+    sph_material_key_info info;
+    if (sph_material_key_get(k, &info) == SPH_OK) keys.push_back(info);
+  }
+  return keys;
+}
+
+/* A user's word in a message: at most 40 characters, and its length. */
+static std::string clip(const std::string &word)
+{
+  if (word.size() <= 40) return word;
+  return fmt::format("{}... ({} characters)", word.substr(0, 40), word.size());
+}
+
 /* The library material for a pair_coeff: whichever pair of constants was
-   given decides the library call; Weibull constants given are set on it. */
+   given decides the library call; the registry keys given are set on it
+   (the library checks each value against the key's range). */
 static sph_status add_material(sph_sim *s, const SPHSolidMaterial &m, int *index)
 {
   sph_status status;
@@ -191,15 +212,14 @@ static sph_status add_material(sph_sim *s, const SPHSolidMaterial &m, int *index
     status = sph_add_material_E_nu(s, m.first, m.second, m.rho0, index);
   else
     status = sph_add_material_K_nu(s, m.first, m.second, m.rho0, index);
-  if (status == SPH_OK && m.weibull_k != 0.0)
-    status = sph_material_set(s, *index, "weibull_k", m.weibull_k);
-  if (status == SPH_OK && m.weibull_m != 0.0)
-    status = sph_material_set(s, *index, "weibull_m", m.weibull_m);
+  for (const auto &key : m.keys)
+    if (status == SPH_OK) status = sph_material_set(s, *index, key.first.c_str(), key.second);
   return status;
 }
 
 /* ----------------------------------------------------------------------
    pair_coeff I J K v mu v rho0 v  |  E v nu v rho0 v  |  K v nu v rho0 v
+              [key v]...   (any key of the library's material registry)
 ------------------------------------------------------------------------- */
 
 void PairSPHSolid::coeff(int narg, char **arg)
@@ -213,30 +233,33 @@ void PairSPHSolid::coeff(int narg, char **arg)
   utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
   utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
 
+  const std::vector<sph_material_key_info> registry = material_keys();
+  std::set<std::string> elastic = {"K", "mu", "E", "nu", "rho0"};
   std::map<std::string, double> given;
+  SPHSolidMaterial m;
   for (int iarg = 2; iarg < narg; iarg += 2) {
     const std::string key = arg[iarg];
-    if (key != "K" && key != "mu" && key != "E" && key != "nu" && key != "rho0" &&
-        key != "weibull_k" && key != "weibull_m")
-      error->all(FLERR,
-                 "pair_coeff for sphsolid: unknown keyword '{}' (expected K, mu, E, nu, rho0, "
-                 "weibull_k, weibull_m)",
-                 key);
+    bool known = elastic.count(key) > 0;
+    for (const auto &info : registry) known = known || key == info.key;
+    if (!known) {
+      std::string names = "K, mu, E, nu, rho0";
+      for (const auto &info : registry) names += std::string(", ") + info.key;
+      error->all(FLERR, "pair_coeff for sphsolid: unknown keyword '{}' (expected {})",
+                 clip(key), names);
+    }
     if (iarg + 1 >= narg) error->all(FLERR, "pair_coeff for sphsolid: {} needs a value", key);
-    if (given.count(key)) error->all(FLERR, "pair_coeff for sphsolid: {} given twice", key);
-    given[key] = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+    if (given.count(key) || m.keys.count(key))
+      error->all(FLERR, "pair_coeff for sphsolid: {} given twice", key);
+    const double value = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+    if (elastic.count(key))
+      given[key] = value;
+    else
+      m.keys[key] = value;
   }
   if (!given.count("rho0"))
     error->all(FLERR, "pair_coeff for sphsolid: missing rho0 (reference density in kg/m^3)");
 
-  SPHSolidMaterial m;
   m.rho0 = given["rho0"];
-  // the Weibull flaw constants of the damage effect (sph_material_set)
-  for (const char *key : {"weibull_k", "weibull_m"})
-    if (given.count(key)) {
-      (std::string(key) == "weibull_k" ? m.weibull_k : m.weibull_m) = given[key];
-      given.erase(key);
-    }
   const size_t nconst = given.size() - 1;
   if (nconst == 2 && given.count("K") && given.count("mu")) {
     m.kind = "K_mu", m.first = given["K"], m.second = given["mu"];
@@ -466,10 +489,10 @@ void PairSPHSolid::check_ranks_agree()
   }
   for (int t = 1; t <= atom->ntypes; t++) {
     const SPHSolidMaterial &m = type_params[t];
-    settings.emplace_back(fmt::format("pair_coeff {} {}", t, t),
-                          fmt::format("{} {} {} {} {} {}", m.kind, number(m.first),
-                                      number(m.second), number(m.rho0), number(m.weibull_k),
-                                      number(m.weibull_m)));
+    std::string text =
+        fmt::format("{} {} {} {}", m.kind, number(m.first), number(m.second), number(m.rho0));
+    for (const auto &key : m.keys) text += fmt::format(" {} {}", key.first, number(key.second));
+    settings.emplace_back(fmt::format("pair_coeff {} {}", t, t), text);
   }
   settings.emplace_back("timestep", number(update->dt));
 
@@ -1116,6 +1139,28 @@ void PairSPHSolid::finish()
         seconds[PART_RATES] / comm->nprocs, seconds[PART_STAGES] / comm->nprocs,
         seconds[PART_EXCHANGE] / comm->nprocs, seconds[PART_REFRESH] / comm->nprocs,
         seconds[PART_COPIES] / comm->nprocs);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void *PairSPHSolid::extract(const char *name, int &dimension)
+{
+  if (!allocated || !name) return nullptr;
+  const std::string key = name;
+  double fallback = 0.0;
+  bool known = key == "rho0";
+  for (const auto &info : material_keys())
+    if (key == info.key) known = true, fallback = info.default_value;
+  if (!known) return nullptr;
+  std::vector<double> &values = extracted[key];
+  values.assign(type_params.size(), 0.0);
+  for (size_t t = 1; t < type_params.size(); t++) {
+    const SPHSolidMaterial &m = type_params[t];
+    const auto given = m.keys.find(key);
+    values[t] = key == "rho0" ? m.rho0 : given != m.keys.end() ? given->second : fallback;
+  }
+  dimension = 1;
+  return values.data();
 }
 
 /* ---------------------------------------------------------------------- */

@@ -23,6 +23,7 @@ PairStyle(sphsolid,PairSPHSolid);
 #include "sphsolid.h"
 
 #include <ctime>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,16 +33,18 @@ namespace LAMMPS_NS {
 class FixSPHSolidState;
 
 /* One material as given to pair_coeff: the pair of constants that defines
- * it (K and mu, E and nu, or K and nu), the reference density and the
- * Weibull flaw constants of the damage effect (0: no flaws). */
+ * it (K and mu, E and nu, or K and nu), the reference density and the keys
+ * of the library's material registry (sph_material_key_get: the flaw and
+ * strength constants of the damage effect, ...) given, by name; a key not
+ * given keeps the library's default. */
 struct SPHSolidMaterial {
   std::string kind;    // "K_mu", "E_nu" or "K_nu"
   double first = 0.0, second = 0.0, rho0 = 0.0;
-  double weibull_k = 0.0, weibull_m = 0.0;
+  std::map<std::string, double> keys;    // registry key -> value given
   bool operator==(const SPHSolidMaterial &o) const
   {
     return kind == o.kind && first == o.first && second == o.second && rho0 == o.rho0 &&
-           weibull_k == o.weibull_k && weibull_m == o.weibull_m;
+           keys == o.keys;
   }
 };
 
@@ -56,6 +59,10 @@ class PairSPHSolid : public Pair {
   void init_style() override;
   double init_one(int, int) override;
   double memory_usage() override;
+  /* Per atom type (dim 1): "rho0" and every key of the library's material
+   * registry, the value its pair_coeff gave or the library's default (for
+   * lammps.extract_pair, the tests' check that a key reaches the pair). */
+  void *extract(const char *, int &) override;
   void finish() override;
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
@@ -210,6 +217,7 @@ class PairSPHSolid : public Pair {
   std::vector<std::pair<std::string, std::string>> effects;    // name, "key=value ..."
   std::vector<SPHSolidMaterial> type_params;                   // per atom type (index 0 unused)
   std::vector<int> type_material;                              // library material per atom type
+  std::map<std::string, std::vector<double>> extracted;        // extract()'s arrays
   // drucker_prager effect on: the deviators are returned after a step
   bool drucker_prager;
   // energy_account yes: the account runs (account_start ...); the powers

@@ -64,6 +64,9 @@ def test_same_settings_on_both_ranks_run(tmp_path, plugin, fix):
     ({"pair_style": "sphsolid 0.001 artificial_viscosity alpha $(1+v_rank) beta 0.0"},
      "artificial_viscosity"),
     ({"pair_coeff": "* * K $(12.2e9*(1+v_rank)) mu 2.67e9 rho0 2300.0"}, "pair_coeff 1 1"),
+    # a key of the library's material registry is part of the type's setting
+    ({"pair_coeff": "* * K 12.2e9 mu 2.67e9 rho0 2300.0 weibull_m $(9+v_rank)"},
+     "pair_coeff 1 1"),
     ({"timestep": "$(1e-7*(1+v_rank))"}, "timestep"),
 ])
 def test_a_setting_that_differs_between_ranks_is_named(tmp_path, plugin, settings, keyword):
