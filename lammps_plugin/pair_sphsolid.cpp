@@ -244,8 +244,8 @@ void PairSPHSolid::coeff(int narg, char **arg)
     if (!known) {
       std::string names = "K, mu, E, nu, rho0";
       for (const auto &info : registry) names += std::string(", ") + info.key;
-      error->all(FLERR, "pair_coeff for sphsolid: unknown keyword '{}' (expected {})",
-                 clip(key), names);
+      error->all(FLERR, "pair_coeff for sphsolid: unknown keyword '{}' (expected {})", clip(key),
+                 names);
     }
     if (iarg + 1 >= narg) error->all(FLERR, "pair_coeff for sphsolid: {} needs a value", key);
     if (given.count(key) || m.keys.count(key))
